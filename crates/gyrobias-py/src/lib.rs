@@ -1,0 +1,18 @@
+//! `gyrobias._core`: the pyo3 binding of gyrocore.
+//!
+//! One file per gyrocore module, each with a `register` function. This crate converts
+//! arguments (zero-copy for contiguous float64 arrays), releases the GIL around the numerical
+//! work and maps [`gyrocore::Error`] to Python exceptions. It contains no numerics.
+
+mod allan;
+mod error;
+
+use pyo3::prelude::*;
+
+/// The extension module.
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    error::register(m)?;
+    allan::register(m)?;
+    Ok(())
+}

@@ -1,0 +1,1 @@
+//! Equivalent degrees of freedom (scaffold).

@@ -1,0 +1,29 @@
+"""gyrobias: MEMS gyroscope noise analysis and bias prediction.
+
+The numerics live in a Rust core (``gyrobias._core``); the modules here give them typed,
+unit-aware Python interfaces:
+
+- :mod:`gyrobias.allan` — overlapping / non-overlapping Allan, modified, Hadamard and total
+  deviations with chi-square confidence intervals (NIST SP 1065, IEEE Std 952).
+- :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
+"""
+
+from importlib.metadata import PackageNotFoundError, version
+
+from gyrobias import allan
+from gyrobias._core import GyroLinAlgError
+from gyrobias.allan import AllanResult, adev, avar
+
+try:
+    __version__ = version("gyrobias")
+except PackageNotFoundError:  # running from a source tree without installation
+    __version__ = "0.0.0+unknown"
+
+__all__ = [
+    "AllanResult",
+    "GyroLinAlgError",
+    "__version__",
+    "adev",
+    "allan",
+    "avar",
+]

@@ -1,0 +1,28 @@
+"""Type stubs of the Rust extension module (checked by ``python -m mypy.stubtest gyrobias._core``)."""
+
+import numpy as np
+from numpy.typing import NDArray
+
+class GyroLinAlgError(ValueError): ...
+
+# --- allan -------------------------------------------------------------------------------------
+
+def allan_analysis(
+    data: NDArray[np.float64],
+    t0: float,
+    data_type: str,
+    estimator: str,
+    tau_spec: str,
+    per_decade: int,
+    taus: NDArray[np.float64] | None,
+    confidence: float | None,
+) -> list[dict[str, NDArray[np.float64] | NDArray[np.uint64] | NDArray[np.int32]]]: ...
+def allan_factors(
+    n_samples: int,
+    t0: float,
+    data_type: str,
+    estimator: str,
+    tau_spec: str,
+    per_decade: int,
+    taus: NDArray[np.float64] | None,
+) -> NDArray[np.uint64]: ...

@@ -1,0 +1,57 @@
+"""Argument normalisation shared by the public wrappers.
+
+The wrappers convert what users pass (lists, integer or float32 arrays, non-contiguous views)
+into C-contiguous float64 arrays that the Rust core borrows without copying, and reject wrong
+types and shapes with messages that name the argument. Numerical preconditions (finite values,
+lengths, parameter ranges) are checked by the core itself.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+
+def as_float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> NDArray[np.float64]:
+    """Return ``value`` as a C-contiguous float64 array with one of ``ndims`` dimensions.
+
+    No copy is made when ``value`` already is such an array. The caller's array is never
+    modified by gyrobias.
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is not numeric (strings, objects, complex, booleans).
+    ValueError
+        If the number of dimensions is not in ``ndims`` or the array is empty.
+    """
+    arr = np.asarray(value)
+    if arr.dtype.kind not in "iuf":
+        raise TypeError(
+            f"{name} must be a real numeric array (int or float), got dtype {arr.dtype}"
+        )
+    if arr.ndim not in ndims:
+        want = " or ".join(f"{d}-D" for d in ndims)
+        raise ValueError(f"{name} must be a {want} array, got a {arr.ndim}-D array of shape {arr.shape}")
+    if arr.size == 0:
+        raise ValueError(f"{name} is empty")
+    return np.ascontiguousarray(arr, dtype=np.float64)
+
+
+def positive_float(name: str, value: Any) -> float:
+    """``value`` as a finite positive float, else ``ValueError``/``TypeError`` naming ``name``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
+    v = float(value)
+    if not np.isfinite(v) or v <= 0.0:
+        raise ValueError(f"{name} must be finite and > 0, got {value!r}")
+    return v
+
+
+def choice(name: str, value: Any, options: tuple[str, ...]) -> str:
+    """``value`` if it is one of ``options``, else ``ValueError`` listing them."""
+    if not isinstance(value, str) or value not in options:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, options))}; got {value!r}")
+    return value
