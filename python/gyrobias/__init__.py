@@ -5,14 +5,18 @@ unit-aware Python interfaces:
 
 - :mod:`gyrobias.allan` — overlapping / non-overlapping Allan, modified, Hadamard and total
   deviations with chi-square confidence intervals (NIST SP 1065, IEEE Std 952).
+- :mod:`gyrobias.predict` — bias prediction from a calibration window ([BP]): the fractional
+  (1/f) Kalman predictor (O(n·k) generalized Schur, compiled batch GEMM), moving average and
+  calibration mean, and [BP]'s batch test.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
 """
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan
+from gyrobias import allan, predict
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
+from gyrobias.predict import FractionalKalmanPredictor, Prediction
 
 try:
     __version__ = version("gyrobias")
@@ -21,9 +25,12 @@ except PackageNotFoundError:  # running from a source tree without installation
 
 __all__ = [
     "AllanResult",
+    "FractionalKalmanPredictor",
     "GyroLinAlgError",
+    "Prediction",
     "__version__",
     "adev",
     "allan",
     "avar",
+    "predict",
 ]

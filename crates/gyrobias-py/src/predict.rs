@@ -9,6 +9,9 @@ use pyo3::types::PyDict;
 
 use crate::error::core;
 
+/// A pair of float64 arrays returned to Python.
+type ArrayPair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
 fn model(d: f64, q: f64, r: f64, mean: &str, mu0: f64, p0: f64) -> PyResult<Model> {
     let prior = match mean {
         "sample" => MeanPrior::Sample,
@@ -123,7 +126,7 @@ impl CompiledPredictor {
         py: Python<'py>,
         batch: PyReadonlyArray2<'py, f64>,
         n_threads: usize,
-    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    ) -> PyResult<ArrayPair<'py>> {
         let k = batch.shape()[1];
         if k != self.inner.calibration_length {
             return Err(pyo3::exceptions::PyValueError::new_err(format!(

@@ -113,7 +113,7 @@ impl Compiled {
         let (c, c0, var_m) = match model.mean {
             MeanPrior::Sample => (vec![1.0 / k as f64; k], 0.0, 0.0),
             MeanPrior::Zero => (vec![0.0; k], 0.0, 0.0),
-            MeanPrior::Proper { mu0, p0 } if p0 == 0.0 => (vec![0.0; k], mu0, 0.0),
+            MeanPrior::Proper { mu0, p0: 0.0 } => (vec![0.0; k], mu0, 0.0),
             MeanPrior::Diffuse | MeanPrior::Proper { .. } => {
                 // K_cc⁻¹·1 = L_cc⁻ᵀ·u.
                 let mut kinv1 = Mat::<f64>::from_fn(k, 1, |i, _| cond.u[i]);

@@ -86,7 +86,7 @@ pub(crate) fn predict(model: &Model, calibration: &[f64], horizon: usize) -> Res
                 row[j] = p[j * dim] + p[j * dim + it];
             }
             let s = row[0] + row[it] + model.r;
-            if !(s >= scale * (1.0 - 1e-8)) {
+            if s.is_nan() || s < scale * (1.0 - 1e-8) {
                 return Err(Error::Singular {
                     reason: format!(
                         "innovation variance {s:.3e} at calibration sample {t} fell below its \
@@ -101,7 +101,7 @@ pub(crate) fn predict(model: &Model, calibration: &[f64], horizon: usize) -> Res
             }
             for i in 0..=it {
                 let gi = row[i] / s;
-                let prow = &mut p[i * dim..i * dim + it + 1];
+                let prow = &mut p[i * dim..=i * dim + it];
                 for (v, rj) in prow.iter_mut().zip(&row[..=it]) {
                     *v -= gi * rj;
                 }
