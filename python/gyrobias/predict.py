@@ -495,19 +495,22 @@ class Evaluation:
 
         ``statistic`` is ``"rsse"`` (ratio of mean RSSEs) or ``"ie_std"`` (ratio of IE standard
         deviations). The standard error uses 400 paired bootstrap resamples of the sections
-        (fixed seed, so the numbers are reproducible).
+        (fixed seed, so the numbers are reproducible); NaN with fewer than 10 sections.
         """
         a, b = self.methods[method], self.methods[reference]
         choice("statistic", statistic, ("rsse", "ie_std"))
+        value = a.mean_rsse / b.mean_rsse if statistic == "rsse" else a.ie_std / b.ie_std
+        if self.sections < 10:  # too few sections for a meaningful bootstrap
+            return float(value), math.nan
         rng = np.random.default_rng(12345)
         idx = rng.integers(0, self.sections, size=(400, self.sections))
-        if statistic == "rsse":
-            value = a.mean_rsse / b.mean_rsse
-            boot = a.rsse[idx].mean(axis=1) / b.rsse[idx].mean(axis=1)
-        else:
-            value = a.ie_std / b.ie_std
-            boot = a.ie[idx].std(axis=1, ddof=1) / b.ie[idx].std(axis=1, ddof=1)
-        return float(value), float(np.std(boot, ddof=1))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            if statistic == "rsse":
+                boot = a.rsse[idx].mean(axis=1) / b.rsse[idx].mean(axis=1)
+            else:
+                boot = a.ie[idx].std(axis=1, ddof=1) / b.ie[idx].std(axis=1, ddof=1)
+        boot = boot[np.isfinite(boot)]
+        return float(value), float(np.std(boot, ddof=1)) if boot.size > 1 else math.nan
 
     def table(self) -> str:
         """Text table as [BP] Table I, with ratios to CM when it was evaluated."""
