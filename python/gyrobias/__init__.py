@@ -10,7 +10,7 @@ unit-aware Python interfaces:
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan
+from gyrobias import allan, io
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
 
@@ -26,4 +26,5 @@ __all__ = [
     "adev",
     "allan",
     "avar",
+    "io",
 ]
