@@ -42,7 +42,7 @@ JITTER_WARN = 0.01
 #: ``time_unit="auto"`` reads timestamps as nanoseconds when the median interval is at least this.
 NS_THRESHOLD = 1e3
 
-_UNIT_SECONDS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
+_PER_SECOND = {"s": 1.0, "ms": 1e3, "us": 1e6, "ns": 1e9}
 _TIME_UNITS = ("auto", "s", "ms", "us", "ns")
 _TIME_NAMES = ("t", "time", "timestamp", "times", "time_s", "t_s", "time_ns", "t_ns", "timestamp_ns",
                "time_us", "t_us", "timestamp_us", "time_ms", "t_ms", "timestamp_ms")
@@ -493,13 +493,17 @@ def _read_text(
         "ndmin": 2,
         "encoding": "utf-8-sig",
     }
-    cols_of_use = [f"'{header[i]}'" if header else f"{i}" for i in usecols]
+
+    def col_name(file_col: int) -> str:
+        """Name of 0-based file column ``file_col`` for messages."""
+        return f"'{header[file_col]}'" if header is not None else f"{file_col}"
+
     if int_time:
         # integer stamps (typically epoch nanoseconds, ~1e18) are read exactly as int64: as
         # float64 they would carry a ±128 ns rounding error that shows up as jitter
         dtype = [("t", np.int64)] + [(f"c{k}", np.float64) for k in range(len(idx))]
         try:
-            rec = _loadtxt(p, kw, dtype, cols_of_use, line_of)
+            rec = _loadtxt(p, kw, dtype, col_name, line_of, int_column=t_idx)
         except _NotInteger:
             int_time = False
         else:
@@ -510,7 +514,7 @@ def _read_text(
                 table[:, k] = rec[f"c{k}"]
             del rec
             return table, names, t_raw, t_name, line_of
-    full = _loadtxt(p, kw, np.float64, cols_of_use, line_of)
+    full = _loadtxt(p, kw, np.float64, col_name, line_of)
     if t_idx is not None:
         t_raw = full[:, 0].copy()
         table = np.ascontiguousarray(full[:, 1:])
@@ -525,8 +529,14 @@ class _NotInteger(Exception):
     pass
 
 
-def _loadtxt(p: Path, kw: dict[str, Any], dtype: Any, cols: list[str], line_of: Any) -> Any:
-    """np.loadtxt with its errors turned into messages naming the file line and column."""
+def _loadtxt(
+    p: Path, kw: dict[str, Any], dtype: Any, col_name: Any, line_of: Any, int_column: int | None = None
+) -> Any:
+    """np.loadtxt with its errors turned into messages naming the file line and column.
+
+    Raises ``_NotInteger`` when the ``int_column`` (0-based file column) holds a non-integer
+    number, so that the caller can re-read it as float.
+    """
     try:
         out = np.loadtxt(p, dtype=dtype, **kw)
     except ValueError as exc:
@@ -534,14 +544,15 @@ def _loadtxt(p: Path, kw: dict[str, Any], dtype: Any, cols: list[str], line_of: 
         m = _LOADTXT_CELL.search(msg)
         if m:
             text, row, col = m.group(1), int(m.group(2)), int(m.group(3))
-            if dtype is not np.float64 and col == 1 and "int64" in msg and _is_number(text):
+            # numpy counts data rows from 0 (skipping comments) and file columns from 1
+            if int_column is not None and col == int_column + 1 and _is_number(text):
                 raise _NotInteger from None
             what = "an empty cell" if not text.strip() else f"'{text}' (not a number)"
             hint = ""
             if re.fullmatch(r"[+-]?\d+,\d+", text.strip()):
                 hint = " (decimal commas are not supported)"
             raise ValueError(
-                f"{p.name}: {what} in column {cols[col - 1]} at line {line_of(row)}{hint}"
+                f"{p.name}: {what} in column {col_name(col - 1)} at line {line_of(row)}{hint}"
             ) from None
         m = _LOADTXT_COLS.search(msg)
         if m:
@@ -592,8 +603,8 @@ def _time_seconds(
             median = float(np.median(positive)) if positive.size else 0.0
             unit = "ns" if median >= NS_THRESHOLD else "s"
             guessed = True
-    scale = _UNIT_SECONDS[unit]
-    return rel.astype(np.float64) * scale, float(t_raw[0]) * scale, unit, guessed
+    per_second = _PER_SECOND[unit]  # dividing by an exact power of ten rounds correctly
+    return rel.astype(np.float64) / per_second, float(t_raw[0]) / per_second, unit, guessed
 
 
 def _sampling_report(
