@@ -239,7 +239,8 @@ def test_demo(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["demo", "--outdir", str(outdir), "--hours", "0.5", "--seed", "1"]) == 0
     out = capsys.readouterr().out
     assert "True noise terms" in out and "ARW" in out and "deg/√h" in out
-    assert "Overlapping ADEV of axis x" in out and "axis z" in out
+    assert "ADEV of axis x [deg/s]" in out and "ADEV of axis z" in out
+    assert "CI low" in out
     png = (outdir / "allan.png").read_bytes()
     assert png.startswith(PNG_SIGNATURE) and len(png) > 20_000
     rate = np.load(outdir / "demo_log.npy")

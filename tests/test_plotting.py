@@ -64,6 +64,7 @@ def test_asymmetric_confidence_bars_span_ci_low_to_ci_high() -> None:
     ax = plot_allan(r)
     container = ax.containers[0]
     assert container.has_yerr
+    assert r.ci_low is not None and r.ci_high is not None
     segments = container.lines[2][0].get_segments()
     lows = np.array([s[0][1] for s in segments])
     highs = np.array([s[1][1] for s in segments])
@@ -93,6 +94,7 @@ def test_mixed_kinds_and_units() -> None:
     rate = np.random.default_rng(1).normal(size=5000)
     a = gyrobias.allan.adev(rate, 10.0, confidence=None, units="deg/s")
     m = gyrobias.allan.mdev(rate, 10.0, confidence=None, units="rad/s")
+    assert isinstance(a, AllanResult) and isinstance(m, AllanResult)
     ax = plot_allan([a, m])
     assert ax.get_ylabel() == "deviation"  # neither one symbol nor one unit applies
     assert [t.get_text() for t in ax.get_legend().get_texts()] == ["ADEV", "MDEV"]

@@ -305,12 +305,12 @@ def load(
         )
 
     time = time_start = None
-    unit_used = None
-    guessed = False
     if t_raw is not None:
         assert t_name is not None
-        time, time_start, unit_used, guessed = _time_seconds(p, t_raw, t_name, time_unit, line_of)
-    report = _sampling_report(len(table), time, unit_used, fs, unit_guessed=guessed)
+        time, intervals, time_start, unit_used, guessed = _time_seconds(p, t_raw, t_name, time_unit, line_of)
+        report = _sampling_report(len(table), time, intervals, unit_used, fs, unit_guessed=guessed)
+    else:
+        report = SamplingReport(n_samples=len(table), fs=fs, fs_source=None if fs is None else "user")
     return GyroLog(
         data=table,
         columns=tuple(names),
@@ -575,7 +575,7 @@ def _loadtxt(
 
 def _time_seconds(
     p: Path, t_raw: NDArray[Any], t_name: str, time_unit: str, line_of: Any
-) -> tuple[NDArray[np.float64], float, str, bool]:
+) -> tuple[NDArray[np.float64], NDArray[np.float64], float, str, bool]:
     """Timestamps → seconds since the first sample; checks their order."""
     if t_raw.dtype.kind == "f" and not np.isfinite(t_raw).all():
         row = int(np.flatnonzero(~np.isfinite(t_raw))[0])
@@ -604,21 +604,22 @@ def _time_seconds(
             unit = "ns" if median >= NS_THRESHOLD else "s"
             guessed = True
     per_second = _PER_SECOND[unit]  # dividing by an exact power of ten rounds correctly
-    return rel.astype(np.float64) / per_second, float(t_raw[0]) / per_second, unit, guessed
+    # the intervals from the raw differences: exact for integer stamps, so a perfectly
+    # regular nanosecond log has exactly zero jitter
+    intervals = steps.astype(np.float64) / per_second
+    return rel.astype(np.float64) / per_second, intervals, float(t_raw[0]) / per_second, unit, guessed
 
 
 def _sampling_report(
     n: int,
-    time: NDArray[np.float64] | None,
-    unit: str | None,
+    time: NDArray[np.float64],
+    steps: NDArray[np.float64],
+    unit: str,
     fs: float | None,
     *,
     unit_guessed: bool = False,
 ) -> SamplingReport:
-    if time is None:
-        return SamplingReport(n_samples=n, fs=fs, fs_source=None if fs is None else "user")
     warnings: list[str] = []
-    steps = np.diff(time)
     duration = float(time[-1])
     dup_rows = np.flatnonzero(steps == 0) + 1
     positive = steps[steps > 0]

@@ -16,7 +16,7 @@ import json
 import sys
 import time
 from pathlib import Path
-from typing import Any, TextIO
+from typing import Any, Protocol
 
 from gyrobias import allan, io
 
@@ -68,15 +68,20 @@ def register(subparsers: Any) -> None:
     p.set_defaults(func=run)
 
 
+class _Stream(Protocol):
+    def write(self, text: str, /) -> int: ...
+    def flush(self) -> None: ...
+
+
 class ProgressBar:
     """A stderr progress callback for the ``progress=`` argument of :func:`gyrobias.allan.adev`.
 
     On a terminal it redraws one bar in place; elsewhere it prints a line per update.
     """
 
-    def __init__(self, label: str, stream: TextIO | None = None, width: int = 30) -> None:
+    def __init__(self, label: str, stream: _Stream | None = None, width: int = 30) -> None:
         self.label = label
-        self.stream = stream if stream is not None else sys.stderr
+        self.stream: _Stream = stream if stream is not None else sys.stderr
         self.width = width
         self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
         self._drawn = False
@@ -116,7 +121,7 @@ def run(args: argparse.Namespace) -> int:
     if show_progress is None:
         show_progress = sys.stderr.isatty()
 
-    if show_progress:
+    if args.progress or (show_progress and args.log.is_file() and args.log.stat().st_size > 20_000_000):
         print(f"reading {args.log} …", file=sys.stderr, flush=True)
     t_read = time.perf_counter()
     log = io.load(

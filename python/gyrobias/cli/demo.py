@@ -106,8 +106,9 @@ def run(args: argparse.Namespace) -> int:
     results = allan.adev(rate, fs, units="deg/s", axis_names=list(AXES))
     t_adev = time.perf_counter() - t
     assert isinstance(results, tuple)
+    print(f"\nOverlapping Allan deviation, 68.3 % confidence intervals ({t_adev:.2f} s for all axes)")
     for r in results:
-        print(f"\nOverlapping ADEV of axis {r.axis} [deg/s] ({t_adev:.2f} s for all axes)")
+        print(f"\nADEV of axis {r.axis} [deg/s]")
         print(r.table())
 
     log_path = outdir / "demo_log.npy"
