@@ -245,9 +245,17 @@ def test_demo(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert png.startswith(PNG_SIGNATURE) and len(png) > 20_000
     rate = np.load(outdir / "demo_log.npy")
     assert rate.shape == (180_000, 3)
-    # the simulated ARW shows at short τ: σ(τ) ≈ N/√τ (white rate dominates at 0.01–0.1 s);
-    # N in deg/√s = 0.30/60 for axis x. 5 % covers the estimator's scatter at these τ
-    # (edf > 10^4) plus the small bias-instability contribution.
+    # the simulated ARW shows at τ = t0: σ(t0) = N/√t0 with N = 0.30/60 deg/√s for axis x.
+    # The estimator's relative scatter is ≈ 1/√(2·edf) ≈ 0.2 % (edf ≈ 9·10^4 of 1.8·10^5
+    # samples), bias instability adds (0.664·B/σ)²/2 ≈ 0.02 %; 2 % is ten times the scatter.
     x = gyrobias.allan.adev(rate[:, 0], 100.0, taus=[0.01], confidence=None)
     assert isinstance(x, gyrobias.AllanResult)
-    assert x.adev[0] == pytest.approx(0.30 / 60.0 / np.sqrt(0.01), rel=0.05)
+    assert x.adev[0] == pytest.approx(0.30 / 60.0 / np.sqrt(0.01), rel=0.02)
+
+
+@pytest.mark.parametrize("spelling", ["\\t", "tab", "\t"])
+def test_tab_delimiter_spellings(tmp_path: Path, capsys: pytest.CaptureFixture[str], spelling: str) -> None:
+    path = tmp_path / "log.txt"
+    path.write_text("t\tg\n" + "".join(f"{i / 10}\t{(-1) ** i}\n" for i in range(200)))
+    assert main(["allan", str(path), "--delimiter", spelling, "--no-confidence"]) == 0
+    assert "estimated from the time column 't'" in capsys.readouterr().out

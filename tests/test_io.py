@@ -416,3 +416,20 @@ def test_npy_errors(tmp_path: Path) -> None:
     (tmp_path / "junk.npy").write_bytes(b"not numpy at all")
     with pytest.raises(ValueError, match="junk.npy: not a readable .npy file"):
         load(tmp_path / "junk.npy", fs=1.0)
+
+
+@pytest.mark.parametrize("suffix", [".gz", ".bz2", ".xz"])
+def test_compressed_text(tmp_path: Path, suffix: str) -> None:
+    import bz2
+    import gzip
+    import lzma
+
+    opener = {".gz": gzip.open, ".bz2": bz2.open, ".xz": lzma.open}[suffix]
+    t, x = _log(100)
+    text = "t,a,b,c\n" + "".join(f"{ti!r},{a!r},{b!r},{c!r}\n" for ti, (a, b, c) in zip(t.tolist(), x.tolist()))
+    path = tmp_path / f"log.csv{suffix}"
+    with opener(path, "wt") as fh:
+        fh.write(text)
+    log = load(path)
+    assert log.columns == ("a", "b", "c") and log.fs == 100.0
+    np.testing.assert_array_equal(log.data, x)

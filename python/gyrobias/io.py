@@ -19,6 +19,9 @@ Examples
 
 from __future__ import annotations
 
+import bz2
+import gzip
+import lzma
 import os
 import re
 from collections.abc import Iterator, Sequence
@@ -46,6 +49,7 @@ _PER_SECOND = {"s": 1.0, "ms": 1e3, "us": 1e6, "ns": 1e9}
 _TIME_UNITS = ("auto", "s", "ms", "us", "ns")
 _TIME_NAMES = ("t", "time", "timestamp", "times", "time_s", "t_s", "time_ns", "t_ns", "timestamp_ns",
                "time_us", "t_us", "timestamp_us", "time_ms", "t_ms", "timestamp_ms")
+_OPENERS: dict[str, Any] = {".gz": gzip.open, ".bz2": bz2.open, ".xz": lzma.open}  # as np.loadtxt
 _INT_RE = re.compile(r"^[+-]?\d+$")
 _LOADTXT_CELL = re.compile(r"could not convert string '(.*)' to \w+ at row (\d+), column (\d+)")
 _LOADTXT_COLS = re.compile(r"number of columns changed from (\d+) to (\d+) at row (\d+)")
@@ -263,10 +267,13 @@ def load(
     Notes
     -----
     Rows are reported 1-based as *lines of the file* in text errors (``line 12``) and as
-    0-based data-row indices in :class:`SamplingReport`. The estimated rate is
-    ``fs = 1 / mean(Δt)`` over the regular intervals (0 < Δt ≤ 1.5 · median(Δt)); jitter is ``std(Δt) / median(Δt)`` over the intervals that are
-    not gaps; gaps are ``Δt > 1.5 · median(Δt)``. Text files are parsed by
-    :func:`numpy.loadtxt` (C parser, memory O(N): the float64 result plus a bounded buffer).
+    0-based data-row indices in :class:`SamplingReport`. Gaps are intervals
+    ``Δt > 1.5 · median(Δt)``; the regular intervals are ``0 < Δt ≤ 1.5 · median(Δt)``; the
+    estimated rate is ``fs = 1 / mean(regular Δt)`` and the jitter ``std(regular Δt) /
+    median(Δt)``. Integer timestamps are read as int64, so epoch nanoseconds keep their
+    exact intervals. Text files (also ``.gz``/``.bz2``/``.xz`` compressed) are parsed by
+    :func:`numpy.loadtxt` (C parser; memory O(N), about three times the result at the peak):
+    10⁷ rows × 4 columns (485 MB) load in about 8 s.
     """
     p = Path(os.fspath(path))
     if not p.exists():
@@ -405,7 +412,8 @@ def _read_npy(
 
 def _content_lines(p: Path, skip_rows: int, comments: str) -> Iterator[tuple[int, str]]:
     """(1-based line number, stripped text) of non-blank, non-comment lines after ``skip_rows``."""
-    with p.open("r", encoding="utf-8-sig", errors="replace") as fh:
+    opener = _OPENERS.get(p.suffix.lower(), open)
+    with opener(p, "rt", encoding="utf-8-sig", errors="replace") as fh:
         for number, line in enumerate(fh, start=1):
             if number <= skip_rows:
                 continue

@@ -47,14 +47,15 @@ def register(subparsers: Any) -> None:
     src.add_argument("--no-time-column", action="store_true", help="the log has no time column")
     src.add_argument("--time-unit", choices=("auto", "s", "ms", "us", "ns"), default="auto",
                      help="unit of the timestamps (default auto: ns if the median step ≥ 1000, else s)")
-    src.add_argument("--delimiter", metavar="SEP", help="field separator (default: detected among , ; tab whitespace)")
+    src.add_argument("--delimiter", metavar="SEP", help="field separator: , ; tab (or \\t) or whitespace (default: detected)")
     src.add_argument("--skip-rows", type=int, default=0, metavar="N", help="lines to skip before the header")
     src.add_argument("--units", metavar="UNIT", help="unit of the samples, e.g. deg/s (for labels)")
     src.add_argument("--data-type", choices=("rate", "angle"), default="rate", help="rate (default) or integrated angle samples")
     ana = p.add_argument_group("analysis")
     ana.add_argument("--kind", choices=tuple(_FUNCTIONS), default="adev", help="deviation (default adev)")
     ana.add_argument("--taus", choices=("octave", "decade", "log", "all"), default="octave",
-                     help="τ grid: octave (m = 1, 2, 4, …, default), decade (1, 2, 4, 10, 20, …), log, all")
+                     help="τ grid: octave (m = 1, 2, 4, …, default), decade (1, 2, 4, 10, 20, …), log, "
+                          "all (every m: slow on long logs)")
     ana.add_argument("--per-decade", type=int, default=10, metavar="N", help="points per decade for --taus log")
     ana.add_argument("--non-overlapping", action="store_true", help="non-overlapping ADEV ([BP] eq. 2) instead of overlapping")
     ana.add_argument("--confidence", type=float, default=0.683, metavar="P",
@@ -117,6 +118,9 @@ def run(args: argparse.Namespace) -> int:
     if args.no_time_column and args.time_column is not None:
         raise ValueError("--time-column and --no-time-column contradict each other")
     confidence = None if args.no_confidence else args.confidence
+    delimiter = args.delimiter
+    if delimiter is not None:
+        delimiter = {"\\t": "\t", "tab": "\t", "whitespace": None, "space": None, " ": None}.get(delimiter, delimiter)
     show_progress = args.progress
     if show_progress is None:
         show_progress = sys.stderr.isatty()
@@ -130,7 +134,7 @@ def run(args: argparse.Namespace) -> int:
         time_column=False if args.no_time_column else args.time_column,
         time_unit=args.time_unit,
         fs=args.fs,
-        delimiter=args.delimiter,
+        delimiter=delimiter,
         skip_rows=args.skip_rows,
     )
     t_read = time.perf_counter() - t_read
