@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -424,7 +425,7 @@ def test_compressed_text(tmp_path: Path, suffix: str) -> None:
     import gzip
     import lzma
 
-    opener = {".gz": gzip.open, ".bz2": bz2.open, ".xz": lzma.open}[suffix]
+    opener: Any = {".gz": gzip.open, ".bz2": bz2.open, ".xz": lzma.open}[suffix]
     t, x = _log(100)
     text = "t,a,b,c\n" + "".join(f"{ti!r},{a!r},{b!r},{c!r}\n" for ti, (a, b, c) in zip(t.tolist(), x.tolist()))
     path = tmp_path / f"log.csv{suffix}"
