@@ -13,7 +13,7 @@ unit-aware Python interfaces:
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan, predict
+from gyrobias import allan, io, predict
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
 from gyrobias.predict import FractionalKalmanPredictor, Prediction
@@ -32,5 +32,6 @@ __all__ = [
     "adev",
     "allan",
     "avar",
+    "io",
     "predict",
 ]
