@@ -6,7 +6,7 @@ import argparse
 
 import numpy as np
 import pytest
-from reference_predict import arfima_type2
+from tests.reference_predict import arfima_type2
 
 from gyrobias.cli import experiment_table1
 from gyrobias.cli import predict as cli_predict

@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
-from reference_predict import arfima_type2, dense_predict, literal_filter
+from tests.reference_predict import arfima_type2, dense_predict, literal_filter
 
 import gyrobias
 from gyrobias import predict

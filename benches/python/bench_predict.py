@@ -17,8 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests"))
-from reference_predict import arfima_type2, literal_filter  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+from tests.reference_predict import arfima_type2, literal_filter  # noqa: E402
 
 from gyrobias.predict import FractionalKalmanPredictor, evaluate  # noqa: E402
 
