@@ -5,14 +5,17 @@ unit-aware Python interfaces:
 
 - :mod:`gyrobias.allan` — overlapping / non-overlapping Allan, modified, Hadamard and total
   deviations with chi-square confidence intervals (NIST SP 1065, IEEE Std 952).
+- :mod:`gyrobias.kalman` — fixed-gain [rate, bias] Kalman filter for real-time denoising ([NR]):
+  steady-state gain, discrete fixed-gain form, bandwidth design, streaming.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
 """
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan
+from gyrobias import allan, kalman
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
+from gyrobias.kalman import FixedGainKalman
 
 try:
     __version__ = version("gyrobias")
@@ -21,9 +24,11 @@ except PackageNotFoundError:  # running from a source tree without installation
 
 __all__ = [
     "AllanResult",
+    "FixedGainKalman",
     "GyroLinAlgError",
     "__version__",
     "adev",
     "allan",
     "avar",
+    "kalman",
 ]

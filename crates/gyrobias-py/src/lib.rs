@@ -6,6 +6,7 @@
 
 mod allan;
 mod error;
+mod kalman;
 
 use pyo3::prelude::*;
 
@@ -14,5 +15,6 @@ use pyo3::prelude::*;
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     error::register(m)?;
     allan::register(m)?;
+    kalman::register(m)?;
     Ok(())
 }

@@ -393,6 +393,13 @@ impl FixedGainKalman {
         self.g[0] / self.one_minus_pole
     }
 
+    /// Standard deviation of `ω̂` per unit standard deviation of white input noise,
+    /// `g1/√(1 − p²)`; for a unity DC gain this is `√(κ/(2 − κ))` (SPEC §6: the per-sample noise
+    /// reduction is its inverse, 2.54× at 10 Hz bandwidth and fs = 200 Hz).
+    pub fn white_noise_gain(&self) -> f64 {
+        self.g[0] / (self.one_minus_pole * (1.0 + self.pole)).sqrt()
+    }
+
     /// True −3 dB frequency (Hz) of `z → ω̂`, `None` if the response never drops 3 dB below
     /// Nyquist.
     pub fn bandwidth(&self) -> Option<f64> {
