@@ -166,37 +166,16 @@ def bandwidth_for_qomega(
 # --- state and results ----------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
-class KalmanState:
-    """Carried state of :meth:`FixedGainKalman.filter` (immutable and picklable).
-
-    Attributes
-    ----------
-    rate : tuple of float
-        Rate estimate ``ω̂`` after the last sample, one per axis (u/s).
-    level : tuple of float
-        Observable level ``s = ω̂ + b̂`` per axis (u/s); exactly the loop variable, so resuming
-        reproduces one-shot filtering bit for bit.
-    gain : tuple of float
-        The gain ``G`` of the filter that produced the state (checked on resume).
-    samples : int
-        Samples (rows) processed so far.
-    """
-
-    rate: tuple[float, ...]
-    level: tuple[float, ...]
-    gain: tuple[float, float]
-    samples: int = 0
-
-    @property
-    def bias(self) -> tuple[float, ...]:
-        """Bias estimate ``b̂ = s − ω̂`` per axis (u/s)."""
-        return tuple(s - w for s, w in zip(self.level, self.rate, strict=True))
-
-    @property
-    def n_axes(self) -> int:
-        """Number of axes the state carries."""
-        return len(self.rate)
+#: Carried state of :meth:`FixedGainKalman.filter` (immutable, picklable, compared by value).
+#:
+#: The filter runs as ``u_k = p·u_{k−1} + z_k``, ``ω̂_k = g1·u_k + c``, ``b̂_k = g2·u_k − c``
+#: (``u = (ω̂ + b̂)/(1 − p)`` is the scaled observable level, ``c`` the constant offset of the
+#: unobservable mode). Attributes (tuples, one value per axis unless noted): ``level`` (u) and
+#: ``offset`` (c), exactly the loop variables, so resuming from a state reproduces one-shot
+#: filtering bit for bit; ``rate`` and ``bias``, the estimates after the last sample (u/s);
+#: ``gain``, the ``G`` of the filter that produced it (checked on resume); ``samples``, the
+#: rows processed so far; ``n_axes``.
+KalmanState = _core.KalmanState
 
 
 @dataclass(frozen=True)
@@ -264,12 +243,11 @@ class FixedGainKalman:
 
     Notes
     -----
-    The recursion is run as a first-order IIR on the observable sum plus an accumulation::
-
-        e_k = z_k − s_{k−1},  ω̂_k = ω̂_{k−1} + g1 e_k,  s_k = p s_{k−1} + (1 − p) z_k,
-        b̂_k = s_k − ω̂_k
-
-    which is algebraically ``X_k = A X_{k−1} + G z_k`` with ``A = I − G H`` ([NR] eq. 17).
+    ``X_k = A X_{k−1} + G z_k`` with ``A = I − G H`` ([NR] eq. 17) is a first-order IIR on the
+    observable sum ``s = ω̂ + b̂`` plus an accumulation, and both move by multiples of the
+    innovation, so ``ω̂ − g1·s/(1 − p)`` is a constant ``c`` (the unobservable mode). The core
+    runs it as ``u_k = p·u_{k−1} + z_k``, ``ω̂_k = g1·u_k + c``, ``b̂_k = g2·u_k − c`` with
+    ``u = s/(1 − p)``: one multiply-add on the loop-carried path.
     A unity-DC-gain low-pass reduces the per-sample white noise by ``1/white_noise_gain`` but
     leaves the ARW and bias instability read at τ ≥ 1 s unchanged; the output is autocorrelated
     with ``ρ(k) = p^k``.
@@ -424,22 +402,35 @@ class FixedGainKalman:
 
     def _initial(self, first: NDArray[np.float64]) -> KalmanState:
         n_axes = first.shape[0]
-        gain = (float(self.G[0]), float(self.G[1]))
         if self._x0 is None:
             if not np.all(np.isfinite(first)):
                 bad = int(np.flatnonzero(~np.isfinite(first))[0])
                 raise ValueError(
                     f"z contains a non-finite value (NaN or inf) at sample 0 axis {bad}"
                 )
-            return KalmanState(tuple(map(float, first)), tuple(map(float, first)), gain)
-        x0 = self._x0 if self._x0.ndim == 2 else np.broadcast_to(self._x0, (n_axes, 2))
-        if x0.shape[0] != n_axes:
-            raise ValueError(f"x0 gives {x0.shape[0]} axes but z has {n_axes}")
-        rate = tuple(float(v) for v in x0[:, 0])
-        level = tuple(float(w + b) for w, b in x0)
-        return KalmanState(rate, level, gain)
+            rate0 = [float(v) for v in first]
+            bias0 = [0.0] * n_axes
+        else:
+            x0 = self._x0 if self._x0.ndim == 2 else np.broadcast_to(self._x0, (n_axes, 2))
+            if x0.shape[0] != n_axes:
+                raise ValueError(f"x0 gives {x0.shape[0]} axes but z has {n_axes}")
+            rate0 = [float(v) for v in x0[:, 0]]
+            bias0 = [float(v) for v in x0[:, 1]]
+        return self._core.initial_state(rate0, bias0)
 
-    def filter(self, z: ArrayLike, *, state: KalmanState | None = None) -> FilterResult:
+    def estimates(self, state: KalmanState) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The estimates ``(ω̂, b̂)`` per axis that ``state`` stands for (computed by the core)."""
+        self._check_state_type(state)
+        rate, bias = self._core.estimates(state)
+        return np.array(rate), np.array(bias)
+
+    def filter(
+        self,
+        z: ArrayLike,
+        *,
+        state: KalmanState | None = None,
+        out: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+    ) -> FilterResult:
         """Filter ``z`` and return the rate and bias estimates with the new state.
 
         Parameters
@@ -449,6 +440,10 @@ class FixedGainKalman:
         state : KalmanState, optional
             State returned by a previous call, to continue a stream. Without it the filter
             starts from ``x0`` (default ``[z₀, 0]``).
+        out : (ndarray, ndarray), optional
+            Preallocated C-contiguous float64 arrays of the shape of ``z`` receiving the rate
+            and bias estimates (returned as ``rate`` and ``bias``); reusing them across calls
+            avoids allocation when streaming. They must not overlap each other or ``z``.
 
         Returns
         -------
@@ -466,31 +461,34 @@ class FixedGainKalman:
         TypeError
             Non-numeric ``z`` or a ``state`` that is not a :class:`KalmanState`.
         """
-        data = as_float_array("z", z, ndims=(1, 2))
-        matrix = data.reshape(-1, 1) if data.ndim == 1 else data
-        n_axes = matrix.shape[1]
-        if state is None:
-            state = self._initial(matrix[0])
+        if (
+            type(z) is np.ndarray
+            and z.dtype == np.float64
+            and 1 <= z.ndim <= 2
+            and z.size
+            and z.flags.c_contiguous
+        ):
+            data = z  # fast path for streaming: nothing to convert
         else:
-            self._check_state(state, n_axes)
-        rate, bias, new_rate, new_level = self._core.filter(
-            matrix, list(state.rate), list(state.level)
-        )
-        new_state = KalmanState(
-            tuple(new_rate), tuple(new_level), state.gain, state.samples + matrix.shape[0]
-        )
-        return FilterResult(rate.reshape(data.shape), bias.reshape(data.shape), new_state)
+            data = as_float_array("z", z, ndims=(1, 2))
+        if state is None:
+            state = self._initial(data[0] if data.ndim == 2 else data[:1])
+        elif type(state) is not _core.KalmanState:
+            self._check_state_type(state)
+        if out is None:
+            rate = np.empty(data.shape)
+            bias = np.empty(data.shape)
+        else:
+            if type(out) is not tuple or len(out) != 2:
+                raise TypeError("out must be a tuple (rate, bias) of float64 arrays")
+            rate, bias = out
+        new_state = self._core.filter_into(data, rate, bias, state)
+        return FilterResult(rate, bias, new_state)
 
-    def _check_state(self, state: object, n_axes: int) -> None:
-        if not isinstance(state, KalmanState):
+    @staticmethod
+    def _check_state_type(state: object) -> None:
+        if type(state) is not _core.KalmanState:
             raise TypeError(
                 f"state must be a KalmanState returned by FixedGainKalman.filter, "
                 f"got {type(state).__name__}"
             )
-        gain = (float(self.G[0]), float(self.G[1]))
-        if tuple(state.gain) != gain:
-            raise ValueError(
-                f"state was produced by a different filter (gain {state.gain}, this filter {gain})"
-            )
-        if state.n_axes != n_axes or len(state.level) != n_axes:
-            raise ValueError(f"state carries {state.n_axes} axes but z has {n_axes}")

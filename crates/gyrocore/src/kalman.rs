@@ -54,15 +54,18 @@
 //!
 //! # The recursion as it is run
 //!
-//! `X ← X + G (z − H X)` is a first-order IIR on the observable sum plus an accumulation:
+//! `X ← X + G (z − H X)` is a first-order IIR on the observable sum `s = ω̂ + b̂` plus an
+//! accumulation, `s_k = p s_{k−1} + (1 − p) z_k`, `ω̂_k = ω̂_{k−1} + g1 (z_k − s_{k−1})`. Both
+//! increments are multiples of the innovation, so `ω̂ − g1·s/(1 − p)` is constant (the
+//! unobservable mode) and with the scaled level `u = s/(1 − p)`:
 //!
 //! ```text
-//! e_k = z_k − s_{k−1},   ω̂_k = ω̂_{k−1} + g1 e_k,   s_k = p s_{k−1} + (1 − p) z_k,   b̂_k = s_k − ω̂_k
+//! u_k = p u_{k−1} + z_k,   ω̂_k = g1 u_k + c,   b̂_k = (1 − p − g1) u_k − c
 //! ```
 //!
-//! Both loop-carried chains are one multiply-add long, so the loop runs at memory speed. The
-//! carried state is exactly `(ω̂, s)`, which makes chunked processing equal one-shot processing
-//! bit for bit ([`FilterState`]).
+//! One multiply-add on the loop-carried path, two independent multiply-adds per output: the
+//! loop runs at memory speed. The carried state is exactly `(u, c)` ([`FilterState`]), which
+//! makes chunked processing equal one-shot processing bit for bit.
 
 use nalgebra::{Matrix2, RowVector2, Vector2};
 
@@ -226,7 +229,7 @@ pub fn q_omega_for_bandwidth(bandwidth: f64, noise: &DiscreteNoise, form: Form) 
         Form::Standard => one_minus_p,
         Form::Paper => -p.ln() / noise.period,
     };
-    if !(kappa < 1.0) {
+    if kappa.is_nan() || kappa >= 1.0 {
         let max_bw = bandwidth_of_pole((-noise.period).exp(), noise.period).unwrap_or(nyquist);
         return Err(Error::invalid(
             "bandwidth",
@@ -238,7 +241,7 @@ pub fn q_omega_for_bandwidth(bandwidth: f64, noise: &DiscreteNoise, form: Form) 
     }
     let q_s = noise.r_d * kappa * kappa / (1.0 - kappa);
     let q_omega = q_s - noise.q_b;
-    if !(q_omega > 0.0) {
+    if q_omega.is_nan() || q_omega <= 0.0 {
         return Err(Error::invalid(
             "bandwidth",
             format!(
@@ -257,7 +260,7 @@ fn bandwidth_of_pole(p: f64, period: f64) -> Option<f64> {
 }
 
 fn bandwidth_from(p: f64, one_minus_p: f64, period: f64) -> Option<f64> {
-    if !(p > 0.0) {
+    if p.is_nan() || p <= 0.0 {
         return None;
     }
     let c = one_minus_p / (2.0 * p.sqrt());
@@ -434,6 +437,58 @@ impl FixedGainKalman {
         Ok(())
     }
 
+    /// The state before the first sample for initial estimates `X₀ = [ω₀, b₀]` per axis.
+    pub fn initial_state(&self, rate: &[f64], bias: &[f64]) -> Result<FilterState> {
+        if rate.len() != bias.len() || rate.is_empty() {
+            return Err(Error::ShapeMismatch {
+                name: "x0",
+                reason: format!(
+                    "rate and bias need one value per axis (got {} and {})",
+                    rate.len(),
+                    bias.len()
+                ),
+            });
+        }
+        validate::finite("x0", rate)?;
+        validate::finite("x0", bias)?;
+        let (g1, k) = (self.g[0], self.one_minus_pole);
+        let level: Vec<f64> = rate.iter().zip(bias).map(|(w, b)| (w + b) / k).collect();
+        let offset = rate.iter().zip(&level).map(|(w, u)| w - g1 * u).collect();
+        let state = FilterState { level, offset };
+        state.check(rate.len())?;
+        Ok(state)
+    }
+
+    /// The default `X₀ = [z₀, 0]` per axis (SPEC §6), from the first row of `z`
+    /// (samples × `n_axes`).
+    pub fn initial_state_from_first_sample(&self, z: &[f64], n_axes: usize) -> Result<FilterState> {
+        if n_axes == 0 {
+            return Err(Error::invalid("z", "must have at least one axis"));
+        }
+        validate::min_len("z", z.len() / n_axes, 1)?;
+        self.initial_state(&z[..n_axes], &vec![0.0; n_axes])
+    }
+
+    /// The estimates `(ω̂, b̂)` per axis that `state` stands for: `ω̂ = g1·u + c`,
+    /// `b̂ = (1 − p − g1)·u − c`.
+    pub fn estimates(&self, state: &FilterState) -> (Vec<f64>, Vec<f64>) {
+        let c = self.coefficients();
+        state
+            .level
+            .iter()
+            .zip(&state.offset)
+            .map(|(&u, &off)| (c.g1 * u + off, c.g2 * u - off))
+            .unzip()
+    }
+
+    fn coefficients(&self) -> Coefficients {
+        Coefficients {
+            p: self.pole,
+            g1: self.g[0],
+            g2: self.one_minus_pole - self.g[0],
+        }
+    }
+
     /// Filters `z` (C-order samples × `n_axes`) from `state`, writing the rate and bias estimates
     /// into `rate` and `bias` (same layout) and advancing `state`.
     ///
@@ -463,23 +518,19 @@ impl FixedGainKalman {
                 reason: "output buffers must have the length of z".into(),
             });
         }
-        let mut w = state.rate.clone();
-        let mut s = state.level.clone();
-        let c = Coefficients {
-            g1: self.g[0],
-            p: self.pole,
-            k: self.one_minus_pole,
-        };
+        let mut level = state.level.clone();
+        let c = self.coefficients();
+        let off = &state.offset;
         match n_axes {
-            1 => run_fixed::<1>(&c, z, &mut w, &mut s, rate, bias),
-            2 => run_fixed::<2>(&c, z, &mut w, &mut s, rate, bias),
-            3 => run_fixed::<3>(&c, z, &mut w, &mut s, rate, bias),
-            4 => run_fixed::<4>(&c, z, &mut w, &mut s, rate, bias),
-            _ => run_dynamic(&c, z, &mut w, &mut s, rate, bias),
+            1 => run_fixed::<1>(&c, z, &mut level, off, rate, bias),
+            2 => run_fixed::<2>(&c, z, &mut level, off, rate, bias),
+            3 => run_fixed::<3>(&c, z, &mut level, off, rate, bias),
+            4 => run_fixed::<4>(&c, z, &mut level, off, rate, bias),
+            _ => run_dynamic(&c, z, &mut level, off, rate, bias),
         }
         // A NaN/inf in z makes the level non-finite from there on (p > 0), so checking the
         // final state finds every bad stream without a second pass over the data.
-        if w.iter().chain(s.iter()).any(|v| !v.is_finite()) {
+        if level.iter().any(|v| !v.is_finite()) {
             return Err(match z.iter().position(|v| !v.is_finite()) {
                 Some(i) => Error::invalid(
                     "z",
@@ -497,8 +548,7 @@ impl FixedGainKalman {
                 ),
             });
         }
-        state.rate = w;
-        state.level = s;
+        state.level = level;
         Ok(())
     }
 
@@ -516,140 +566,109 @@ impl FixedGainKalman {
     }
 }
 
+/// Coefficients of the recursion in its scaled-level form.
 struct Coefficients {
-    g1: f64,
     p: f64,
-    k: f64,
+    g1: f64,
+    /// `1 − p − g1` (equals `g2`).
+    g2: f64,
 }
 
 /// The per-sample update for one axis; identical arithmetic in every kernel so that any axis
 /// count and any chunking give bit-identical results.
+///
+/// Since `s_k − s_{k−1} = (1 − p)·e_k` and `ω̂_k − ω̂_{k−1} = g1·e_k`, the quantity
+/// `ω̂ − g1·s/(1 − p)` never changes (it is the unobservable mode). With the scaled level
+/// `u = s/(1 − p)` the whole filter is `u_k = p·u_{k−1} + z_k`, `ω̂_k = g1·u_k + c`,
+/// `b̂_k = g2·u_k − c`: one multiply-add on the loop-carried path, and no accumulated
+/// rounding in `ω̂`.
+#[allow(clippy::inline_always)] // the loop body of every kernel: identical code, no call
 #[inline(always)]
-fn step(c: &Coefficients, z: f64, w: &mut f64, s: &mut f64) -> (f64, f64) {
-    let e = z - *s;
-    *w += c.g1 * e;
-    *s = c.p * *s + c.k * z;
-    (*w, *s - *w)
+fn step(c: &Coefficients, z: f64, u: &mut f64, offset: f64) -> (f64, f64) {
+    *u = c.p * *u + z;
+    (c.g1 * *u + offset, c.g2 * *u - offset)
 }
 
 fn run_fixed<const N: usize>(
     c: &Coefficients,
     z: &[f64],
-    w: &mut [f64],
-    s: &mut [f64],
+    level: &mut [f64],
+    offset: &[f64],
     rate: &mut [f64],
     bias: &mut [f64],
 ) {
     // Loop-carried values live in local arrays (registers), not behind the slices.
-    let mut wl = [0.0; N];
-    let mut sl = [0.0; N];
-    wl.copy_from_slice(w);
-    sl.copy_from_slice(s);
+    let mut u = [0.0; N];
+    let mut off = [0.0; N];
+    u.copy_from_slice(level);
+    off.copy_from_slice(offset);
     for ((zr, rr), br) in z
         .chunks_exact(N)
         .zip(rate.chunks_exact_mut(N))
         .zip(bias.chunks_exact_mut(N))
     {
         for a in 0..N {
-            let (r, b) = step(c, zr[a], &mut wl[a], &mut sl[a]);
+            let (r, b) = step(c, zr[a], &mut u[a], off[a]);
             rr[a] = r;
             br[a] = b;
         }
     }
-    w.copy_from_slice(&wl);
-    s.copy_from_slice(&sl);
+    level.copy_from_slice(&u);
 }
 
 fn run_dynamic(
     c: &Coefficients,
     z: &[f64],
-    w: &mut [f64],
-    s: &mut [f64],
+    level: &mut [f64],
+    offset: &[f64],
     rate: &mut [f64],
     bias: &mut [f64],
 ) {
-    let n = w.len();
+    let n = level.len();
     for ((zr, rr), br) in z
         .chunks_exact(n)
         .zip(rate.chunks_exact_mut(n))
         .zip(bias.chunks_exact_mut(n))
     {
         for a in 0..n {
-            let (r, b) = step(c, zr[a], &mut w[a], &mut s[a]);
+            let (r, b) = step(c, zr[a], &mut level[a], offset[a]);
             rr[a] = r;
             br[a] = b;
         }
     }
 }
 
-/// The carried state of the recursion, per axis: the rate estimate `ω̂` and the observable
-/// level `s = ω̂ + b̂` (the bias estimate is `s − ω̂`).
+/// The carried state of the recursion, per axis: the scaled observable level
+/// `u = (ω̂ + b̂)/(1 − p)` and the constant offset `c = ω̂ − g1·u` of the unobservable mode.
 ///
-/// Exactly these two numbers are the loop's variables, so resuming from a state reproduces
-/// one-shot processing bit for bit.
+/// Exactly these numbers are the loop's variables, so resuming from a state reproduces one-shot
+/// processing bit for bit. Build one with [`FixedGainKalman::initial_state`]; read the
+/// estimates it stands for with [`FixedGainKalman::estimates`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct FilterState {
-    /// `ω̂` per axis.
-    pub rate: Vec<f64>,
-    /// `s = ω̂ + b̂` per axis.
+    /// `u = s/(1 − p)` per axis.
     pub level: Vec<f64>,
+    /// `c = ω̂ − g1·u` per axis (constant while filtering).
+    pub offset: Vec<f64>,
 }
 
 impl FilterState {
-    /// State from initial estimates `X₀ = [ω₀, b₀]` per axis (the state *before* the first sample).
-    pub fn from_estimates(rate: &[f64], bias: &[f64]) -> Result<Self> {
-        if rate.len() != bias.len() || rate.is_empty() {
-            return Err(Error::ShapeMismatch {
-                name: "x0",
-                reason: format!(
-                    "rate and bias need one value per axis (got {} and {})",
-                    rate.len(),
-                    bias.len()
-                ),
-            });
-        }
-        validate::finite("x0", rate)?;
-        validate::finite("x0", bias)?;
-        Ok(FilterState {
-            rate: rate.to_vec(),
-            level: rate.iter().zip(bias).map(|(w, b)| w + b).collect(),
-        })
-    }
-
-    /// The default `X₀ = [z₀, 0]` per axis (SPEC §6): the first row of `z` (samples × `n_axes`).
-    pub fn from_first_sample(z: &[f64], n_axes: usize) -> Result<Self> {
-        if n_axes == 0 {
-            return Err(Error::invalid("z", "must have at least one axis"));
-        }
-        validate::min_len("z", z.len() / n_axes, 1)?;
-        let first = &z[..n_axes];
-        validate::finite("z", first)?;
-        Ok(FilterState {
-            rate: first.to_vec(),
-            level: first.to_vec(),
-        })
-    }
-
-    /// The bias estimates `b̂ = s − ω̂`.
-    pub fn bias(&self) -> Vec<f64> {
-        self.level
-            .iter()
-            .zip(&self.rate)
-            .map(|(s, w)| s - w)
-            .collect()
-    }
-
     fn check(&self, n_axes: usize) -> Result<()> {
-        if self.rate.len() != n_axes || self.level.len() != n_axes {
+        if self.level.len() != n_axes || self.offset.len() != n_axes {
             return Err(Error::ShapeMismatch {
                 name: "state",
                 reason: format!(
                     "state holds {} axes but the data has {n_axes}",
-                    self.rate.len()
+                    self.level.len()
                 ),
             });
         }
-        if self.rate.iter().chain(&self.level).any(|v| !v.is_finite()) {
+        if self
+            .level
+            .iter()
+            .chain(&self.offset)
+            .any(|v| !v.is_finite())
+        {
             return Err(Error::invalid("state", "contains a non-finite value"));
         }
         Ok(())
@@ -756,7 +775,7 @@ mod tests {
         let z: Vec<f64> = (0..500)
             .map(|i| (f64::from(i) * 0.37).sin() * 3.0 + 1.0)
             .collect();
-        let mut st = FilterState::from_first_sample(&z, 1).unwrap();
+        let mut st = f.initial_state_from_first_sample(&z, 1).unwrap();
         let (r, b) = f.filter(&z, 1, &mut st.clone()).unwrap();
         let (g, mut x) = (f.g(), Vector2::new(z[0], 0.0));
         for i in 0..z.len() {
@@ -773,7 +792,7 @@ mod tests {
         let f = FixedGainKalman::new(nr_noise(), 1000.0, Form::Standard).unwrap();
         let mut z = vec![1.0; 30];
         z[17] = f64::NAN;
-        let mut st = FilterState::from_first_sample(&z, 3).unwrap();
+        let mut st = f.initial_state_from_first_sample(&z, 3).unwrap();
         let before = st.clone();
         let err = f.filter(&z, 3, &mut st).unwrap_err();
         assert!(err.to_string().contains("sample 5 axis 2"), "{err}");
