@@ -388,3 +388,102 @@ def test_out_buffers():
     buf = np.empty(z.shape)
     with pytest.raises((ValueError, TypeError)):
         kf.filter(z, out=(buf, buf))  # the two outputs overlap
+
+
+# --- CLI, experiment and demo ---------------------------------------------------------------
+
+
+def _parser(register):
+    import argparse
+
+    p = argparse.ArgumentParser()
+    register(p.add_subparsers())
+    return p
+
+
+def test_cli_filter_round_trip(tmp_path, capsys):
+    from gyrobias.cli import filter as cli_filter
+
+    z = np.random.default_rng(2).normal(size=(500, 2)) + [1.0, -2.0]
+    log = tmp_path / "gyro.csv"
+    np.savetxt(log, z, delimiter=",", header="gx,gy", comments="")
+    out = tmp_path / "filtered.csv"
+    args = _parser(cli_filter.register).parse_args(
+        ["filter", str(log), "--fs", "200", "--bandwidth", "10", "--arw", str(ARW),
+         "--rrw", str(RRW), "-o", str(out)]
+    )
+    assert args.func(args) == 0
+    assert "bandwidth 10 Hz" in capsys.readouterr().out
+    got = np.loadtxt(out, delimiter=",", skiprows=1)
+    rate, bias = FixedGainKalman(FS, arw=ARW, rrw=RRW, bandwidth=10.0).filter(z)
+    # The CSV holds 10 significant digits.
+    np.testing.assert_allclose(got[:, 0::2], rate, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(got[:, 1::2], bias, rtol=1e-9, atol=1e-9)
+    # Customary units: 0.1667 deg/sqrt(h) is the same filter as ARW in deg/sqrt(s).
+    args = _parser(cli_filter.register).parse_args(
+        ["filter", str(log), "--fs", "200", "--q-omega", "1e-4", "--arw", "0.1667",
+         "--arw-unit", "deg/sqrt(h)", "--columns", "1", "-o", str(tmp_path / "f.npy")]
+    )
+    assert args.func(args) == 0
+    ref_rate, _ = FixedGainKalman(FS, arw=ARW, rrw=0.0, q_omega=1e-4).filter(z[:, 1])
+    np.testing.assert_array_equal(np.load(tmp_path / "f.npy")[:, 0], ref_rate)
+
+
+def test_cli_filter_errors(tmp_path, capsys):
+    from gyrobias.cli import filter as cli_filter
+
+    log = tmp_path / "gyro.csv"
+    np.savetxt(log, np.ones((10, 1)))
+    for argv, match in [
+        (["filter", str(tmp_path / "missing.csv"), "--fs", "200", "--bandwidth", "10", "--arw", "0.1"], "does not exist"),
+        (["filter", str(log), "--fs", "-1", "--bandwidth", "10", "--arw", "0.1"], "fs"),
+        (["filter", str(log), "--fs", "200", "--bandwidth", "150", "--arw", "0.1"], "Nyquist"),
+        (["filter", str(log), "--fs", "200", "--bandwidth", "10", "--arw", "0.1", "--columns", "3"], "columns"),
+    ]:
+        args = _parser(cli_filter.register).parse_args(argv)
+        assert args.func(args) == 2
+        assert match in capsys.readouterr().err
+
+
+def test_experiment_reproduces_what_a_filter_can_do():
+    from gyrobias.cli.experiment_kalman import format_report, simulate_tests
+
+    exp = simulate_tests(seed=1, static_seconds=600.0, dynamic_seconds=20.0)
+    raw, f10 = exp.static["original"], exp.static["standard 10 Hz"]
+    # Per-sample std drops by sqrt((2-k)/k) = 2.54 (SPEC §6); 120 000 samples → ~1 % s.e.
+    assert raw["std"] / f10["std"] == pytest.approx(2.54, rel=0.05)
+    # ARW read at tau = 1 s is unchanged by a unity-DC-gain filter (Allan estimate s.e. ~1 %).
+    assert f10["arw"] / raw["arw"] == pytest.approx(1.0, abs=0.05)
+    # The literal paper form has a sub-1/(2 pi) Hz bandwidth: it "reduces" the ARW 10x or more
+    # but wipes out a 0.5 Hz swing.
+    paper = exp.static["paper form, eq. 18 '10 Hz'"]
+    assert paper["bandwidth"] < 1 / (2 * math.pi)
+    assert paper["arw"] < raw["arw"] / 10
+    for f, row in exp.swing.items():
+        assert row["amplitude_filtered"] == pytest.approx(20.0 * row["gain_at_f"], rel=0.02)
+        assert row["std_filtered"] < row["std_raw"]
+    assert exp.swing[0.5]["amplitude_paper_form"] < 2.0
+    for row in exp.constant.values():
+        assert row["std_raw"] / row["std_filtered"] == pytest.approx(2.54, rel=0.1)
+    report = format_report(exp)
+    assert "Table 2" in report and "44.4129" in report and "cannot" in report
+
+
+def test_demo_section_writes_plot(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    from gyrobias.cli.experiment_kalman import demo_section
+
+    rng = np.random.default_rng(0)
+    rate = 0.05 * rng.standard_normal((6000, 3))
+    demo_section(rate, 100.0, tmp_path)
+    assert (tmp_path / "kalman_allan.png").stat().st_size > 1000
+    assert "unchanged" in capsys.readouterr().out
+
+
+def test_experiment_registers_under_experiment_group():
+    from gyrobias.cli import experiment_kalman
+
+    args = _parser(experiment_kalman.register_experiment).parse_args(
+        ["kalman", "--static-seconds", "60", "--dynamic-seconds", "5"]
+    )
+    assert args.func is experiment_kalman.run and args.seed == 0
