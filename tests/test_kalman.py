@@ -7,7 +7,7 @@ import pickle
 
 import numpy as np
 import pytest
-import reference_kalman as ref
+from tests import reference_kalman as ref
 from hypothesis import given
 from hypothesis import strategies as st
 
@@ -406,7 +406,7 @@ def test_cli_filter_round_trip(tmp_path, capsys):
 
     z = np.random.default_rng(2).normal(size=(500, 2)) + [1.0, -2.0]
     log = tmp_path / "gyro.csv"
-    np.savetxt(log, z, delimiter=",", header="gx,gy", comments="")
+    np.savetxt(log, z, delimiter=",", header="gx,gy", comments="")  # a header with names
     out = tmp_path / "filtered.csv"
     args = _parser(cli_filter.register).parse_args(
         ["filter", str(log), "--fs", "200", "--bandwidth", "10", "--arw", str(ARW),
@@ -414,6 +414,8 @@ def test_cli_filter_round_trip(tmp_path, capsys):
     )
     assert args.func(args) == 0
     assert "bandwidth 10 Hz" in capsys.readouterr().out
+    header = out.read_text().splitlines()[0]
+    assert header.startswith("rate_") and header.count(",") == 3
     got = np.loadtxt(out, delimiter=",", skiprows=1)
     rate, bias = FixedGainKalman(FS, arw=ARW, rrw=RRW, bandwidth=10.0).filter(z)
     # The CSV holds 10 significant digits.
@@ -429,20 +431,21 @@ def test_cli_filter_round_trip(tmp_path, capsys):
     np.testing.assert_array_equal(np.load(tmp_path / "f.npy")[:, 0], ref_rate)
 
 
-def test_cli_filter_errors(tmp_path, capsys):
+def test_cli_filter_errors(tmp_path):
     from gyrobias.cli import filter as cli_filter
 
     log = tmp_path / "gyro.csv"
     np.savetxt(log, np.ones((10, 1)))
-    for argv, match in [
-        (["filter", str(tmp_path / "missing.csv"), "--fs", "200", "--bandwidth", "10", "--arw", "0.1"], "does not exist"),
-        (["filter", str(log), "--fs", "-1", "--bandwidth", "10", "--arw", "0.1"], "fs"),
-        (["filter", str(log), "--fs", "200", "--bandwidth", "150", "--arw", "0.1"], "Nyquist"),
-        (["filter", str(log), "--fs", "200", "--bandwidth", "10", "--arw", "0.1", "--columns", "3"], "columns"),
+    base = ["--fs", "200", "--bandwidth", "10", "--arw", "0.1"]
+    for argv, exc, match in [
+        ([str(tmp_path / "missing.csv"), *base], OSError, "missing"),
+        ([str(log), "--fs", "-1", "--bandwidth", "10", "--arw", "0.1"], ValueError, "fs"),
+        ([str(log), "--fs", "200", "--bandwidth", "150", "--arw", "0.1"], ValueError, "Nyquist"),
+        ([str(log), *base, "--columns", "3"], ValueError, "3"),
     ]:
-        args = _parser(cli_filter.register).parse_args(argv)
-        assert args.func(args) == 2
-        assert match in capsys.readouterr().err
+        args = _parser(cli_filter.register).parse_args(["filter", *argv])
+        with pytest.raises(exc, match=match):
+            args.func(args)
 
 
 def test_experiment_reproduces_what_a_filter_can_do():

@@ -6,14 +6,14 @@ Example::
 
 ``--arw`` is in u/√s and ``--rrw`` in u/s^1.5, u being the angle unit of the log's rates
 (``--arw-unit deg/sqrt(h)`` and ``--rrw-unit deg/h^1.5`` accept the customary units for logs in
-deg/s). The output has, for every input column, the rate estimate and the bias estimate.
+deg/s). The output (CSV or .npy) has, for every channel, the rate estimate and the bias estimate
+(columns ``rate_<name>,bias_<name>``).
 """
 
 from __future__ import annotations
 
 import argparse
 import math
-import sys
 from pathlib import Path
 from typing import Any
 
@@ -50,7 +50,8 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument("--form", choices=("standard", "paper"), default="standard")
     p.add_argument(
         "--columns",
-        help="comma-separated 0-based columns to filter (default: all numeric columns)",
+        help="comma-separated channels (header names or 0-based indices) to filter "
+        "(default: every column except a time column)",
     )
     p.add_argument(
         "-o", "--output", type=Path, help="output file (.csv or .npy); default: summary only"
@@ -59,67 +60,77 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
     return p
 
 
-def load_rates(path: Path, columns: str | None = None) -> NDArray[np.float64]:
-    """Read a (samples × axes) float array from text (comma, tab or whitespace) or ``.npy``.
+def load_rates(path: Path, columns: str | None = None) -> tuple[NDArray[np.float64], list[str]]:
+    """Read the (samples × channels) rates and channel names of a log.
 
-    Leading lines that are not numeric (headers) and ``#`` comments are skipped.
+    Uses :func:`gyrobias.io.load` where available (header names, time columns, sampling
+    checks); otherwise a small reader for ``.npy`` and comma/tab/whitespace text whose
+    leading non-numeric lines (headers) and ``#`` comments are skipped.
     """
+    try:
+        from gyrobias import io as gio  # type: ignore[attr-defined, unused-ignore]
+    except ImportError:
+        gio = None
+    if gio is not None and hasattr(gio, "load"):
+        log = gio.load(path, columns=columns)
+        return np.asarray(log.data, dtype=np.float64), list(log.columns)
     if not path.exists():
-        raise ValueError(f"log file {path} does not exist")
+        raise FileNotFoundError(f"log file not found: {path}")
     if path.suffix == ".npy":
-        data = np.load(path, allow_pickle=False)
+        data = np.asarray(np.load(path, allow_pickle=False), dtype=np.float64)
     else:
         with path.open() as fh:
             lines = [ln for ln in fh if ln.strip() and not ln.lstrip().startswith("#")]
-        delimiter = "," if lines and "," in lines[-1] else ("\t" if lines and "\t" in lines[-1] else None)
+        last = lines[-1] if lines else ""
+        delimiter = "," if "," in last else ("\t" if "\t" in last else None)
         skip = 0
         for ln in lines:
             try:
-                [float(v) for v in (ln.split(delimiter) if delimiter else ln.split())]
+                [float(v) for v in ln.split(delimiter)]
                 break
             except ValueError:
                 skip += 1
         if skip == len(lines):
             raise ValueError(f"log file {path} has no numeric rows")
         data = np.loadtxt(lines[skip:], delimiter=delimiter, ndmin=2)
-    data = np.asarray(data, dtype=np.float64)
     if data.ndim == 1:
         data = data[:, None]
+    names = [f"col{i}" for i in range(data.shape[1])]
     if columns:
         try:
-            idx = [int(c) for c in columns.split(",")]
+            idx = [int(c.strip().removeprefix("col")) for c in columns.split(",")]
         except ValueError:
-            raise ValueError(f"--columns must be comma-separated integers, got {columns!r}") from None
+            raise ValueError(f"--columns must be comma-separated indices, got {columns!r}") from None
         if any(i < 0 or i >= data.shape[1] for i in idx):
             raise ValueError(f"--columns {columns} out of range for {data.shape[1]} columns")
         data = data[:, idx]
-    return data
+        names = [names[i] for i in idx]
+    return data, names
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run ``gyrobias filter``; returns the exit status."""
-    try:
-        z = load_rates(args.log, args.columns)
-        kf = FixedGainKalman(
-            args.fs,
-            arw=args.arw * _ARW_UNITS[args.arw_unit],
-            rrw=args.rrw * _RRW_UNITS[args.rrw_unit],
-            q_omega=args.q_omega,
-            bandwidth=args.bandwidth,
-            form=args.form,
-        )
-        rate, bias = kf.filter(z)
-    except (ValueError, TypeError, OSError) as err:
-        print(f"gyrobias filter: error: {err}", file=sys.stderr)
-        return 2
+    """Run ``gyrobias filter``; returns the exit status.
+
+    Bad input raises ``ValueError``/``OSError``, which the ``gyrobias`` entry point prints as
+    one error line (exit code 2).
+    """
+    z, names = load_rates(args.log, args.columns)
+    kf = FixedGainKalman(
+        args.fs,
+        arw=args.arw * _ARW_UNITS[args.arw_unit],
+        rrw=args.rrw * _RRW_UNITS[args.rrw_unit],
+        q_omega=args.q_omega,
+        bandwidth=args.bandwidth,
+        form=args.form,
+    )
+    rate, bias = kf.filter(z)
     print(describe(kf))
-    print(f"{z.shape[0]} samples x {z.shape[1]} axes from {args.log}")
-    for a in range(z.shape[1]):
+    print(f"{z.shape[0]} samples x {z.shape[1]} channels from {args.log}")
+    for a, name in enumerate(names):
         raw = float(np.std(np.diff(z[:, a]))) / math.sqrt(2.0)
-        filt = raw * kf.white_noise_gain
         print(
-            f"  axis {a}: white-noise std per sample {raw:.4g} -> {filt:.4g} (expected), "
-            f"final bias estimate {bias[-1, a]:.4g}"
+            f"  {name}: white noise per sample {raw:.4g} -> {raw * kf.white_noise_gain:.4g} "
+            f"(expected after filtering), final bias estimate {bias[-1, a]:.6g}"
         )
     if args.output is not None:
         out = np.empty((z.shape[0], 2 * z.shape[1]))
@@ -128,7 +139,7 @@ def run(args: argparse.Namespace) -> int:
         if args.output.suffix == ".npy":
             np.save(args.output, out)
         else:
-            header = ",".join(f"rate_{a},bias_{a}" for a in range(z.shape[1]))
+            header = ",".join(f"rate_{n},bias_{n}" for n in names)
             np.savetxt(args.output, out, delimiter=",", header=header, comments="", fmt="%.10g")
         print(f"wrote {args.output}")
     return 0
