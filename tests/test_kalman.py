@@ -112,6 +112,7 @@ def test_noise_reduction_factor_spec():
 def test_paper_form_bandwidth_is_capped():
     kf = nr_filter(form="paper")
     assert kf.bandwidth < 1.0 / (2.0 * math.pi)
+    # G = K_s (1 − e^{−κT})/κ: a few roundings of O(1) quantities.
     np.testing.assert_allclose(kf.G, kf.gain * (-math.expm1(-kf.kappa / FS)) / kf.kappa, rtol=1e-14)
     with pytest.raises(ValueError, match="bandwidth.*paper"):
         FixedGainKalman(FS, arw=ARW, rrw=RRW, bandwidth=10.0, form="paper")
@@ -163,7 +164,8 @@ def test_bandwidth_round_trip_and_minus_3db(d, frac):
     bw = kf.bandwidth
     if bw is not None:
         h = kf.frequency_response([0.0, bw])
-        # |H(BW)|² = |H(0)|²/2 by definition of the −3 dB point.
+        # |H(BW)|² = |H(0)|²/2 by definition of the −3 dB point; asin near 1 (BW close to
+        # Nyquist) amplifies rounding, hence 1e-9 rather than a few ulps.
         assert abs(h[1]) ** 2 / abs(h[0]) ** 2 == pytest.approx(0.5, rel=1e-9)
         assert abs(h[0]) == pytest.approx(kf.dc_gain, rel=1e-12)
     target = frac * d["fs"]
@@ -173,6 +175,8 @@ def test_bandwidth_round_trip_and_minus_3db(d, frac):
         assert "unreachable" in str(err)
         return
     got = bandwidth_for_qomega(q, d["fs"], arw=d["arw"], rrw=d["rrw"], form=d["form"])
+    # Closed-form inverse; ln/asin/sqrt round trip loses at most ~1e-12 relative (1e-9 leaves
+    # room for slow paper-form designs where 1 − p ≈ 1e-6 carries 1e-10 relative error).
     assert got == pytest.approx(target, rel=1e-9)
 
 
@@ -261,6 +265,7 @@ def test_frequency_response_matches_fft_of_impulse_response():
     n = 4096  # the impulse response has decayed to p^n < 1e-300
     spec = ref.impulse_response_fft(kf.G[0], kf.G[1], n)
     freqs = np.fft.rfftfreq(n, d=1.0 / FS)
+    # FFT of 4096 points: rounding ~ log2(n)·eps relative to the spectrum's scale (≤ 1).
     np.testing.assert_allclose(kf.frequency_response(freqs), spec, rtol=1e-11, atol=1e-14)
     assert kf.frequency_response(np.zeros((2, 3))).shape == (2, 3)
 

@@ -130,7 +130,7 @@ def run(args: argparse.Namespace) -> int:
         raw = float(np.std(np.diff(z[:, a]))) / math.sqrt(2.0)
         print(
             f"  {name}: white noise per sample {raw:.4g} -> {raw * kf.white_noise_gain:.4g} "
-            f"(expected after filtering), final bias estimate {bias[-1, a]:.6g}"
+            f"(expected after filtering), final bias estimate {bias[-1, a] + 0.0:.6g}"
         )
     if args.output is not None:
         out = np.empty((z.shape[0], 2 * z.shape[1]))
