@@ -8,15 +8,18 @@ unit-aware Python interfaces:
 - :mod:`gyrobias.predict` — bias prediction from a calibration window ([BP]): the fractional
   (1/f) Kalman predictor (O(n·k) generalized Schur, compiled batch GEMM), moving average and
   calibration mean, and [BP]'s batch test.
+- :mod:`gyrobias.kalman` — fixed-gain [rate, bias] Kalman filter for real-time denoising ([NR]):
+  steady-state gain, discrete fixed-gain form, bandwidth design, streaming.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
 """
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan, io, predict
+from gyrobias import allan, io, kalman, predict
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
 from gyrobias.predict import FractionalKalmanPredictor, Prediction
+from gyrobias.kalman import FixedGainKalman
 
 try:
     __version__ = version("gyrobias")
@@ -26,6 +29,7 @@ except PackageNotFoundError:  # running from a source tree without installation
 __all__ = [
     "AllanResult",
     "FractionalKalmanPredictor",
+    "FixedGainKalman",
     "GyroLinAlgError",
     "Prediction",
     "__version__",
@@ -34,4 +38,5 @@ __all__ = [
     "avar",
     "io",
     "predict",
+    "kalman",
 ]

@@ -7,6 +7,7 @@
 mod allan;
 mod error;
 mod predict;
+mod kalman;
 
 use pyo3::prelude::*;
 
@@ -16,5 +17,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     error::register(m)?;
     allan::register(m)?;
     predict::register(m)?;
+    kalman::register(m)?;
     Ok(())
 }

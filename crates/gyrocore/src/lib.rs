@@ -9,6 +9,7 @@
 //! | [`allan`] | overlapping / non-overlapping Allan, modified, Hadamard and total variance, noise identification, EDF and confidence intervals | NIST SP 1065, IEEE 952, \[BP\] eq. 2, \[TS\] eq. 1 |
 //! | [`fractional`] | fractional differencing and integration, ARFIMA(0, d, 0) | SPEC §4, Hosking (1981), [BP] eq. 3 |
 //! | [`predict`] | bias prediction: calibration mean, moving average, fractional (1/f) Kalman predictor (literal and generalized-Schur O(n·k)), compiled batch predictor | \[BP\] §IV–V, SPEC §5 |
+//! | [`kalman`] | fixed-gain 2-state [rate, bias] Kalman filter: steady-state gain, discrete fixed-gain form, bandwidth design, streaming | \[NR\] eqs. 4–18, SPEC §6 |
 //! | [`stats`] | chi-square quantiles and the special functions behind them | — |
 //!
 //! Units: time in seconds; rates and angles in the caller's unit (the core is unit-agnostic).
@@ -18,6 +19,7 @@ pub mod allan;
 pub mod error;
 pub mod fractional;
 pub mod predict;
+pub mod kalman;
 pub mod stats;
 pub mod validate;
 

@@ -22,6 +22,7 @@ __all__ = ["SECTIONS", "TRUE_COEFFICIENTS", "register", "run"]
 #: Modules providing ``demo_section(rate, fs, outdir)``; appended to extend the demo.
 SECTIONS: list[str] = [
     "gyrobias.cli.predict",
+    "gyrobias.cli.experiment_kalman",
 ]
 
 #: The simulated gyro, per axis (x, y, z), in customary units. Typical of a consumer/industrial
