@@ -115,13 +115,14 @@ mod tests {
     use super::*;
 
     #[test]
+    // Brent stops within 2·tol = 2(√ε·|x| + xtol/3) of the minimum: ~3e-8 here.
     fn finds_smooth_and_boundary_minima() {
         let m = brent_minimize(|x| (x - 0.3).powi(2) + 1.0, -0.5, 2.0, 1e-10, 100);
         assert!((m.x - 0.3).abs() < 1e-7 && m.evaluations < 30, "{m:?}");
         let m = brent_minimize(|x| (x - 0.3).abs(), -0.5, 2.0, 1e-10, 200);
-        assert!((m.x - 0.3).abs() < 1e-8);
+        assert!((m.x - 0.3).abs() < 1e-7);
         let m = brent_minimize(|x| x, -0.5, 2.0, 1e-10, 200);
-        assert!((m.x + 0.5).abs() < 1e-8);
+        assert!((m.x + 0.5).abs() < 1e-7);
         let m = brent_minimize(|x| x.cos(), 0.0, 6.0, 1e-12, 100);
         assert!((m.x - std::f64::consts::PI).abs() < 1e-7);
     }
