@@ -83,10 +83,9 @@ pub fn diff_rows(data: &[f64], n: usize, d: f64, method: Method) -> Result<Vec<f
 
 /// `Δ^{−d}` applied to each row of a C-contiguous `(rows × n)` array; returns the same layout.
 pub fn integrate_rows(data: &[f64], n: usize, d: f64, method: Method) -> Result<Vec<f64>> {
-    if !d.is_finite() {
-        return Err(Error::invalid("d", format!("must be finite, got {d}")));
-    }
-    diff_rows(data, n, -d, method)
+    let mut out = vec![0.0; data.len()];
+    apply_rows_into("w", data, n, d, -1.0, method, &mut out)?;
+    Ok(out)
 }
 
 /// [`diff_rows`] writing into `out` (same length as `data`); rows are processed in parallel.
@@ -97,10 +96,23 @@ pub fn diff_rows_into(
     method: Method,
     out: &mut [f64],
 ) -> Result<()> {
+    apply_rows_into("x", data, n, d, 1.0, method, out)
+}
+
+/// `Δ^{sign·d}` by rows; `name` is the data argument's name in error messages.
+fn apply_rows_into(
+    name: &'static str,
+    data: &[f64],
+    n: usize,
+    d: f64,
+    sign: f64,
+    method: Method,
+    out: &mut [f64],
+) -> Result<()> {
     if !d.is_finite() {
         return Err(Error::invalid("d", format!("must be finite, got {d}")));
     }
-    check_rows("x", data, n)?;
+    check_rows(name, data, n)?;
     if out.len() != data.len() {
         return Err(Error::ShapeMismatch {
             name: "out",
@@ -111,8 +123,8 @@ pub fn diff_rows_into(
             ),
         });
     }
-    validate::finite("x", data)?;
-    let conv = CausalConvolution::new(kernel(d, n)?, n, method);
+    validate::finite(name, data)?;
+    let conv = CausalConvolution::new(kernel(sign * d, n)?, n, method);
     out.par_chunks_mut(n).zip(data.par_chunks(n)).for_each_init(
         || conv.scratch(),
         |scratch, (o, x)| conv.apply_into(x, o, scratch),
