@@ -123,7 +123,7 @@ mod tests {
         assert!((m.x - 0.3).abs() < 1e-7);
         let m = brent_minimize(|x| x, -0.5, 2.0, 1e-10, 200);
         assert!((m.x + 0.5).abs() < 1e-7);
-        let m = brent_minimize(|x| x.cos(), 0.0, 6.0, 1e-12, 100);
+        let m = brent_minimize(f64::cos, 0.0, 6.0, 1e-12, 100);
         assert!((m.x - std::f64::consts::PI).abs() < 1e-7);
     }
 }

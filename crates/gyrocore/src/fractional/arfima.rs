@@ -22,7 +22,6 @@
 //! the same output and row 0 of a batch equals the single series with that seed.
 
 use rayon::prelude::*;
-use realfft::RealFftPlanner;
 use realfft::num_complex::Complex;
 
 use super::{Method, convolve, diff_rows_into};
@@ -128,8 +127,7 @@ fn embedding(n: usize, d: f64, sigma: f64) -> Result<(usize, Vec<f64>)> {
     let half = big_m / 2;
     let gam = autocovariance(d, sigma, half + 1)?;
     let mut c: Vec<f64> = (0..big_m).map(|j| gam[j.min(big_m - j)]).collect();
-    let mut planner = RealFftPlanner::<f64>::new();
-    let fft = planner.plan_fft_forward(big_m);
+    let (fft, _) = convolve::plans(big_m);
     let mut spec = fft.make_output_vec();
     fft.process(&mut c, &mut spec)
         .expect("FFT buffer lengths come from the plan");
@@ -154,8 +152,7 @@ fn stationary(n: usize, d: f64, sigma: f64, rows: usize, seed: u64) -> Result<Ve
     let (big_m, roots) = embedding(n, d, sigma)?;
     let mut normals = vec![0.0; big_m * rows];
     NormalStream::new(seed).fill(&mut normals);
-    let mut planner = RealFftPlanner::<f64>::new();
-    let inverse = planner.plan_fft_inverse(big_m);
+    let (_, inverse) = convolve::plans(big_m);
     let mut out = vec![0.0; n * rows];
     out.par_chunks_mut(n)
         .zip(normals.par_chunks(big_m))
@@ -220,6 +217,7 @@ fn gamma(x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use realfft::RealFftPlanner;
 
     #[test]
     fn gamma_values() {

@@ -7,7 +7,7 @@
 //!   outputs), the kernel spectrum computed once and shared by all rows; `O(N log N)` per row.
 //!   Rounding error is `O(ε log N)` relative to the largest output magnitude.
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, OnceLock};
 
 use realfft::num_complex::Complex;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
@@ -36,6 +36,37 @@ impl Method {
             )),
         }
     }
+}
+
+/// A forward and an inverse real FFT plan of one length.
+pub(crate) type PlanPair = (Arc<dyn RealToComplex<f64>>, Arc<dyn ComplexToReal<f64>>);
+
+/// Number of FFT lengths whose plans are kept (most recently used first).
+const PLAN_CACHE_SIZE: usize = 8;
+
+/// Real FFT plans of length `len`, from a small process-wide cache.
+///
+/// Planning a large FFT (twiddle tables) costs several times the transform itself, so repeated
+/// calls with the same length reuse the plans, as SciPy's pocketfft does. The cache keeps the
+/// plans of the last [`PLAN_CACHE_SIZE`] lengths; the plans are immutable and shared by threads.
+pub(crate) fn plans(len: usize) -> PlanPair {
+    static CACHE: OnceLock<Mutex<Vec<(usize, PlanPair)>>> = OnceLock::new();
+    let cache = CACHE.get_or_init(|| Mutex::new(Vec::new()));
+    // A poisoned lock only means another thread panicked while holding it; the Vec is valid.
+    let mut entries = cache
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    if let Some(pos) = entries.iter().position(|(l, _)| *l == len) {
+        let entry = entries.remove(pos);
+        let pair = entry.1.clone();
+        entries.insert(0, entry);
+        return pair;
+    }
+    let mut planner = RealFftPlanner::<f64>::new();
+    let pair: PlanPair = (planner.plan_fft_forward(len), planner.plan_fft_inverse(len));
+    entries.insert(0, (len, pair.clone()));
+    entries.truncate(PLAN_CACHE_SIZE);
+    pair
 }
 
 /// Relative cost of one `N log₂ N` unit of a real FFT against one direct multiply–add (measured
@@ -116,9 +147,7 @@ impl CausalConvolution {
             Method::Auto => prefer_fft(n, k),
         };
         let plan = if use_fft && k > 0 {
-            let mut planner = RealFftPlanner::<f64>::new();
-            let forward = planner.plan_fft_forward(fft_len);
-            let inverse = planner.plan_fft_inverse(fft_len);
+            let (forward, inverse) = plans(fft_len);
             let mut padded = vec![0.0; fft_len];
             let scale = 1.0 / fft_len as f64;
             for (p, c) in padded.iter_mut().zip(&kernel) {

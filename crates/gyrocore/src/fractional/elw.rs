@@ -24,11 +24,8 @@
 //! is computed once; `Δ^d 1 = Σ_{l≤k} π_l(d)` handles the level term exactly), and the
 //! periodogram of `u` (length `n`). Short series use the direct `O(n²)` difference instead.
 
-use std::sync::Arc;
-
 use rayon::prelude::*;
 use realfft::num_complex::Complex;
-use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 
 use super::{check_rows, convolve, weights};
 use crate::optimize::brent_minimize;
@@ -147,28 +144,19 @@ fn settings(n: usize, m: Option<usize>, bounds: (f64, f64), level: Level) -> Res
 /// FFT plans shared by all rows.
 struct Plans {
     /// Convolution length `N ≥ 2n − 1` (FFT path) or `None` (direct difference).
-    conv: Option<(
-        usize,
-        Arc<dyn RealToComplex<f64>>,
-        Arc<dyn ComplexToReal<f64>>,
-    )>,
-    /// Periodogram transform of length `n`.
-    periodogram: Arc<dyn RealToComplex<f64>>,
+    conv: Option<(usize, convolve::PlanPair)>,
+    /// Periodogram transforms of length `n` (only the forward one is used).
+    periodogram: convolve::PlanPair,
     mean_log_lambda: f64,
 }
 
 impl Plans {
     fn new(s: &Settings) -> Self {
-        let mut planner = RealFftPlanner::<f64>::new();
         let conv = convolve::prefer_fft(s.n, s.n).then(|| {
             let len = convolve::fast_even_len(2 * s.n - 1);
-            (
-                len,
-                planner.plan_fft_forward(len),
-                planner.plan_fft_inverse(len),
-            )
+            (len, convolve::plans(len))
         });
-        let periodogram = planner.plan_fft_forward(s.n);
+        let periodogram = convolve::plans(s.n);
         let mean_log_lambda = (1..=s.m)
             .map(|j| (std::f64::consts::TAU * j as f64 / s.n as f64).ln())
             .sum::<f64>()
@@ -198,9 +186,9 @@ struct Objective<'a> {
 impl<'a> Objective<'a> {
     fn new(s: Settings, plans: &'a Plans, x: &'a [f64]) -> Self {
         let n = s.n;
-        let mut scratch_len = plans.periodogram.get_scratch_len();
+        let mut scratch_len = plans.periodogram.0.get_scratch_len();
         let (mut x_spectrum, mut real, mut spectrum) = (Vec::new(), Vec::new(), Vec::new());
-        if let Some((len, fwd, inv)) = &plans.conv {
+        if let Some((len, (fwd, inv))) = &plans.conv {
             scratch_len = scratch_len
                 .max(fwd.get_scratch_len())
                 .max(inv.get_scratch_len());
@@ -209,7 +197,7 @@ impl<'a> Objective<'a> {
             x_spectrum = fwd.make_output_vec();
         }
         let mut scratch = vec![Complex::default(); scratch_len];
-        if let Some((_, fwd, _)) = &plans.conv {
+        if let Some((_, (fwd, _))) = &plans.conv {
             real[..n].copy_from_slice(x);
             real[n..].fill(0.0);
             fwd.process_with_scratch(&mut real, &mut x_spectrum, &mut scratch)
@@ -224,7 +212,7 @@ impl<'a> Objective<'a> {
             real,
             spectrum,
             u: vec![0.0; n],
-            u_spectrum: plans.periodogram.make_output_vec(),
+            u_spectrum: plans.periodogram.0.make_output_vec(),
             scratch,
         }
     }
@@ -235,7 +223,7 @@ impl<'a> Objective<'a> {
         let pi = weights(d, n).expect("d is finite inside the bounds");
         // u = Δ^d x (before the level term).
         match &self.plans.conv {
-            Some((len, fwd, inv)) => {
+            Some((len, (fwd, inv))) => {
                 let scale = 1.0 / *len as f64;
                 for (r, p) in self.real.iter_mut().zip(&pi) {
                     *r = p * scale;
@@ -277,6 +265,7 @@ impl<'a> Objective<'a> {
         }
         self.plans
             .periodogram
+            .0
             .process_with_scratch(&mut self.u, &mut self.u_spectrum, &mut self.scratch)
             .expect("FFT buffer lengths come from the plan");
         let m = self.s.m;

@@ -166,7 +166,9 @@ mod tests {
 
     #[test]
     fn integer_differences_are_exact_even_for_long_series() {
-        let x: Vec<f64> = (0..5000).map(|i| ((i * i) % 1013) as f64 - 500.0).collect();
+        let x: Vec<f64> = (0..5000_u32)
+            .map(|i| f64::from((i * i) % 1013) - 500.0)
+            .collect();
         let y = diff(&x, 2.0).unwrap();
         for k in 2..x.len() {
             assert_eq!(y[k], x[k] - 2.0 * x[k - 1] + x[k - 2]);
