@@ -8,8 +8,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
-import reference_fractional as ref
 from gyrobias import fractional as fr
+from tests import reference_fractional as ref
 
 # Data and orders for property tests: moderate magnitudes so that the rounding bound
 # (≈ n·ε·max|π|·max|x|) stays far below the tolerances below.

@@ -7,14 +7,18 @@ unit-aware Python interfaces:
   deviations with chi-square confidence intervals (NIST SP 1065, IEEE Std 952).
 - :mod:`gyrobias.fractional` — long-memory (1/f) noise: type-II fractional differencing and
   integration, ARFIMA(0, d, 0) simulation, exact local Whittle estimation of ``d``.
+- :mod:`gyrobias.predict` — bias prediction from a calibration window ([BP]): the fractional
+  (1/f) Kalman predictor (O(n·k) generalized Schur, compiled batch GEMM), moving average and
+  calibration mean, and [BP]'s batch test.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
 """
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan, fractional
+from gyrobias import allan, fractional, io, predict
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
+from gyrobias.predict import FractionalKalmanPredictor, Prediction
 
 try:
     __version__ = version("gyrobias")
@@ -23,10 +27,14 @@ except PackageNotFoundError:  # running from a source tree without installation
 
 __all__ = [
     "AllanResult",
+    "FractionalKalmanPredictor",
     "GyroLinAlgError",
+    "Prediction",
     "__version__",
     "adev",
     "allan",
     "avar",
     "fractional",
+    "io",
+    "predict",
 ]

@@ -7,6 +7,7 @@
 mod allan;
 mod error;
 mod fractional;
+mod predict;
 
 use pyo3::prelude::*;
 
@@ -16,5 +17,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     error::register(m)?;
     allan::register(m)?;
     fractional::register(m)?;
+    predict::register(m)?;
     Ok(())
 }

@@ -10,6 +10,7 @@
 //! | [`fractional`] | fractional differencing and integration (direct / FFT), ARFIMA(0, d, 0) simulation (type II, Davies–Harte), exact local Whittle estimation of d | SPEC §4, Hosking (1981), \[BP\] eq. 3, Shimotsu & Phillips (2005), Shimotsu (2010) |
 //! | [`optimize`] | Brent's derivative-free 1-D minimisation | Brent (1973) |
 //! | [`random`] | seeded normal deviates (xoshiro256++, polar method) | — |
+//! | [`predict`] | bias prediction: calibration mean, moving average, fractional (1/f) Kalman predictor (literal and generalized-Schur O(n·k)), compiled batch predictor | \[BP\] §IV–V, SPEC §5 |
 //! | [`stats`] | chi-square quantiles and the special functions behind them | — |
 //!
 //! Units: time in seconds; rates and angles in the caller's unit (the core is unit-agnostic).
@@ -19,6 +20,7 @@ pub mod allan;
 pub mod error;
 pub mod fractional;
 pub mod optimize;
+pub mod predict;
 pub mod random;
 pub mod stats;
 pub mod validate;
