@@ -48,6 +48,9 @@ pub fn weights(d: f64, n: usize) -> Result<Vec<f64>> {
     for l in 0..n {
         if l > 0 {
             current *= (l as f64 - 1.0 - d) / l as f64;
+            if current == 0.0 {
+                current = 0.0; // +0, not −0, past the last lag of an integer order
+            }
         }
         w.push(current);
     }
