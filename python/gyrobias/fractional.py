@@ -256,7 +256,7 @@ def arfima(
     n = _count("n", n, 0)
     d = _real("d", d)
     sigma = positive_float("sigma", sigma)
-    kind = choice("kind", kind, ("type2", "stationary"))
+    kind_name = choice("kind", kind, ("type2", "stationary"))
     if size is None:
         batch: tuple[int, ...] = ()
     elif isinstance(size, tuple):
@@ -270,7 +270,7 @@ def arfima(
     elif not 0 <= seed < 2**64:
         raise ValueError(f"seed must be in [0, 2**64), got {seed}")
     rows = int(np.prod(batch, dtype=np.int64)) if batch else 1
-    out = _core.fractional_arfima(n, d, sigma, rows, int(seed), kind)
+    out = _core.fractional_arfima(n, d, sigma, rows, int(seed), kind_name)
     return out.reshape(*batch, n)
 
 
@@ -393,9 +393,9 @@ def elw(
     >>> abs(r.d - 0.5) < 4 * r.standard_error
     True
     """
-    m, lower, upper, level = _elw_settings(m, bounds, level)
+    m, lower, upper, level_name = _elw_settings(m, bounds, level)
     rows, shape = _rows("x", x, axis)
-    raw = _core.fractional_elw(rows, m, lower, upper, level)
+    raw = _core.fractional_elw(rows, m, lower, upper, level_name)
     batch = shape[:-1]
 
     def shaped(a: NDArray[Any]) -> Any:
@@ -406,7 +406,7 @@ def elw(
         standard_error=float(raw["standard_error"][0]),
         m=int(raw["m"]),
         n=int(raw["n"]),
-        level=level,
+        level=level_name,
         bounds=(lower, upper),
         objective=shaped(raw["objective"]),
         at_bound=shaped(raw["at_bound"]),
@@ -424,7 +424,7 @@ def elw_objective(
 
     See :func:`elw` for the formula; ``R`` is what :func:`elw` minimises.
     """
-    m, _, _, level = _elw_settings(m, (-0.5, 2.0), level)
+    m, _, _, level_name = _elw_settings(m, (-0.5, 2.0), level)
     xs = as_float_array("x", x)
     ds = as_float_array("d", np.atleast_1d(np.asarray(d)))
-    return _core.fractional_elw_objective(xs, ds, m, level)
+    return _core.fractional_elw_objective(xs, ds, m, level_name)
