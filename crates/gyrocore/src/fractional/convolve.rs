@@ -135,39 +135,77 @@ pub(crate) struct Scratch {
 }
 
 impl CausalConvolution {
-    /// Prepares the convolution of series of length `n` with `kernel` (only its first `n`
-    /// values matter; it is truncated to them).
-    pub(crate) fn new(mut kernel: Vec<f64>, n: usize, method: Method) -> Self {
-        kernel.truncate(n);
-        let k = kernel.len();
-        let fft_len = fast_even_len(n + k.max(1) - 1);
+    /// FFT length if the FFT path is taken for `n` outputs and `k` weights, else `None`.
+    fn fft_len(n: usize, k: usize, method: Method) -> Option<usize> {
         let use_fft = match method {
             Method::Direct => false,
             Method::Fft => true,
             Method::Auto => prefer_fft(n, k),
         };
-        let plan = if use_fft && k > 0 {
-            let (forward, inverse) = plans(fft_len);
-            let mut padded = vec![0.0; fft_len];
-            let scale = 1.0 / fft_len as f64;
-            for (p, c) in padded.iter_mut().zip(&kernel) {
-                *p = c * scale;
-            }
-            let mut kernel_spectrum = forward.make_output_vec();
-            // Lengths come from the plan itself: the transform cannot fail.
-            forward
-                .process(&mut padded, &mut kernel_spectrum)
-                .expect("FFT buffer lengths come from the plan");
-            Plan::Fft {
-                len: fft_len,
-                forward,
-                inverse,
-                kernel_spectrum,
-            }
-        } else {
-            Plan::Direct
+        (use_fft && k > 0).then(|| fast_even_len(n + k - 1))
+    }
+
+    /// Prepares the convolution of series of length `n` with `kernel` (only its first `n`
+    /// values matter; it is truncated to them).
+    pub(crate) fn new(mut kernel: Vec<f64>, n: usize, method: Method) -> Self {
+        kernel.truncate(n);
+        let plan = match Self::fft_len(n, kernel.len(), method) {
+            Some(len) => Self::fft_plan(&kernel, len),
+            None => Plan::Direct,
         };
         CausalConvolution { n, kernel, plan }
+    }
+
+    /// [`Self::new`] followed by [`Self::apply_into`] of one series, with the kernel's and the
+    /// series' forward transforms running concurrently (the result is bitwise the same).
+    pub(crate) fn new_applied(
+        mut kernel: Vec<f64>,
+        method: Method,
+        x: &[f64],
+        out: &mut [f64],
+    ) -> Self {
+        let n = x.len();
+        kernel.truncate(n);
+        let Some(len) = Self::fft_len(n, kernel.len(), method) else {
+            direct_into(&kernel, x, out);
+            return CausalConvolution {
+                n,
+                kernel,
+                plan: Plan::Direct,
+            };
+        };
+        let (plan, mut scratch) = rayon::join(
+            || Self::fft_plan(&kernel, len),
+            || {
+                let (forward, inverse) = plans(len);
+                let mut scratch = Scratch::fft(len, &forward, &inverse);
+                forward_into(&forward, x, &mut scratch);
+                scratch
+            },
+        );
+        let conv = CausalConvolution { n, kernel, plan };
+        conv.finish_into(&mut scratch, out);
+        conv
+    }
+
+    fn fft_plan(kernel: &[f64], len: usize) -> Plan {
+        let (forward, inverse) = plans(len);
+        let mut padded = vec![0.0; len];
+        let scale = 1.0 / len as f64;
+        for (p, c) in padded.iter_mut().zip(kernel) {
+            *p = c * scale;
+        }
+        let mut kernel_spectrum = forward.make_output_vec();
+        // Lengths come from the plan itself: the transform cannot fail.
+        forward
+            .process(&mut padded, &mut kernel_spectrum)
+            .expect("FFT buffer lengths come from the plan");
+        Plan::Fft {
+            len,
+            forward,
+            inverse,
+            kernel_spectrum,
+        }
     }
 
     /// Whether the FFT path was chosen.
@@ -189,14 +227,7 @@ impl CausalConvolution {
                 forward,
                 inverse,
                 ..
-            } => Scratch {
-                real: vec![0.0; *len],
-                spectrum: forward.make_output_vec(),
-                fft: vec![
-                    Complex::default();
-                    forward.get_scratch_len().max(inverse.get_scratch_len())
-                ],
-            },
+            } => Scratch::fft(*len, forward, inverse),
         }
     }
 
@@ -206,37 +237,65 @@ impl CausalConvolution {
         debug_assert_eq!(out.len(), self.n);
         match &self.plan {
             Plan::Direct => direct_into(&self.kernel, x, out),
-            Plan::Fft {
-                forward,
-                inverse,
-                kernel_spectrum,
-                ..
-            } => {
-                let Scratch {
-                    real,
-                    spectrum,
-                    fft,
-                } = scratch;
-                real[..self.n].copy_from_slice(x);
-                real[self.n..].fill(0.0);
-                forward
-                    .process_with_scratch(real, spectrum, fft)
-                    .expect("FFT buffer lengths come from the plan");
-                for (s, k) in spectrum.iter_mut().zip(kernel_spectrum) {
-                    *s *= k;
-                }
-                // Spectra of real signals: DC and Nyquist bins are real; make that exact.
-                spectrum[0].im = 0.0;
-                if let Some(last) = spectrum.last_mut() {
-                    last.im = 0.0;
-                }
-                inverse
-                    .process_with_scratch(spectrum, real, fft)
-                    .expect("FFT buffer lengths come from the plan");
-                out.copy_from_slice(&real[..self.n]);
+            Plan::Fft { forward, .. } => {
+                forward_into(forward, x, scratch);
+                self.finish_into(scratch, out);
             }
         }
     }
+
+    /// Multiplies the series spectrum in `scratch` by the kernel's and transforms back.
+    fn finish_into(&self, scratch: &mut Scratch, out: &mut [f64]) {
+        let Plan::Fft {
+            inverse,
+            kernel_spectrum,
+            ..
+        } = &self.plan
+        else {
+            return;
+        };
+        let Scratch {
+            real,
+            spectrum,
+            fft,
+        } = scratch;
+        for (s, k) in spectrum.iter_mut().zip(kernel_spectrum) {
+            *s *= k;
+        }
+        // Spectra of real signals: DC and Nyquist bins are real; make that exact.
+        spectrum[0].im = 0.0;
+        if let Some(last) = spectrum.last_mut() {
+            last.im = 0.0;
+        }
+        inverse
+            .process_with_scratch(spectrum, real, fft)
+            .expect("FFT buffer lengths come from the plan");
+        out.copy_from_slice(&real[..self.n]);
+    }
+}
+
+impl Scratch {
+    fn fft(
+        len: usize,
+        forward: &Arc<dyn RealToComplex<f64>>,
+        inverse: &Arc<dyn ComplexToReal<f64>>,
+    ) -> Self {
+        Scratch {
+            real: vec![0.0; len],
+            spectrum: forward.make_output_vec(),
+            fft: vec![Complex::default(); forward.get_scratch_len().max(inverse.get_scratch_len())],
+        }
+    }
+}
+
+/// Zero-padded forward transform of `x` into `scratch.spectrum`.
+fn forward_into(forward: &Arc<dyn RealToComplex<f64>>, x: &[f64], scratch: &mut Scratch) {
+    let n = x.len();
+    scratch.real[..n].copy_from_slice(x);
+    scratch.real[n..].fill(0.0);
+    forward
+        .process_with_scratch(&mut scratch.real, &mut scratch.spectrum, &mut scratch.fft)
+        .expect("FFT buffer lengths come from the plan");
 }
 
 /// Direct causal convolution, lag by lag (each lag is a vectorisable AXPY).

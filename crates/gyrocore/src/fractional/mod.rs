@@ -127,7 +127,13 @@ fn apply_rows_into(
         });
     }
     validate::finite(name, data)?;
-    let conv = CausalConvolution::new(kernel(sign * d, n)?, n, method);
+    let kernel = kernel(sign * d, n)?;
+    if data.len() == n {
+        // One series: overlap the kernel's and the data's transforms instead.
+        CausalConvolution::new_applied(kernel, method, data, out);
+        return Ok(());
+    }
+    let conv = CausalConvolution::new(kernel, n, method);
     out.par_chunks_mut(n).zip(data.par_chunks(n)).for_each_init(
         || conv.scratch(),
         |scratch, (o, x)| conv.apply_into(x, o, scratch),
