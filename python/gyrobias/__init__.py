@@ -5,6 +5,8 @@ unit-aware Python interfaces:
 
 - :mod:`gyrobias.allan` — overlapping / non-overlapping Allan, modified, Hadamard and total
   deviations with chi-square confidence intervals (NIST SP 1065, IEEE Std 952).
+- :mod:`gyrobias.fractional` — long-memory (1/f) noise: type-II fractional differencing and
+  integration, ARFIMA(0, d, 0) simulation, exact local Whittle estimation of ``d``.
 - :mod:`gyrobias.predict` — bias prediction from a calibration window ([BP]): the fractional
   (1/f) Kalman predictor (O(n·k) generalized Schur, compiled batch GEMM), moving average and
   calibration mean, and [BP]'s batch test.
@@ -15,7 +17,7 @@ unit-aware Python interfaces:
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan, io, kalman, predict
+from gyrobias import allan, fractional, io, kalman, predict
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
 from gyrobias.predict import FractionalKalmanPredictor, Prediction
@@ -36,6 +38,7 @@ __all__ = [
     "adev",
     "allan",
     "avar",
+    "fractional",
     "io",
     "predict",
     "kalman",

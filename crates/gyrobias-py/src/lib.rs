@@ -6,6 +6,7 @@
 
 mod allan;
 mod error;
+mod fractional;
 mod predict;
 mod kalman;
 
@@ -16,6 +17,7 @@ use pyo3::prelude::*;
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     error::register(m)?;
     allan::register(m)?;
+    fractional::register(m)?;
     predict::register(m)?;
     kalman::register(m)?;
     Ok(())

@@ -7,7 +7,9 @@
 //! | module | science | source |
 //! |---|---|---|
 //! | [`allan`] | overlapping / non-overlapping Allan, modified, Hadamard and total variance, noise identification, EDF and confidence intervals | NIST SP 1065, IEEE 952, \[BP\] eq. 2, \[TS\] eq. 1 |
-//! | [`fractional`] | fractional differencing and integration, ARFIMA(0, d, 0) | SPEC §4, Hosking (1981), [BP] eq. 3 |
+//! | [`fractional`] | fractional differencing and integration (direct / FFT), ARFIMA(0, d, 0) simulation (type II, Davies–Harte), exact local Whittle estimation of d | SPEC §4, Hosking (1981), \[BP\] eq. 3, Shimotsu & Phillips (2005), Shimotsu (2010) |
+//! | [`optimize`] | Brent's derivative-free 1-D minimisation | Brent (1973) |
+//! | [`random`] | seeded normal deviates (xoshiro256++, polar method) | — |
 //! | [`predict`] | bias prediction: calibration mean, moving average, fractional (1/f) Kalman predictor (literal and generalized-Schur O(n·k)), compiled batch predictor | \[BP\] §IV–V, SPEC §5 |
 //! | [`kalman`] | fixed-gain 2-state [rate, bias] Kalman filter: steady-state gain, discrete fixed-gain form, bandwidth design, streaming | \[NR\] eqs. 4–18, SPEC §6 |
 //! | [`stats`] | chi-square quantiles and the special functions behind them | — |
@@ -18,8 +20,10 @@
 pub mod allan;
 pub mod error;
 pub mod fractional;
+pub mod optimize;
 pub mod predict;
 pub mod kalman;
+pub mod random;
 pub mod stats;
 pub mod validate;
 
