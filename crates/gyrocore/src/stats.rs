@@ -29,13 +29,6 @@ const LN_SQRT_2PI: f64 = 0.918_938_533_204_672_8;
 
 /// `ln Γ(x)` for `x > 0` (Lanczos, g = 7, 9 terms; ~1e-15 relative away from the roots at 1, 2).
 pub fn ln_gamma(x: f64) -> f64 {
-    if x < 0.5 {
-        // Reflection: Γ(x)Γ(1−x) = π / sin(πx).
-        return std::f64::consts::PI.ln() - (std::f64::consts::PI * x).sin().ln() - ln_gamma(1.0 - x);
-    }
-    if x >= 10.0 {
-        return (x - 0.5) * x.ln() - x + LN_SQRT_2PI + stirling_correction(x);
-    }
     const G: f64 = 7.0;
     const C: [f64; 9] = [
         0.999_999_999_999_809_9,
@@ -48,6 +41,15 @@ pub fn ln_gamma(x: f64) -> f64 {
         9.984_369_578_019_572e-6,
         1.505_632_735_149_311_6e-7,
     ];
+    if x < 0.5 {
+        // Reflection: Γ(x)Γ(1−x) = π / sin(πx).
+        return std::f64::consts::PI.ln()
+            - (std::f64::consts::PI * x).sin().ln()
+            - ln_gamma(1.0 - x);
+    }
+    if x >= 10.0 {
+        return (x - 0.5) * x.ln() - x + LN_SQRT_2PI + stirling_correction(x);
+    }
     let x = x - 1.0;
     let mut a = C[0];
     let t = x + G + 0.5;
@@ -75,7 +77,7 @@ fn log1pmx(t: f64) -> f64 {
     let mut sum = 0.0;
     for k in 2..60 {
         term *= -t;
-        let add = term / k as f64;
+        let add = term / f64::from(k);
         sum += add;
         if add.abs() <= 1e-17 * sum.abs() {
             break;
@@ -120,7 +122,7 @@ fn q_continued_fraction(a: f64, x: f64) -> f64 {
     let mut d = 1.0 / b;
     let mut h = d;
     for i in 1..1_000_000 {
-        let an = -(i as f64) * (i as f64 - a);
+        let an = -f64::from(i) * (f64::from(i) - a);
         b += 2.0;
         d = an * d + b;
         if d.abs() < TINY {
@@ -145,7 +147,10 @@ fn q_continued_fraction(a: f64, x: f64) -> f64 {
 /// The smaller one is computed directly, the other as its complement.
 pub fn incomplete_gamma(a: f64, x: f64) -> Result<(f64, f64)> {
     if !(a.is_finite() && a > 0.0) {
-        return Err(Error::invalid("a", format!("must be finite and > 0, got {a}")));
+        return Err(Error::invalid(
+            "a",
+            format!("must be finite and > 0, got {a}"),
+        ));
     }
     if x.is_nan() || x < 0.0 {
         return Err(Error::invalid("x", format!("must be >= 0, got {x}")));
@@ -271,7 +276,11 @@ fn invert_gamma_tail(a: f64, target: f64, upper: bool) -> f64 {
         let (p, q) = incomplete_gamma(a, y).unwrap_or((0.5, 0.5));
         let value = if upper { q } else { p };
         // The tail is monotone in y: P increases, Q decreases.
-        let too_big = if upper { value < target } else { value > target };
+        let too_big = if upper {
+            value < target
+        } else {
+            value > target
+        };
         if too_big {
             hi = hi.min(y);
         } else {
@@ -279,7 +288,11 @@ fn invert_gamma_tail(a: f64, target: f64, upper: bool) -> f64 {
         }
         if value <= 0.0 {
             // Underflow: move towards the bracket's other side.
-            y = if hi.is_finite() { 0.5 * (lo + hi) } else { 2.0 * y };
+            y = if hi.is_finite() {
+                0.5 * (lo + hi)
+            } else {
+                2.0 * y
+            };
             continue;
         }
         // Newton on ln(tail): d/dy ln P = pdf/P, d/dy ln Q = −pdf/Q, pdf = prefix(a, y)/y.
@@ -291,7 +304,7 @@ fn invert_gamma_tail(a: f64, target: f64, upper: bool) -> f64 {
         } else {
             f64::NAN
         };
-        if !(next > lo && next < hi) || !next.is_finite() {
+        if !(next > lo && next < hi && next.is_finite()) {
             next = if hi.is_finite() {
                 if lo > 0.0 { (lo * hi).sqrt() } else { 0.5 * hi }
             } else {

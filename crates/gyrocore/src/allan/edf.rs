@@ -56,7 +56,11 @@ fn sw(t: f64, alpha: i32) -> f64 {
 }
 
 fn log_term(t: f64, n: i32) -> f64 {
-    if t == 0.0 { 0.0 } else { t.powi(n) * t.abs().ln() }
+    if t == 0.0 {
+        0.0
+    } else {
+        t.powi(n) * t.abs().ln()
+    }
 }
 
 fn binomial(n: u32, k: u32) -> f64 {
@@ -209,7 +213,11 @@ fn basic_sum(j_count: f64, m_count: f64, s: f64, f: Filter, alpha: i32, d: u32) 
 /// Table 1 (modified variances, case 1.2): `(a0, a1)` by α (2..−4) and d (1..3).
 fn table1(alpha: i32, d: u32) -> (f64, f64) {
     const T: [[(f64, f64); 3]; 7] = [
-        [(2.0 / 3.0, 1.0 / 3.0), (7.0 / 9.0, 1.0 / 2.0), (22.0 / 25.0, 2.0 / 3.0)],
+        [
+            (2.0 / 3.0, 1.0 / 3.0),
+            (7.0 / 9.0, 1.0 / 2.0),
+            (22.0 / 25.0, 2.0 / 3.0),
+        ],
         [(0.840, 0.345), (0.997, 0.616), (1.141, 0.843)],
         [(1.079, 0.368), (1.033, 0.607), (1.184, 0.848)],
         [(-1.0, -1.0), (1.048, 0.534), (1.180, 0.816)],
@@ -223,9 +231,17 @@ fn table1(alpha: i32, d: u32) -> (f64, f64) {
 /// Table 2 (unmodified variances, cases 2.2 and 3.2).
 fn table2(alpha: i32, d: u32) -> (f64, f64) {
     const T: [[(f64, f64); 3]; 7] = [
-        [(3.0 / 2.0, 1.0 / 2.0), (35.0 / 18.0, 1.0), (231.0 / 100.0, 3.0 / 2.0)],
+        [
+            (3.0 / 2.0, 1.0 / 2.0),
+            (35.0 / 18.0, 1.0),
+            (231.0 / 100.0, 3.0 / 2.0),
+        ],
         [(78.6, 25.2), (790.0, 410.0), (9950.0, 6520.0)],
-        [(2.0 / 3.0, 1.0 / 6.0), (2.0 / 3.0, 1.0 / 3.0), (7.0 / 9.0, 1.0 / 2.0)],
+        [
+            (2.0 / 3.0, 1.0 / 6.0),
+            (2.0 / 3.0, 1.0 / 3.0),
+            (7.0 / 9.0, 1.0 / 2.0),
+        ],
         [(-1.0, -1.0), (0.852, 0.375), (0.997, 0.617)],
         [(-1.0, -1.0), (1.079, 0.368), (1.033, 0.607)],
         [(-1.0, -1.0), (-1.0, -1.0), (1.053, 0.553)],
@@ -257,7 +273,9 @@ pub fn greenhall(
     if !(-4..=2).contains(&alpha) || alpha + 2 * d as i32 <= 1 {
         return Err(Error::invalid(
             "alpha",
-            format!("Greenhall's EDF needs -4 <= alpha <= 2 and alpha + 2d > 1, got alpha = {alpha}, d = {d}"),
+            format!(
+                "Greenhall's EDF needs -4 <= alpha <= 2 and alpha + 2d > 1, got alpha = {alpha}, d = {d}"
+            ),
         ));
     }
     if m == 0 {
@@ -295,7 +313,11 @@ pub fn greenhall(
     } else if alpha <= 0 {
         // Case 2: unmodified, α ≤ 0.
         if j <= J_MAX {
-            let f = if mf * (df + 1.0) <= J_MAX { Filter::Finite(mf) } else { Filter::Infinite };
+            let f = if mf * (df + 1.0) <= J_MAX {
+                Filter::Finite(mf)
+            } else {
+                Filter::Infinite
+            };
             basic_sum(j, big_m, s, f, alpha, d) / (sz(0.0, f, alpha, d).powi(2) * big_m)
         } else if r > df + 1.0 {
             let (a0, a1) = table2(alpha, d);
@@ -353,7 +375,10 @@ pub fn simple_allan(alpha: i32, m: usize, n_phase: usize) -> f64 {
         1 => (((n - 1.0) / (2.0 * m)).ln() * ((2.0 * m + 1.0) * (n - 1.0) / 4.0).ln())
             .sqrt()
             .exp(),
-        0 => (3.0 * (n - 1.0) / (2.0 * m) - 2.0 * (n - 2.0) / n) * (4.0 * m * m / (4.0 * m * m + 5.0)),
+        0 => {
+            (3.0 * (n - 1.0) / (2.0 * m) - 2.0 * (n - 2.0) / n)
+                * (4.0 * m * m / (4.0 * m * m + 5.0))
+        }
         -1 => {
             if m == 1.0 {
                 2.0 * (n - 2.0) / (2.3 * n - 4.9)
@@ -456,7 +481,10 @@ mod tests {
             let got = greenhall(alpha, d, m, n, ov, md).unwrap();
             // 1e-9: same formulas; only the cancellation-free second differences differ
             // (AllanTools' direct form loses ~F²ε ≈ 1e-13 at these m).
-            assert!(rel(got, expect) < 1e-9, "{alpha} {d} {m} {n} {ov} {md}: {got} vs {expect}");
+            assert!(
+                rel(got, expect) < 1e-9,
+                "{alpha} {d} {m} {n} {ov} {md}: {got} vs {expect}"
+            );
         }
     }
 
@@ -512,8 +540,14 @@ mod tests {
                 // 6e-4: Stable32 prints 5 digits (σ and bounds each rounded, ≤ 1e-4 relative
                 // together) and evaluates Greenhall's large-r cases from tables with 3-4
                 // significant digits (AllanTools shows the same ≤ 4e-4 differences).
-                assert!(rel(low, lo) < 6e-4, "{estimator:?} m={m}: low {low} vs {lo}");
-                assert!(rel(high, hi) < 6e-4, "{estimator:?} m={m}: high {high} vs {hi}");
+                assert!(
+                    rel(low, lo) < 6e-4,
+                    "{estimator:?} m={m}: low {low} vs {lo}"
+                );
+                assert!(
+                    rel(high, hi) < 6e-4,
+                    "{estimator:?} m={m}: high {high} vs {hi}"
+                );
             }
         };
         check(Estimator::Overlapping, &oadev);
