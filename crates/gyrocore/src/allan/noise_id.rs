@@ -52,19 +52,42 @@ struct Trend {
     c: f64,
 }
 
+/// Block length of the streaming passes (fits in L1 with the difference buffers).
+const BLOCK: usize = 1024;
+const LANES: usize = 4;
+
 impl Trend {
     fn fit(x: &[f64], m: usize, len: usize) -> Trend {
         let n = len as f64;
         let half = (n - 1.0) / 2.0;
         let c = (n * n - 1.0) / 12.0;
-        let (mut s0, mut s1, mut s2) = (0.0, 0.0, 0.0);
-        let mut u = -half;
-        for &z in x.iter().step_by(m).take(len) {
-            s0 += z;
-            s1 += z * u;
-            s2 += z * (u * u - c);
-            u += 1.0;
+        // Independent lanes break the add-latency chains (the pass is then memory-bound).
+        let mut s0 = [0.0_f64; LANES];
+        let mut s1 = [0.0_f64; LANES];
+        let mut s2 = [0.0_f64; LANES];
+        let mut add = |k: usize, l: usize, z: f64| {
+            let u = k as f64 - half;
+            s0[l] += z;
+            s1[l] += z * u;
+            s2[l] += z * (u * u - c);
+        };
+        if m == 1 {
+            let chunks = x[..len].chunks_exact(LANES);
+            let rest = chunks.remainder();
+            for (i, chunk) in chunks.enumerate() {
+                for (l, &z) in chunk.iter().enumerate() {
+                    add(i * LANES + l, l, z);
+                }
+            }
+            for (i, &z) in rest.iter().enumerate() {
+                add(len - rest.len() + i, 0, z);
+            }
+        } else {
+            for (k, &z) in x.iter().step_by(m).take(len).enumerate() {
+                add(k, k % LANES, z);
+            }
         }
+        let (s0, s1, s2): (f64, f64, f64) = (s0.iter().sum(), s1.iter().sum(), s2.iter().sum());
         // Σu² = n(n²−1)/12, Σ(u² − c)² = Σu⁴ − n c², Σu⁴ = n(n²−1)(3n²−7)/240.
         let norm1 = n * (n * n - 1.0) / 12.0;
         let norm2 = n * (n * n - 1.0) * (3.0 * n * n - 7.0) / 240.0 - n * c * c;
@@ -77,26 +100,50 @@ impl Trend {
         }
     }
 
-    /// Detrended decimated samples `r_k = x[k·m] − trend(k)`, streamed.
-    fn residuals<'a>(&self, x: &'a [f64], m: usize, len: usize) -> impl Iterator<Item = f64> + 'a {
+    /// Appends the detrended decimated samples `r_k = x[k·m] − trend(k)`, `k in range`.
+    fn residuals_into(
+        &self,
+        x: &[f64],
+        m: usize,
+        range: std::ops::Range<usize>,
+        out: &mut Vec<f64>,
+    ) {
         let (b0, b1, b2) = (self.b0 - self.b2 * self.c, self.b1, self.b2);
-        let mut u = -self.half;
-        x.iter().step_by(m).take(len).map(move |&z| {
-            let r = z - (b0 + u * (b1 + b2 * u));
-            u += 1.0;
-            r
-        })
+        let half = self.half;
+        let start = range.start;
+        let value = move |k: usize, z: f64| {
+            let u = k as f64 - half;
+            z - (b0 + u * (b1 + b2 * u))
+        };
+        if m == 1 {
+            out.extend(
+                x[range]
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &z)| value(start + i, z)),
+            );
+        } else {
+            let count = range.len();
+            out.extend(
+                x[start * m..]
+                    .iter()
+                    .step_by(m)
+                    .take(count)
+                    .enumerate()
+                    .map(|(i, &z)| value(start + i, z)),
+            );
+        }
     }
 }
 
-/// Running sums for the lag-1 autocorrelation of one stream.
+/// Running sums for the lag-1 autocorrelation of one stream, fed block by block.
 #[derive(Clone, Copy)]
 struct Lag1Sums {
     s: f64,
     s2: f64,
     s11: f64,
     first: f64,
-    prev: f64,
+    last: f64,
     count: usize,
 }
 
@@ -106,21 +153,47 @@ impl Lag1Sums {
         s2: 0.0,
         s11: 0.0,
         first: 0.0,
-        prev: 0.0,
+        last: 0.0,
         count: 0,
     };
 
-    #[inline]
-    fn push(&mut self, w: f64) {
+    /// Adds the next consecutive values of the stream.
+    fn extend(&mut self, block: &[f64]) {
+        let Some((&head, _)) = block.split_first() else {
+            return;
+        };
         if self.count == 0 {
-            self.first = w;
+            self.first = head;
         } else {
-            self.s11 += self.prev * w;
+            self.s11 += self.last * head;
         }
-        self.s += w;
-        self.s2 += w * w;
-        self.prev = w;
-        self.count += 1;
+        let mut s = [0.0_f64; LANES];
+        let mut s2 = [0.0_f64; LANES];
+        let mut s11 = [0.0_f64; LANES];
+        let pairs = block.len() - 1;
+        let (lead, follow) = (&block[..pairs], &block[1..]);
+        let lead_chunks = lead.chunks_exact(LANES);
+        let follow_chunks = follow.chunks_exact(LANES);
+        let (lead_rest, follow_rest) = (lead_chunks.remainder(), follow_chunks.remainder());
+        for (a, b) in lead_chunks.zip(follow_chunks) {
+            for l in 0..LANES {
+                let w = a[l];
+                s[l] += w;
+                s2[l] += w * w;
+                s11[l] += w * b[l];
+            }
+        }
+        for (&w, &v) in lead_rest.iter().zip(follow_rest) {
+            s[0] += w;
+            s2[0] += w * w;
+            s11[0] += w * v;
+        }
+        let tail = block[pairs];
+        self.s += s.iter().sum::<f64>() + tail;
+        self.s2 += s2.iter().sum::<f64>() + tail * tail;
+        self.s11 += s11.iter().sum::<f64>();
+        self.last = tail;
+        self.count += block.len();
     }
 
     /// `Σ(w_k − w̄)(w_{k+1} − w̄) / Σ(w_k − w̄)²`.
@@ -134,32 +207,38 @@ impl Lag1Sums {
         // not cancel.
         let b = self.s2 - n * mu * mu;
         let a =
-            self.s11 - mu * ((self.s - self.prev) + (self.s - self.first)) + (n - 1.0) * mu * mu;
+            self.s11 - mu * ((self.s - self.last) + (self.s - self.first)) + (n - 1.0) * mu * mu;
         if b > 0.0 { a / b } else { 0.0 }
     }
 }
 
 /// Lag-1 autocorrelations of the detrended decimated series and of its first `dmax`
-/// differences, all in one streaming pass (the passes are memory-bound; the extra
-/// arithmetic for differences that may not be needed is free).
+/// differences, all in one streaming pass (the pass is memory-bound; the extra arithmetic for
+/// differences that may not be needed is free). Works block by block in two small buffers.
 fn lag1_all_differences(x: &[f64], m: usize, len: usize, trend: &Trend, dmax: u32) -> [f64; 4] {
     let levels = (dmax as usize).min(3) + 1;
     let mut sums = [Lag1Sums::EMPTY; 4];
-    // last[j] = value of the j-th difference at the previous index.
-    let mut last = [0.0_f64; 3];
-    for (k, r) in trend.residuals(x, m, len).enumerate() {
-        let mut w = r;
-        sums[0].push(w);
+    // carry[j] = last value of level j from the previous block.
+    let mut carry: [Option<f64>; 3] = [None; 3];
+    let mut current = Vec::with_capacity(BLOCK + 1);
+    let mut next = Vec::with_capacity(BLOCK + 1);
+    let mut start = 0;
+    while start < len {
+        let end = (start + BLOCK).min(len);
+        current.clear();
+        trend.residuals_into(x, m, start..end, &mut current);
+        sums[0].extend(&current);
         for j in 1..levels {
-            let previous = last[j - 1];
-            last[j - 1] = w;
-            if k < j {
-                // The j-th difference starts at index j.
-                break;
+            next.clear();
+            if let (Some(c), Some(&h)) = (carry[j - 1], current.first()) {
+                next.push(h - c);
             }
-            w -= previous;
-            sums[j].push(w);
+            next.extend(current.windows(2).map(|w| w[1] - w[0]));
+            carry[j - 1] = current.last().copied().or(carry[j - 1]);
+            sums[j].extend(&next);
+            std::mem::swap(&mut current, &mut next);
         }
+        start = end;
     }
     let mut out = [0.0; 4];
     for j in 0..levels {
