@@ -7,8 +7,9 @@ its ``ci`` module offers the pieces: ``autocorr_noise_id`` (Riley & Greenhall la
 This module combines them per τ the way gyrobias documents it:
 
 * noise id on the phase (angle) series ``x`` with ``dmax = 2`` (3 for Hadamard); when the
-  decimated series has fewer than 30 points (AllanTools raises), the id at the largest factor
-  that still has 30 points, ``m_c = (len(x) - 1) // 29``;
+  decimated series has fewer than 30 points (AllanTools raises), the id at the largest
+  requested factor below that had 30 points (``m_fallback``), or, if none had,
+  at ``m_c = (len(x) - 1) // 29``;
 * α clamped to the estimator's convergent range (α ≥ −2 Allan-type, ≥ −4 Hadamard, ≤ 2);
 * TOTDEV: ``edf_totdev`` for α ∈ {0, −1, −2}, Greenhall's overlapping-Allan EDF for α = 2
   (Stable32's choice), ``edf_simple`` for α = 1 (AllanTools' choice).
@@ -45,14 +46,25 @@ def phase_from_rate(rate: NDArray[np.float64], fs: float) -> NDArray[np.float64]
     return np.concatenate([[0.0], np.cumsum(y - y.mean()) / fs])
 
 
-def identify(x: NDArray[np.float64], m: int, dmax: int) -> int:
+def has_30_points(n: int, m: int) -> bool:
+    return -(-n // m) >= 30
+
+
+def identify(x: NDArray[np.float64], m: int, dmax: int, m_fallback: int | None = None) -> int:
     """AllanTools' lag-1 ACF noise id with gyrobias' too-few-points rule (unclamped)."""
-    if len(x) // m + (len(x) % m > 0) < 30:
-        m = (len(x) - 1) // 29
+    if not has_30_points(len(x), m):
+        m = m_fallback if m_fallback is not None else (len(x) - 1) // 29
     return int(allantools.autocorr_noise_id(x, m, data_type="phase", dmin=0, dmax=dmax)[0])
 
 
-def interval(x: NDArray[np.float64], kind: str, m: int, deviation: float, level: float) -> ReferenceInterval | None:
+def interval(
+    x: NDArray[np.float64],
+    kind: str,
+    m: int,
+    deviation: float,
+    level: float,
+    requested: list[int] | None = None,
+) -> ReferenceInterval | None:
     """AllanTools' interval for one deviation value at averaging factor m.
 
     ``None`` where AllanTools has no EDF: Greenhall's case 4 (white angle noise, unmodified
@@ -61,7 +73,8 @@ def interval(x: NDArray[np.float64], kind: str, m: int, deviation: float, level:
     """
     n = len(x)
     dmax = 3 if kind == "hdev" else 2
-    alpha = identify(x, m, dmax)
+    valid_below = [k for k in (requested or []) if k < m and has_30_points(n, k)]
+    alpha = identify(x, m, dmax, max(valid_below) if valid_below else None)
     alpha = max(min(alpha, 2), -4 if kind == "hdev" else -2)
     if kind == "totdev":
         if alpha in (0, -1, -2):

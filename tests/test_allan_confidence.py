@@ -59,7 +59,7 @@ def test_matches_allantools_on_power_law_noise(noise, name, function, kwargs, re
     x = phase_from_rate(rate, 1.0)
     compared = 0
     for i, m in enumerate(result.m):
-        ref = interval(x, ref_kind, int(m), float(result.adev[i]), LEVEL)
+        ref = interval(x, ref_kind, int(m), float(result.adev[i]), LEVEL, [int(k) for k in result.m])
         if ref is None:  # AllanTools' unimplemented Greenhall case 4 (see the reference)
             assert result.alpha[i] == 2 and m >= len(x) // 4
             continue
@@ -128,7 +128,7 @@ def test_nbs14_deviations_and_intervals(kind, overlapping):
     ref_kind = "adev_nonoverlapping" if (kind == "adev" and not overlapping) else kind
     x = phase_from_rate(y, 1.0)
     for i, m in enumerate(r.m):
-        ref = interval(x, ref_kind, int(m), float(r.adev[i]), LEVEL)
+        ref = interval(x, ref_kind, int(m), float(r.adev[i]), LEVEL, [int(k) for k in r.m])
         assert ref is not None
         assert r.alpha[i] == ref.alpha
         # 1e-8 as in the simulated-noise comparison.

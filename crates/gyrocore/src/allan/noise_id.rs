@@ -17,9 +17,9 @@
 //! O(M/m) work and O(1) memory per τ, so an octave τ set costs O(M) in total.
 //!
 //! **Too few points.** When `⌈M/m⌉ < 30` the ACF method is not defined (AllanTools raises). We
-//! carry the result of the largest averaging factor that still has 30 decimated points,
-//! `m_c = ⌊(M − 1)/29⌋` — the nearest τ at which the method is valid (identified once, even if
-//! `m_c` is not among the requested τ). Only when the whole record has fewer than 30 phase
+//! carry the neighbouring τ's result: that of the largest requested factor below `m` that had
+//! 30 points; if no requested factor had them, that of `m_c = ⌊(M − 1)/29⌋`, the largest factor
+//! with 30 decimated points (identified once). Only when the whole record has fewer than 30 phase
 //! points (no valid τ at all) do we fall back to Stable32's classic method: the **B1 ratio**
 //! (Barnes 1969; Howe, Beard, Greenhall & Riley 2000, Table 3) of the standard variance to the
 //! Allan variance of the `m`-averages, compared with its expectation `B1(N, μ)` for each noise
@@ -368,29 +368,36 @@ pub fn identify(x: &[f64], ms: &[usize], dmax: u32) -> Vec<i32> {
     if results.iter().all(Option::is_some) {
         return results.into_iter().map(|a| a.unwrap_or(0)).collect();
     }
-    // Largest factor with MIN_POINTS decimated points.
+    // Neighbour rule: a factor without 30 decimated points takes the result of the largest
+    // requested factor below it that had them; failing that, of m_c (the largest factor with
+    // 30 points, identified once).
     let m_c = n_phase.saturating_sub(1) / (MIN_POINTS - 1);
-    let carried = if m_c >= 1 {
-        lag1_acf(x, m_c, dmax).map(|id| id.alpha)
-    } else {
-        None
-    };
-    let mut last_b1: Option<i32> = None;
-    let mut out = Vec::with_capacity(ms.len());
-    // Process in increasing m so the B1 fallback can carry the previous τ's result.
     let mut order: Vec<usize> = (0..ms.len()).collect();
     order.sort_by_key(|&i| ms[i]);
-    out.resize(ms.len(), 0);
+    let mut neighbour: Option<i32> = None;
+    let mut fallback: Option<Option<i32>> = None;
+    let mut last_b1: Option<i32> = None;
+    let mut out = vec![0; ms.len()];
     for i in order {
-        out[i] = match (results[i], carried) {
-            (Some(a), _) | (None, Some(a)) => a,
-            (None, None) => {
-                let b = b1_ratio(x, ms[i]).or(last_b1);
-                last_b1 = b;
-                // Nothing identifiable (two or three samples): white rate noise, the model
-                // whose EDF is the plain count of independent terms' neighbourhood.
-                b.unwrap_or(0)
-            }
+        out[i] = if let Some(a) = results[i] {
+            neighbour = Some(a);
+            a
+        } else if let Some(a) = neighbour {
+            a
+        } else if let Some(a) = *fallback.get_or_insert_with(|| {
+            (m_c >= 1)
+                .then(|| lag1_acf(x, m_c, dmax))
+                .flatten()
+                .map(|id| id.alpha)
+        }) {
+            a
+        } else {
+            // Fewer than 30 phase points in the whole record: B1 ratio (and R(n)), carrying
+            // the previous τ's result where B1 cannot be formed; white rate noise (α = 0) if
+            // nothing can be identified at all (two or three samples).
+            let b = b1_ratio(x, ms[i]).or(last_b1);
+            last_b1 = b;
+            b.unwrap_or(0)
         };
     }
     out
@@ -534,15 +541,16 @@ mod tests {
     }
 
     #[test]
-    fn too_few_points_carry_the_nearest_valid_factor() {
+    fn too_few_points_carry_the_neighbouring_factor() {
         let x = cumsum(&noise(300, 11)); // 301 phase points
         assert!(lag1_acf(&x, 11, 2).is_none()); // ⌈301/11⌉ = 28 < 30
-        let m_c = 300 / 29; // = 10: ⌈301/10⌉ = 31 points
-        let expect = lag1_acf(&x, m_c, 2).unwrap().alpha;
-        let ids = identify(&x, &[1, 2, 50, 100], 2);
-        assert_eq!(ids[2], expect);
-        assert_eq!(ids[3], expect);
-        assert_eq!(ids[0], lag1_acf(&x, 1, 2).unwrap().alpha);
+        // Requested factors 1, 4 valid; 50, 100 take the result at 4.
+        let ids = identify(&x, &[100, 1, 4, 50], 2);
+        let at4 = lag1_acf(&x, 4, 2).unwrap().alpha;
+        assert_eq!(ids, vec![at4, lag1_acf(&x, 1, 2).unwrap().alpha, at4, at4]);
+        // No requested factor valid: m_c = ⌊300/29⌋ = 10 (⌈301/10⌉ = 31 points).
+        let expect = lag1_acf(&x, 10, 2).unwrap().alpha;
+        assert_eq!(identify(&x, &[50, 100], 2), vec![expect, expect]);
     }
 
     #[test]
