@@ -31,6 +31,9 @@ use rayon::prelude::*;
 /// Minimum number of decimated points for the lag-1 ACF method (Riley & Greenhall 2004).
 pub const MIN_POINTS: usize = 30;
 
+/// Largest factor identified in the joint sweep (smaller strides touch every cache line).
+const JOINT_MAX: usize = 8;
+
 /// Result of one lag-1 ACF identification.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Identification {
@@ -56,38 +59,69 @@ struct Trend {
 const BLOCK: usize = 1024;
 const LANES: usize = 4;
 
-impl Trend {
-    fn fit(x: &[f64], m: usize, len: usize) -> Trend {
+/// Lane-split accumulators of the trend projections `Σz, Σz·u, Σz·(u² − c)`.
+struct TrendSums {
+    s0: [f64; LANES],
+    s1: [f64; LANES],
+    s2: [f64; LANES],
+    half: f64,
+    c: f64,
+}
+
+impl TrendSums {
+    fn new(len: usize) -> TrendSums {
         let n = len as f64;
-        let half = (n - 1.0) / 2.0;
-        let c = (n * n - 1.0) / 12.0;
-        // Independent lanes break the add-latency chains (the pass is then memory-bound).
-        let mut s0 = [0.0_f64; LANES];
-        let mut s1 = [0.0_f64; LANES];
-        let mut s2 = [0.0_f64; LANES];
+        TrendSums {
+            s0: [0.0; LANES],
+            s1: [0.0; LANES],
+            s2: [0.0; LANES],
+            half: (n - 1.0) / 2.0,
+            c: (n * n - 1.0) / 12.0,
+        }
+    }
+
+    /// Adds the decimated samples `z_k = x[k·m]`, `k in range`.
+    fn add(&mut self, x: &[f64], m: usize, range: std::ops::Range<usize>) {
+        let (half, c) = (self.half, self.c);
+        let (s0, s1, s2) = (&mut self.s0, &mut self.s1, &mut self.s2);
         let mut add = |k: usize, l: usize, z: f64| {
             let u = k as f64 - half;
             s0[l] += z;
             s1[l] += z * u;
             s2[l] += z * (u * u - c);
         };
+        let start = range.start;
         if m == 1 {
-            let chunks = x[..len].chunks_exact(LANES);
+            let chunks = x[range.clone()].chunks_exact(LANES);
             let rest = chunks.remainder();
             for (i, chunk) in chunks.enumerate() {
                 for (l, &z) in chunk.iter().enumerate() {
-                    add(i * LANES + l, l, z);
+                    add(start + i * LANES + l, l, z);
                 }
             }
             for (i, &z) in rest.iter().enumerate() {
-                add(len - rest.len() + i, 0, z);
+                add(range.end - rest.len() + i, 0, z);
             }
         } else {
-            for (k, &z) in x.iter().step_by(m).take(len).enumerate() {
-                add(k, k % LANES, z);
+            for (i, &z) in x[start * m..]
+                .iter()
+                .step_by(m)
+                .take(range.len())
+                .enumerate()
+            {
+                add(start + i, i % LANES, z);
             }
         }
-        let (s0, s1, s2): (f64, f64, f64) = (s0.iter().sum(), s1.iter().sum(), s2.iter().sum());
+    }
+
+    fn finish(&self, len: usize) -> Trend {
+        let n = len as f64;
+        let c = self.c;
+        let (s0, s1, s2): (f64, f64, f64) = (
+            self.s0.iter().sum(),
+            self.s1.iter().sum(),
+            self.s2.iter().sum(),
+        );
         // Σu² = n(n²−1)/12, Σ(u² − c)² = Σu⁴ − n c², Σu⁴ = n(n²−1)(3n²−7)/240.
         let norm1 = n * (n * n - 1.0) / 12.0;
         let norm2 = n * (n * n - 1.0) * (3.0 * n * n - 7.0) / 240.0 - n * c * c;
@@ -95,9 +129,17 @@ impl Trend {
             b0: s0 / n,
             b1: if norm1 > 0.0 { s1 / norm1 } else { 0.0 },
             b2: if norm2 > 0.0 { s2 / norm2 } else { 0.0 },
-            half,
+            half: self.half,
             c,
         }
+    }
+}
+
+impl Trend {
+    fn fit(x: &[f64], m: usize, len: usize) -> Trend {
+        let mut sums = TrendSums::new(len);
+        sums.add(x, m, 0..len);
+        sums.finish(len)
     }
 
     /// Appends the detrended decimated samples `r_k = x[k·m] − trend(k)`, `k in range`.
@@ -212,39 +254,131 @@ impl Lag1Sums {
     }
 }
 
-/// Lag-1 autocorrelations of the detrended decimated series and of its first `dmax`
-/// differences, all in one streaming pass (the pass is memory-bound; the extra arithmetic for
-/// differences that may not be needed is free). Works block by block in two small buffers.
-fn lag1_all_differences(x: &[f64], m: usize, len: usize, trend: &Trend, dmax: u32) -> [f64; 4] {
-    let levels = (dmax as usize).min(3) + 1;
-    let mut sums = [Lag1Sums::EMPTY; 4];
-    // carry[j] = last value of level j from the previous block.
-    let mut carry: [Option<f64>; 3] = [None; 3];
-    let mut current = Vec::with_capacity(BLOCK + 1);
-    let mut next = Vec::with_capacity(BLOCK + 1);
-    let mut start = 0;
-    while start < len {
-        let end = (start + BLOCK).min(len);
-        current.clear();
-        trend.residuals_into(x, m, start..end, &mut current);
-        sums[0].extend(&current);
-        for j in 1..levels {
-            next.clear();
-            if let (Some(c), Some(&h)) = (carry[j - 1], current.first()) {
-                next.push(h - c);
-            }
-            next.extend(current.windows(2).map(|w| w[1] - w[0]));
-            carry[j - 1] = current.last().copied().or(carry[j - 1]);
-            sums[j].extend(&next);
-            std::mem::swap(&mut current, &mut next);
+/// Streaming state of the lag-1 autocorrelations of the detrended decimated series and of its
+/// first `dmax` differences (all orders in the same pass: the pass is memory-bound, the extra
+/// arithmetic for differences that may not be needed is free). Fed block by block through two
+/// small buffers.
+struct AcfState {
+    levels: usize,
+    sums: [Lag1Sums; 4],
+    /// carry[j] = last value of level j from the previous block.
+    carry: [Option<f64>; 3],
+    current: Vec<f64>,
+    next: Vec<f64>,
+}
+
+impl AcfState {
+    fn new(dmax: u32) -> AcfState {
+        AcfState {
+            levels: (dmax as usize).min(3) + 1,
+            sums: [Lag1Sums::EMPTY; 4],
+            carry: [None; 3],
+            current: Vec::with_capacity(BLOCK + 1),
+            next: Vec::with_capacity(BLOCK + 1),
         }
-        start = end;
     }
-    let mut out = [0.0; 4];
-    for j in 0..levels {
-        out[j] = sums[j].value();
+
+    /// Feeds the decimated indices `range` (consecutive with the previous call).
+    fn feed(&mut self, x: &[f64], m: usize, trend: &Trend, range: std::ops::Range<usize>) {
+        let mut start = range.start;
+        while start < range.end {
+            let end = (start + BLOCK).min(range.end);
+            self.current.clear();
+            trend.residuals_into(x, m, start..end, &mut self.current);
+            self.sums[0].extend(&self.current);
+            for j in 1..self.levels {
+                self.next.clear();
+                if let (Some(c), Some(&h)) = (self.carry[j - 1], self.current.first()) {
+                    self.next.push(h - c);
+                }
+                let current = &self.current;
+                self.next.extend(current.windows(2).map(|w| w[1] - w[0]));
+                self.carry[j - 1] = self.current.last().copied().or(self.carry[j - 1]);
+                self.sums[j].extend(&self.next);
+                std::mem::swap(&mut self.current, &mut self.next);
+            }
+            start = end;
+        }
     }
-    out
+
+    fn values(&self) -> [f64; 4] {
+        let mut out = [0.0; 4];
+        for j in 0..self.levels {
+            out[j] = self.sums[j].value();
+        }
+        out
+    }
+}
+
+/// Lag-1 autocorrelations of the `0..=dmax`-th differences at one factor (two passes).
+fn lag1_all_differences(x: &[f64], m: usize, len: usize, trend: &Trend, dmax: u32) -> [f64; 4] {
+    let mut state = AcfState::new(dmax);
+    state.feed(x, m, trend, 0..len);
+    state.values()
+}
+
+/// The ACF decision rule (steps 3–4 of the module docs) from the lag-1 autocorrelations.
+fn decide(r1s: &[f64; 4], dmax: u32) -> Identification {
+    let mut d = 0u32;
+    loop {
+        let r1 = r1s[d as usize];
+        let delta = r1 / (1.0 + r1);
+        if delta < 0.25 || d >= dmax.min(3) {
+            let alpha = 2 - (2.0 * delta).round_ties_even() as i32 - 2 * d as i32;
+            return Identification { alpha, d, delta };
+        }
+        d += 1;
+    }
+}
+
+/// Sample block of the joint sweep over several small factors (fits in L2 with the states).
+const SWEEP: usize = 16 * 1024;
+
+/// Lag-1 ACF identification at several (small) factors in one joint sweep: every block of `x`
+/// is read once from memory and used by all factors while it sits in cache, so the small
+/// factors (which all touch every cache line) cost two passes over memory together instead of
+/// two passes each. Factors with fewer than 30 decimated points give `None`.
+fn lag1_acf_joint(x: &[f64], ms: &[usize], dmax: u32) -> Vec<Option<Identification>> {
+    let n = x.len();
+    let lens: Vec<usize> = ms
+        .iter()
+        .map(|&m| if m == 0 { 0 } else { n.div_ceil(m) })
+        .collect();
+    let valid: Vec<bool> = lens.iter().map(|&l| l >= MIN_POINTS).collect();
+    // Decimated index range of factor m inside the sample block [s, e).
+    let krange = |m: usize, len: usize, s: usize, e: usize| s.div_ceil(m)..e.div_ceil(m).min(len);
+    let mut trend_sums: Vec<TrendSums> = lens.iter().map(|&l| TrendSums::new(l)).collect();
+    let mut s = 0;
+    while s < n {
+        let e = (s + SWEEP).min(n);
+        for (i, &m) in ms.iter().enumerate() {
+            if valid[i] {
+                trend_sums[i].add(x, m, krange(m, lens[i], s, e));
+            }
+        }
+        s = e;
+    }
+    let trends: Vec<Trend> = trend_sums
+        .iter()
+        .zip(&lens)
+        .map(|(t, &l)| t.finish(l))
+        .collect();
+    let mut states: Vec<AcfState> = ms.iter().map(|_| AcfState::new(dmax)).collect();
+    let mut s = 0;
+    while s < n {
+        let e = (s + SWEEP).min(n);
+        for (i, &m) in ms.iter().enumerate() {
+            if valid[i] {
+                states[i].feed(x, m, &trends[i], krange(m, lens[i], s, e));
+            }
+        }
+        s = e;
+    }
+    states
+        .iter()
+        .zip(&valid)
+        .map(|(st, &ok)| ok.then(|| decide(&st.values(), dmax)))
+        .collect()
 }
 
 /// Lag-1 ACF identification at averaging factor `m` with at most `dmax` differences.
@@ -259,17 +393,7 @@ pub fn lag1_acf(x: &[f64], m: usize, dmax: u32) -> Option<Identification> {
         return None;
     }
     let trend = Trend::fit(x, m, len);
-    let r1s = lag1_all_differences(x, m, len, &trend, dmax);
-    let mut d = 0u32;
-    loop {
-        let r1 = r1s[d as usize];
-        let delta = r1 / (1.0 + r1);
-        if delta < 0.25 || d >= dmax.min(3) {
-            let alpha = 2 - (2.0 * delta).round_ties_even() as i32 - 2 * d as i32;
-            return Some(Identification { alpha, d, delta });
-        }
-        d += 1;
-    }
+    Some(decide(&lag1_all_differences(x, m, len, &trend, dmax), dmax))
 }
 
 /// Expected B1 ratio for `n` averages and τ-exponent μ (Howe et al. 2000, Table 3).
@@ -360,11 +484,29 @@ pub fn b1_ratio(x: &[f64], m: usize) -> Option<i32> {
 /// as identified (the caller clamps them to the estimator's convergent range).
 pub fn identify(x: &[f64], ms: &[usize], dmax: u32) -> Vec<i32> {
     let n_phase = x.len();
-    let results: Vec<Option<i32>> = ms
-        .par_iter()
-        .with_max_len(1)
-        .map(|&m| lag1_acf(x, m, dmax).map(|id| id.alpha))
-        .collect();
+    // Factors up to JOINT_MAX read every cache line of x: identify them in one joint sweep,
+    // the larger ones (cheap, strided) in parallel beside it.
+    let small: Vec<usize> = (0..ms.len()).filter(|&i| ms[i] <= JOINT_MAX).collect();
+    let large: Vec<usize> = (0..ms.len()).filter(|&i| ms[i] > JOINT_MAX).collect();
+    let small_ms: Vec<usize> = small.iter().map(|&i| ms[i]).collect();
+    let (small_ids, large_ids) = rayon::join(
+        || lag1_acf_joint(x, &small_ms, dmax),
+        || {
+            large
+                .par_iter()
+                .with_max_len(1)
+                .map(|&i| lag1_acf(x, ms[i], dmax))
+                .collect::<Vec<_>>()
+        },
+    );
+    let mut results: Vec<Option<i32>> = vec![None; ms.len()];
+    for (&i, id) in small
+        .iter()
+        .zip(small_ids)
+        .chain(large.iter().zip(large_ids))
+    {
+        results[i] = id.map(|id| id.alpha);
+    }
     if results.iter().all(Option::is_some) {
         return results.into_iter().map(|a| a.unwrap_or(0)).collect();
     }
@@ -522,6 +664,27 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn joint_sweep_equals_single_factor() {
+        // 50 001 samples cross several SWEEP (16 384) and BLOCK (1 024) boundaries.
+        let x = cumsum(&noise(50_000, 17));
+        let ms = [1usize, 2, 3, 5, 7, 8, 2000];
+        let joint = lag1_acf_joint(&x, &ms, 3);
+        for (&m, j) in ms.iter().zip(&joint) {
+            let single = lag1_acf(&x, m, 3);
+            match (j, single) {
+                (Some(a), Some(b)) => {
+                    assert_eq!((a.alpha, a.d), (b.alpha, b.d), "m={m}");
+                    // Only the lane split of the sums differs: rounding.
+                    assert!((a.delta - b.delta).abs() < 1e-12, "m={m}");
+                }
+                (None, None) => {}
+                _ => panic!("m={m}: {j:?} vs {single:?}"),
+            }
+        }
+        assert!(joint[6].is_none()); // ⌈50001/2000⌉ = 26 < 30
     }
 
     #[test]
