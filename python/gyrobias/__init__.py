@@ -5,12 +5,14 @@ unit-aware Python interfaces:
 
 - :mod:`gyrobias.allan` — overlapping / non-overlapping Allan, modified, Hadamard and total
   deviations with chi-square confidence intervals (NIST SP 1065, IEEE Std 952).
+- :mod:`gyrobias.noise` — IEEE-952 noise coefficients (Q, N, B, K, R) with uncertainties:
+  simulation, joint fit and read-off identification, unit conversion, Kalibr/JSON export.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
 """
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan
+from gyrobias import allan, noise
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
 
@@ -26,4 +28,5 @@ __all__ = [
     "adev",
     "allan",
     "avar",
+    "noise",
 ]

@@ -26,3 +26,19 @@ def allan_factors(
     per_decade: int,
     taus: NDArray[np.float64] | None,
 ) -> NDArray[np.uint64]: ...
+
+# --- noise -------------------------------------------------------------------------------------
+
+def noise_simulate(
+    n: int,
+    fs: float,
+    quantization: float,
+    arw: float,
+    bias_instability: float,
+    rrw: float,
+    rate_ramp: float,
+    ar1: tuple[float, float] | None,
+    bias: float,
+    axes: int,
+    seed: int,
+) -> NDArray[np.float64]: ...

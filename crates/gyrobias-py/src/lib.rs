@@ -6,6 +6,7 @@
 
 mod allan;
 mod error;
+mod noise;
 
 use pyo3::prelude::*;
 
@@ -14,5 +15,6 @@ use pyo3::prelude::*;
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     error::register(m)?;
     allan::register(m)?;
+    noise::register(m)?;
     Ok(())
 }
