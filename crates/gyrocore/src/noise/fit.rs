@@ -13,15 +13,17 @@
 //! feasible subset with the smallest χ² is the NNLS solution (its KKT point is the unconstrained
 //! optimum on its passive set). Subsets that leave no degree of freedom are not used.
 //!
-//! **Uncertainties**: covariance of `c` = `(AᵀWA)⁻¹ · max(1, χ²/ν)` (inflated when the model
-//! does not explain the scatter the EDFs predict; the correlation between overlapping
-//! estimates at neighbouring τ is otherwise ignored), and for the amplitude `√c_j` the delta
-//! method `u = u(c_j) / (2√c_j)`.
+//! **Uncertainties**: the estimates at neighbouring τ are strongly correlated, so the
+//! covariance of `c` is the sandwich `(AᵀWA)⁻¹ AᵀW V W A (AᵀWA)⁻¹` with `V_ij = ρ_ij s_i s_j`,
+//! `s_i = σ²_i √(2/edf_i)` and the correlation ρ of the fitted model's estimates
+//! ([`super::covariance`]); it is inflated by `max(1, χ²/ν)` when the model does not explain the
+//! scatter. For the amplitude `√c_j` the delta method gives `u = u(c_j) / (2√c_j)`.
 //!
 //! **EDF**: from noise identification when the caller has it (`Curve::edf`), else SP1065's
 //! simple approximations ([`super::model::approximate_edf`]) for the noise type of the term that
 //! dominates the current model at each τ (white rate in the first pass).
 
+use super::covariance::correlation;
 use super::curve::{Curve, TermEstimate};
 use super::model::{FLICKER_FACTOR, Term, model_variance};
 use crate::{Error, Result};
@@ -48,6 +50,9 @@ pub struct JointFit {
     /// IRLS passes made.
     pub iterations: usize,
 }
+
+/// A solved subset: its terms, coefficients, unscaled covariance and χ².
+type SubsetFit = (Vec<Term>, Vec<f64>, Vec<Vec<f64>>, f64);
 
 /// Minimum share of the model variance at which a point counts towards a term's τ range.
 const SHARE: f64 = 0.1;
@@ -161,6 +166,65 @@ fn dominant(c: &[f64; 5], tau: f64) -> Term {
     best
 }
 
+/// Covariance of the WLS estimate when the estimates are correlated:
+/// `(AᵀWA)⁻¹ · AᵀW V W A · (AᵀWA)⁻¹` with `V_ij = ρ_ij s_i s_j`, `s_i = σ²_model,i √(2/edf_i)` and
+/// ρ from [`super::covariance::correlation`].
+fn sandwich(
+    curve: &Curve<'_>,
+    used: &[usize],
+    taus: &[f64],
+    y: &[f64],
+    subset: &[Term],
+    c: &[f64; 5],
+    edf: &[f64],
+    sqrt_w: &[f64],
+    bread: &[Vec<f64>],
+) -> Vec<Vec<f64>> {
+    let n = used.len();
+    let p = subset.len();
+    let m: Vec<usize> = used.iter().map(|&i| curve.m[i]).collect();
+    let terms: Vec<usize> = used.iter().map(|&i| curve.n_terms[i]).collect();
+    let t0 = taus[0] / m[0] as f64;
+    let rho = correlation(&m, &terms, t0, c);
+    let s: Vec<f64> = taus
+        .iter()
+        .zip(y)
+        .zip(edf)
+        .map(|((t, obs), e)| model_variance(c, *t).max(0.01 * obs) * (2.0 / e).sqrt())
+        .collect();
+    // u_i = w_i · A_i (row i of the design on the subset).
+    let u: Vec<Vec<f64>> = (0..n)
+        .map(|i| {
+            let w = sqrt_w[i] * sqrt_w[i];
+            subset.iter().map(|t| w * t.basis(taus[i])).collect()
+        })
+        .collect();
+    let mut meat = vec![vec![0.0; p]; p];
+    for i in 0..n {
+        for j in 0..n {
+            let v = rho[i * n + j] * s[i] * s[j];
+            for a in 0..p {
+                for b in 0..p {
+                    meat[a][b] += u[i][a] * v * u[j][b];
+                }
+            }
+        }
+    }
+    let mut tmp = vec![vec![0.0; p]; p];
+    for a in 0..p {
+        for b in 0..p {
+            tmp[a][b] = (0..p).map(|k| bread[a][k] * meat[k][b]).sum();
+        }
+    }
+    let mut out = vec![vec![0.0; p]; p];
+    for a in 0..p {
+        for b in 0..p {
+            out[a][b] = (0..p).map(|k| tmp[a][k] * bread[k][b]).sum();
+        }
+    }
+    out
+}
+
 /// Joint weighted NNLS fit of the requested terms over the points with τ in `tau_range`.
 pub fn joint(
     curve: &Curve<'_>,
@@ -202,7 +266,8 @@ pub fn joint(
         .iter()
         .map(|&i| curve.edf_at(i, Term::AngleRandomWalk))
         .collect();
-    let mut best: Option<(Vec<Term>, Vec<f64>, Vec<Vec<f64>>, f64)> = None;
+    let mut best: Option<SubsetFit> = None;
+    let mut last_sqrt_w: Vec<f64> = Vec::new();
     let mut iterations = 0;
     for pass in 0..50 {
         iterations = pass + 1;
@@ -211,7 +276,7 @@ pub fn joint(
             .zip(&edf)
             .map(|(r, e)| (e / 2.0).sqrt() / r)
             .collect();
-        let mut pass_best: Option<(Vec<Term>, Vec<f64>, Vec<Vec<f64>>, f64)> = None;
+        let mut pass_best: Option<SubsetFit> = None;
         for mask in 1u32..(1 << requested.len()) {
             let subset: Vec<Term> = requested
                 .iter()
@@ -245,6 +310,7 @@ pub fn joint(
             .fold(0.0_f64, f64::max);
         c = next;
         best = Some(found);
+        last_sqrt_w = sqrt_w;
         if pass > 0 && change < 1e-10 {
             break;
         }
@@ -264,6 +330,17 @@ pub fn joint(
     let (subset, _, cov_sub, chi2) = best.expect("at least one pass ran");
     let dof = taus.len() - subset.len();
     let inflation = (chi2 / dof as f64).max(1.0);
+    let cov_sub = sandwich(
+        curve,
+        &used,
+        &taus,
+        &y,
+        &subset,
+        &c,
+        &edf,
+        &last_sqrt_w,
+        &cov_sub,
+    );
     let mut covariance = [[0.0_f64; 5]; 5];
     for (a, ta) in subset.iter().enumerate() {
         for (b, tb) in subset.iter().enumerate() {

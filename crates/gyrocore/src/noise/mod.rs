@@ -17,6 +17,7 @@
 //!   minimum).
 //! * [`model`]: the basis functions, slopes, read-off times and simple EDF approximations.
 
+pub mod covariance;
 pub mod curve;
 pub mod fit;
 pub mod ieee;
