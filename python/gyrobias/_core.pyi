@@ -1,5 +1,7 @@
 """Type stubs of the Rust extension module (checked by ``python -m mypy.stubtest gyrobias._core``)."""
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -42,3 +44,29 @@ def noise_simulate(
     axes: int,
     seed: int,
 ) -> NDArray[np.float64]: ...
+def noise_fit_joint(
+    taus: NDArray[np.float64],
+    variance: NDArray[np.float64],
+    m: NDArray[np.uint64],
+    n_terms: NDArray[np.uint64],
+    overlapping: bool,
+    edf: NDArray[np.float64] | None,
+    terms: list[str],
+    tau_range: tuple[float, float] | None,
+) -> dict[str, Any]: ...
+def noise_read_off(
+    taus: NDArray[np.float64],
+    variance: NDArray[np.float64],
+    m: NDArray[np.uint64],
+    n_terms: NDArray[np.uint64],
+    overlapping: bool,
+    edf: NDArray[np.float64] | None,
+    terms: list[str],
+    regions: list[tuple[float, float] | None],
+    tolerance: float,
+    min_points: int,
+) -> dict[str, Any]: ...
+def noise_model(
+    squared: list[float] | tuple[float, float, float, float, float],
+    taus: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], list[NDArray[np.float64]]]: ...

@@ -27,7 +27,7 @@ import math
 import os
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, overload
 
 import numpy as np
 from numpy.typing import NDArray
@@ -50,7 +50,8 @@ __all__ = [
 ]
 
 #: Plateau factor of flicker rate noise in the Allan deviation: √(2 ln 2 / π) = 0.664282…
-FLICKER_FACTOR: float = float(_core.FLICKER_FACTOR)
+#: (The same constant as ``gyrocore::noise::FLICKER_FACTOR``.)
+FLICKER_FACTOR: float = math.sqrt(2.0 * math.log(2.0) / math.pi)
 
 _SYMBOLS = ("Q", "N", "B", "K", "R")
 
@@ -423,8 +424,8 @@ class NoiseCoefficients:
             mapping = dict(system)
             for key in mapping:
                 choice("system key", key, _SYMBOLS)
-        converted = {s: self[s].to(mapping[s]) if s in mapping else self[s] for s in _SYMBOLS}
-        return replace(self, **converted)
+        conv = {s: self[s].to(mapping[s]) if s in mapping else self[s] for s in _SYMBOLS}
+        return replace(self, Q=conv["Q"], N=conv["N"], B=conv["B"], K=conv["K"], R=conv["R"])
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary with units and conventions stated."""
@@ -567,6 +568,34 @@ class NoiseCoefficients:
 
 def _edf_source(result: AllanResult) -> str:
     return "noise identification" if result.edf is not None else "SP1065 simple approximation"
+
+
+@overload
+def fit(
+    allan: AllanResult,
+    *,
+    method: str = ...,
+    terms: Iterable[str] = ...,
+    tau_range: tuple[float, float] | None = ...,
+    regions: Mapping[str, tuple[float, float]] | None = ...,
+    slope_tolerance: float = ...,
+    min_points: int = ...,
+    unit: str | None = ...,
+) -> NoiseCoefficients: ...
+
+
+@overload
+def fit(
+    allan: Sequence[AllanResult],
+    *,
+    method: str = ...,
+    terms: Iterable[str] = ...,
+    tau_range: tuple[float, float] | None = ...,
+    regions: Mapping[str, tuple[float, float]] | None = ...,
+    slope_tolerance: float = ...,
+    min_points: int = ...,
+    unit: str | None = ...,
+) -> tuple[NoiseCoefficients, ...]: ...
 
 
 def fit(
@@ -728,7 +757,11 @@ def fit(
             missing=d["missing"],
         )
     return NoiseCoefficients(
-        **built,
+        Q=built["Q"],
+        N=built["N"],
+        B=built["B"],
+        K=built["K"],
+        R=built["R"],
         method=method,
         data_unit=data_unit,
         sensor=sensor,
@@ -736,7 +769,10 @@ def fit(
         axis=result.axis,
         edf_source=_edf_source(result),
         allan=result,
-        **extra,
+        tau_range=extra["tau_range"],
+        chi2=extra.get("chi2"),
+        dof=extra.get("dof"),
+        squared=extra.get("squared"),
     )
 
 

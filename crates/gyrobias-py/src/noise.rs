@@ -10,8 +10,8 @@ use crate::error::core;
 /// Simulated rate noise, row-major `(n, axes)` flattened.
 #[pyfunction]
 #[pyo3(signature = (n, fs, quantization, arw, bias_instability, rrw, rate_ramp, ar1, bias, axes, seed))]
-fn noise_simulate<'py>(
-    py: Python<'py>,
+fn noise_simulate(
+    py: Python<'_>,
     n: usize,
     fs: f64,
     quantization: f64,
@@ -23,7 +23,7 @@ fn noise_simulate<'py>(
     bias: f64,
     axes: usize,
     seed: u64,
-) -> PyResult<Bound<'py, PyArray1<f64>>> {
+) -> PyResult<Bound<'_, PyArray1<f64>>> {
     let spec = NoiseSpec {
         quantization,
         arw,
@@ -163,6 +163,9 @@ fn noise_read_off<'py>(
     Ok(d)
 }
 
+/// Total model variance and each term's contribution.
+type ModelCurves<'py> = (Bound<'py, PyArray1<f64>>, Vec<Bound<'py, PyArray1<f64>>>);
+
 /// The five-term model: total variance and each term's contribution at `taus`.
 #[pyfunction]
 #[pyo3(signature = (squared, taus))]
@@ -171,7 +174,7 @@ fn noise_model<'py>(
     py: Python<'py>,
     squared: [f64; 5],
     taus: PyReadonlyArray1<'py, f64>,
-) -> PyResult<(Bound<'py, PyArray1<f64>>, Vec<Bound<'py, PyArray1<f64>>>)> {
+) -> PyResult<ModelCurves<'py>> {
     let taus = taus.as_slice()?;
     let total: Vec<f64> = taus
         .iter()
@@ -193,6 +196,5 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(noise_simulate, m)?)?;
     m.add_function(wrap_pyfunction!(noise_fit_joint, m)?)?;
     m.add_function(wrap_pyfunction!(noise_read_off, m)?)?;
-    m.add_function(wrap_pyfunction!(noise_model, m)?)?;
-    m.add("FLICKER_FACTOR", noise::FLICKER_FACTOR)
+    m.add_function(wrap_pyfunction!(noise_model, m)?)
 }

@@ -131,7 +131,7 @@ def demo_section(
         results = adev(matrix, fs, taus="octave", units=unit, axis_names=names, confidence=None)
     assert isinstance(results, tuple)
     fits = [fit(r) for r in results]
-    ieee = [c.to("ieee") for c in fits]  # type: ignore[union-attr]
+    ieee = [c.to("ieee") for c in fits]
     sensor = ieee[0].sensor or "gyro"
     print("Noise coefficients: recovered (joint weighted fit, ±1σ) vs simulated")
     header = f"  {'term':<30} {'true':>10}  " + "  ".join(f"{'axis ' + n:>20}" for n in names) + "  unit"
@@ -159,7 +159,7 @@ def demo_section(
         import matplotlib.pyplot as plt
 
         fig, ax = plt.subplots(figsize=(7, 5))
-        fits[0].plot(ax=ax)  # type: ignore[union-attr]
+        fits[0].plot(ax=ax)
         ax.set_title(f"Allan deviation and fitted noise model (axis {names[0]})")
         outdir.mkdir(parents=True, exist_ok=True)
         path = outdir / "noise_fit.png"
