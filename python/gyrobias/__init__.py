@@ -5,6 +5,8 @@ unit-aware Python interfaces:
 
 - :mod:`gyrobias.allan` — overlapping / non-overlapping Allan, modified, Hadamard and total
   deviations with chi-square confidence intervals (NIST SP 1065, IEEE Std 952).
+- :mod:`gyrobias.fractional` — long-memory (1/f) noise: type-II fractional differencing and
+  integration, ARFIMA(0, d, 0) simulation, exact local Whittle estimation of ``d``.
 - :mod:`gyrobias.noise` — IEEE-952 noise coefficients (Q, N, B, K, R) with uncertainties:
   simulation, joint fit and read-off identification, unit conversion, Kalibr/JSON export.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
@@ -12,7 +14,7 @@ unit-aware Python interfaces:
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan, noise
+from gyrobias import allan, fractional, noise
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
 
@@ -28,5 +30,6 @@ __all__ = [
     "adev",
     "allan",
     "avar",
+    "fractional",
     "noise",
 ]

@@ -6,6 +6,7 @@
 
 mod allan;
 mod error;
+mod fractional;
 mod noise;
 
 use pyo3::prelude::*;
@@ -15,6 +16,7 @@ use pyo3::prelude::*;
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     error::register(m)?;
     allan::register(m)?;
+    fractional::register(m)?;
     noise::register(m)?;
     Ok(())
 }

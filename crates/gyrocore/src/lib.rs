@@ -7,8 +7,10 @@
 //! | module | science | source |
 //! |---|---|---|
 //! | [`allan`] | overlapping / non-overlapping Allan, modified, Hadamard and total variance, noise identification, EDF and confidence intervals | NIST SP 1065, IEEE 952, \[BP\] eq. 2, \[TS\] eq. 1 |
-//! | [`fractional`] | fractional differencing and integration, ARFIMA(0, d, 0) | SPEC §4, Hosking (1981), [BP] eq. 3 |
+//! | [`fractional`] | fractional differencing and integration (direct / FFT), ARFIMA(0, d, 0) simulation (type II, Davies–Harte), exact local Whittle estimation of d | SPEC §4, Hosking (1981), \[BP\] eq. 3, Shimotsu & Phillips (2005), Shimotsu (2010) |
 //! | [`noise`] | IEEE-952 noise terms: simulation with known coefficients, joint weighted fit and read-off identification | IEEE 952 Annex C, SPEC §3 |
+//! | [`optimize`] | Brent's derivative-free 1-D minimisation | Brent (1973) |
+//! | [`random`] | seeded normal deviates (xoshiro256++, polar method) | — |
 //! | [`stats`] | chi-square quantiles and the special functions behind them | — |
 //!
 //! Units: time in seconds; rates and angles in the caller's unit (the core is unit-agnostic).
@@ -18,6 +20,8 @@ pub mod allan;
 pub mod error;
 pub mod fractional;
 pub mod noise;
+pub mod optimize;
+pub mod random;
 pub mod stats;
 pub mod validate;
 
