@@ -22,7 +22,6 @@ pub mod curve;
 pub mod fit;
 pub mod ieee;
 pub mod model;
-mod random;
 pub mod simulate;
 
 pub use curve::{Curve, TermEstimate, parse_terms};

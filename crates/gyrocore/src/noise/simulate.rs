@@ -22,6 +22,9 @@
 //! a circular series of twice the length removes the wrap-around correlation; the missing
 //! power below `1/(2n t0)` changes σ²(τ) by `O((τ/(n t0))²)`. Cost O(n log n) (rustfft).
 //!
+//! Normal deviates come from [`crate::random`] (xoshiro256++, polar method), one stream per
+//! component and axis.
+//!
 //! The generated samples are in the rate unit of the coefficients (Q in u·s, N in u·√s, B in
 //! u, K in u/√s, R in u/s for a rate unit u, e.g. deg/s).
 
@@ -29,7 +32,7 @@ use rayon::prelude::*;
 use rustfft::FftPlanner;
 use rustfft::num_complex::Complex;
 
-use super::random::NormalStream;
+use crate::random::NormalStream;
 use crate::validate;
 use crate::{Error, Result};
 
@@ -89,6 +92,23 @@ impl NoiseSpec {
     }
 }
 
+/// The seed of the normal stream of one component of one axis: `(seed, axis, component)` mixed
+/// by SplitMix64 (Steele, Lea & Flood 2014), so that every component of every axis has its own
+/// stream and enabling one component or adding axes never changes the samples of another.
+fn stream_seed(seed: u64, axis: usize, component: u64) -> u64 {
+    let mix = |mut z: u64| {
+        z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    mix(seed ^ mix(((axis as u64) << 8) ^ component))
+}
+
+fn stream(seed: u64, axis: usize, component: u64) -> NormalStream {
+    NormalStream::new(stream_seed(seed, axis, component))
+}
+
 /// Stream identifiers of the components (part of the reproducibility contract).
 const WHITE: u64 = 1;
 const QUANT: u64 = 2;
@@ -121,8 +141,8 @@ fn add_flicker(out: &mut [f64], t0: f64, b: f64, rng: &mut NormalStream) {
     let len = smooth_length(2 * n.max(1));
     let mut z: Vec<Complex<f64>> = (0..len)
         .map(|_| {
-            let re = rng.next();
-            Complex::new(re, rng.next())
+            let re = rng.next_normal();
+            Complex::new(re, rng.next_normal())
         })
         .collect();
     let mut planner = FftPlanner::<f64>::new();
@@ -154,42 +174,42 @@ pub fn simulate_axis(
         .collect();
     if spec.arw > 0.0 {
         let s = spec.arw / t0.sqrt();
-        let mut g = NormalStream::new(seed, axis, WHITE);
+        let mut g = stream(seed, axis, WHITE);
         for o in &mut out {
-            *o += s * g.next();
+            *o += s * g.next_normal();
         }
     }
     if spec.quantization > 0.0 {
         let s = spec.quantization / t0;
-        let mut g = NormalStream::new(seed, axis, QUANT);
-        let mut previous = g.next();
+        let mut g = stream(seed, axis, QUANT);
+        let mut previous = g.next_normal();
         for o in &mut out {
-            let next = g.next();
+            let next = g.next_normal();
             *o += s * (next - previous);
             previous = next;
         }
     }
     if spec.bias_instability > 0.0 {
-        let mut g = NormalStream::new(seed, axis, FLICKER);
+        let mut g = stream(seed, axis, FLICKER);
         add_flicker(&mut out, t0, spec.bias_instability, &mut g);
     }
     if spec.rrw > 0.0 {
         let s = spec.rrw * t0.sqrt();
-        let mut g = NormalStream::new(seed, axis, RRW);
+        let mut g = stream(seed, axis, RRW);
         let mut walk = 0.0;
         for o in &mut out {
-            walk += s * g.next();
+            walk += s * g.next_normal();
             *o += walk;
         }
     }
     if let Some(ar) = spec.ar1 {
         if ar.sigma > 0.0 {
-            let mut g = NormalStream::new(seed, axis, AR1);
+            let mut g = stream(seed, axis, AR1);
             let c = ar.coefficient;
-            let mut state = ar.sigma / (1.0 - c * c).sqrt() * g.next();
+            let mut state = ar.sigma / (1.0 - c * c).sqrt() * g.next_normal();
             for o in &mut out {
                 *o += state;
-                state = c * state + ar.sigma * g.next();
+                state = c * state + ar.sigma * g.next_normal();
             }
         }
     }
