@@ -470,6 +470,8 @@ class NoiseCoefficients:
                 continue
             unc = f"{t.uncertainty:.2g}" if t.uncertainty is not None else "?"
             rng = f"  (τ {t.tau_range[0]:.3g}–{t.tau_range[1]:.3g} s)" if t.tau_range else ""
+            if t.uncertainty is not None and t.value < 2.0 * t.uncertainty:
+                rng += "  not significant (< 2σ)"
             lines.append(f"{label} {t.value:12.5g} ± {unc:<8} {t.unit or '':<12}{rng}")
         if self.chi2 is not None and self.dof:
             lines.append(f"  weighted χ²/ν = {self.chi2 / self.dof:.3g} (ν = {self.dof})")
@@ -550,7 +552,12 @@ class NoiseCoefficients:
                 mt, ms = t.marker
                 ax.loglog([mt], [ms], "s", color=colours[t.symbol], ms=7, mfc="none", mew=1.5)
                 value = f"{t.value:.3g} {t.unit or ''}".strip()
-                where = "min σ / 0.664" if t.symbol == "B" else f"σ at τ = {mt:.3g} s"
+                if t.symbol != "B":
+                    where = f"σ at τ = {mt:.3g} s"
+                elif self.method == "ieee":
+                    where = "min σ / 0.664"
+                else:
+                    where = "plateau σ = 0.664·B"
                 ax.annotate(
                     f"{t.symbol} = {value}\n({where})",
                     (mt, ms),
@@ -559,6 +566,12 @@ class NoiseCoefficients:
                     fontsize=7,
                     color=colours[t.symbol],
                 )
+        # Keep the view on the data and model: asymptotes of negligible terms run far below.
+        markers = [t.marker[1] for t in self.terms if t.value is not None and t.marker is not None]
+        shown = np.concatenate([total, np.asarray(allan.adev) if allan is not None else total, markers])
+        shown = shown[np.isfinite(shown) & (shown > 0)]
+        if shown.size:
+            ax.set_ylim(shown.min() / 5.0, shown.max() * 3.0)
         ax.set_xlabel("τ [s]")
         ax.set_ylabel(f"σ(τ) [{unit}]" if unit else "σ(τ)")
         ax.grid(True, which="both", alpha=0.3)

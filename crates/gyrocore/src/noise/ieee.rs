@@ -18,7 +18,9 @@
 //! | B | 0 | minimum | `B = min σ / 0.664282` |
 //!
 //! B needs a minimum inside the curve (the flat region); if σ is smallest at the first or
-//! last τ the term is missing. The read-off of B is biased high wherever the N and K
+//! last τ the term is missing. The automatic search considers only estimates with EDF ≥ 5
+//! ([`MIN_EDF_B`]): the last octaves of a record rest on one or two degrees of freedom, and a
+//! low value there is noise, not a plateau. The read-off of B is biased high wherever the N and K
 //! asymptotes still contribute at the minimum — the joint fit ([`super::fit`]) is the better
 //! estimator.
 //!
@@ -30,6 +32,10 @@
 use super::curve::{Curve, TermEstimate};
 use super::model::{FLICKER_FACTOR, Term};
 use crate::{Error, Result};
+
+/// Smallest EDF of an estimate taken into the automatic search for the minimum (relative
+/// standard deviation of σ ≤ 1/√10 ≈ 32 %).
+pub const MIN_EDF_B: f64 = 5.0;
 
 /// Options of [`read_off`].
 #[derive(Debug, Clone, PartialEq)]
@@ -185,18 +191,42 @@ pub fn read_off(
         };
         if t == Term::BiasInstability {
             let (a, b) = region.unwrap_or((0, curve.len() - 1));
-            let i_min = (a..=b)
-                .filter(|&i| positive(i))
+            // Automatic search: only estimates with EDF ≥ MIN_EDF_B; the longest-τ points rest
+            // on one or two degrees of freedom and their minimum is noise.
+            // Without identified EDFs the random-walk formula, the most pessimistic at long τ,
+            // decides (a slope-based guess is unreliable exactly where it matters).
+            let reliable = |i: usize| {
+                let e = match curve.edf {
+                    Some(_) => edf[i],
+                    None => curve.edf_at(i, Term::RateRandomWalk),
+                };
+                e >= MIN_EDF_B
+            };
+            let eligible: Vec<usize> = (a..=b)
+                .filter(|&i| positive(i) && (region.is_some() || reliable(i)))
+                .collect();
+            let i_min = eligible
+                .iter()
+                .copied()
                 .min_by(|&p, &q| var[p].total_cmp(&var[q]));
             let Some(i_min) = i_min else {
-                terms.push(TermEstimate::missing(t, "σ is zero in the range given"));
+                terms.push(TermEstimate::missing(
+                    t,
+                    if region.is_some() {
+                        "σ is zero in the range given".to_string()
+                    } else {
+                        format!("no Allan estimate with EDF >= {MIN_EDF_B}")
+                    },
+                ));
                 continue;
             };
-            if region.is_none() && (i_min == 0 || i_min == curve.len() - 1) {
-                let which = if i_min == 0 {
+            let first = eligible[0];
+            let last = eligible[eligible.len() - 1];
+            if region.is_none() && (i_min == first || i_min == last) {
+                let which = if i_min == first {
                     "shortest τ: σ rises from the start"
                 } else {
-                    "longest τ: σ is still falling"
+                    "longest reliable τ: σ is still falling"
                 };
                 terms.push(TermEstimate::missing(
                     t,
