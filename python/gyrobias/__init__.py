@@ -9,14 +9,18 @@ unit-aware Python interfaces:
   integration, ARFIMA(0, d, 0) simulation, exact local Whittle estimation of ``d``.
 - :mod:`gyrobias.noise` — IEEE-952 noise coefficients (Q, N, B, K, R) with uncertainties:
   simulation, joint fit and read-off identification, unit conversion, Kalibr/JSON export.
+- :mod:`gyrobias.predict` — bias prediction from a calibration window ([BP]): the fractional
+  (1/f) Kalman predictor (O(n·k) generalized Schur, compiled batch GEMM), moving average and
+  calibration mean, and [BP]'s batch test.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
 """
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan, fractional, noise
+from gyrobias import allan, fractional, io, noise, predict
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
+from gyrobias.predict import FractionalKalmanPredictor, Prediction
 
 try:
     __version__ = version("gyrobias")
@@ -25,11 +29,15 @@ except PackageNotFoundError:  # running from a source tree without installation
 
 __all__ = [
     "AllanResult",
+    "FractionalKalmanPredictor",
     "GyroLinAlgError",
+    "Prediction",
     "__version__",
     "adev",
     "allan",
     "avar",
     "fractional",
+    "io",
     "noise",
+    "predict",
 ]

@@ -8,6 +8,7 @@ mod allan;
 mod error;
 mod fractional;
 mod noise;
+mod predict;
 
 use pyo3::prelude::*;
 
@@ -18,5 +19,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     allan::register(m)?;
     fractional::register(m)?;
     noise::register(m)?;
+    predict::register(m)?;
     Ok(())
 }
