@@ -18,7 +18,7 @@ from gyrobias.allan import AllanResult, adev
 from gyrobias.cli import noise as cli_noise
 from gyrobias.units import base_unit, conversion_factor, parse_unit, sensor_kind
 
-from reference_noise import FLICKER, fixed_slope_value, joint_irls, local_slopes, model_avar
+from tests.reference_noise import FLICKER, fixed_slope_value, joint_irls, local_slopes, model_avar
 
 FS = 100.0
 # The SPEC §3 example: 8 h at 100 Hz, N = 0.2 deg/√h, B = 3 deg/h, K = 10 deg/h^1.5.
@@ -479,5 +479,12 @@ def test_demo_section_prints_true_and_recovered(tmp_path, capsys) -> None:
     rate = noise.simulate(200_000, FS, axes=3, seed=4, **TRUE)
     cli_noise.demo_section(rate, FS, tmp_path, TRUE)
     out = capsys.readouterr().out
-    assert "true" in out and "0.2" in out and "axis x" in out
+    assert "true" in out and "(0.2)" in out and "(3)" in out and "axis x" in out
     assert (tmp_path / "noise_fit.png").exists()
+    # The demo's per-axis customary table is understood too, and the truth is optional.
+    table = {"arw_deg_per_sqrt_h": [0.2, 0.25, 0.3], "bias_instability_deg_per_h": [3.0, 4.0, 5.0]}
+    cli_noise.demo_section(rate, FS, tmp_path, table)
+    out = capsys.readouterr().out
+    assert "(0.25)" in out and "(5)" in out
+    cli_noise.demo_section(rate, FS, tmp_path)
+    assert "deg/√h" in capsys.readouterr().out

@@ -97,12 +97,34 @@ _TRUE_KEYS = {
     "rate_ramp": "R",
 }
 
+#: Customary-unit keys (the demo's table) → (simulate keyword, factor to deg/s-based units).
+_CUSTOMARY_KEYS = {
+    "arw_deg_per_sqrt_h": ("arw", 1.0 / 60.0),
+    "bias_instability_deg_per_h": ("bias_instability", 1.0 / 3600.0),
+    "rrw_deg_per_h_1_5": ("rrw", 1.0 / 216000.0),
+}
+
+
+def _true_per_axis(true_coefficients: Mapping[str, Any] | None, n_axes: int) -> dict[str, list[float]]:
+    """Normalise the true coefficients to {simulate keyword: [value per axis]} in base units."""
+    out: dict[str, list[float]] = {}
+    for key, value in (true_coefficients or {}).items():
+        if key in _CUSTOMARY_KEYS:
+            key, factor = _CUSTOMARY_KEYS[key]
+        elif key in _TRUE_KEYS:
+            factor = 1.0
+        else:
+            continue
+        values = np.broadcast_to(np.asarray(value, dtype=np.float64), (n_axes,))
+        out[key] = [float(v) * factor for v in values]
+    return out
+
 
 def demo_section(
     rate: np.ndarray,
     fs: float,
     outdir: Path,
-    true_coefficients: Mapping[str, float],
+    true_coefficients: Mapping[str, Any] | None = None,
     *,
     unit: str = "deg/s",
 ) -> None:
@@ -116,9 +138,12 @@ def demo_section(
         Sample rate in Hz.
     outdir : Path
         Where ``noise_fit.png`` is written.
-    true_coefficients : mapping
-        The keyword arguments given to :func:`gyrobias.noise.simulate` (``arw``,
-        ``bias_instability``, ``rrw``, … in base units of ``unit``).
+    true_coefficients : mapping, optional
+        The simulated coefficients: :func:`gyrobias.noise.simulate` keywords (``arw``,
+        ``bias_instability``, ``rrw``, ``quantization``, ``rate_ramp`` in base units of
+        ``unit``) or the demo's customary keys (``arw_deg_per_sqrt_h``,
+        ``bias_instability_deg_per_h``, ``rrw_deg_per_h_1_5``); each a scalar or one value per
+        axis. Without it only the recovered values are printed.
     """
     from gyrobias.allan import adev
 
@@ -133,25 +158,26 @@ def demo_section(
     fits = [fit(r) for r in results]
     ieee = [c.to("ieee") for c in fits]
     sensor = ieee[0].sensor or "gyro"
-    print("Noise coefficients: recovered (joint weighted fit, ±1σ) vs simulated")
-    header = f"  {'term':<30} {'true':>10}  " + "  ".join(f"{'axis ' + n:>20}" for n in names) + "  unit"
+    truth = _true_per_axis(true_coefficients, len(names))
+    print("Noise coefficients: recovered (joint weighted fit, ±1σ) vs simulated (true)")
+    header = f"  {'term':<30} " + "  ".join(f"{'axis ' + n:>30}" for n in names) + "  unit"
     print(header)
     for key, symbol in _TRUE_KEYS.items():
-        truth = float(true_coefficients.get(key, 0.0))
         term0 = ieee[0][symbol]
-        if truth == 0.0 and all(c[symbol].value is None for c in ieee):
+        if key not in truth and all(c[symbol].value is None for c in ieee):
             continue
-        unit_out = term0.unit or ""
-        true_txt = "—"
-        if truth and fits[0][symbol].unit is not None and term0.unit is not None:
+        factor = 1.0
+        if fits[0][symbol].unit is not None and term0.unit is not None:
             factor = conversion_factor(fits[0][symbol].unit or "", term0.unit)
-            true_txt = f"{truth * factor:.4g}"
         cells = []
-        for c in ieee:
+        for a, c in enumerate(ieee):
             t = c[symbol]
-            cells.append(f"{t.value:.4g} ± {t.uncertainty:.2g}" if t.value is not None else "missing")
+            got = f"{t.value:.4g} ± {t.uncertainty:.2g}" if t.value is not None else "missing"
+            if key in truth:
+                got += f" ({truth[key][a] * factor:.4g})"
+            cells.append(got)
         label = f"{symbol} {noise.TERM_NAMES[sensor][symbol]}"
-        print(f"  {label:<30} {true_txt:>10}  " + "  ".join(f"{c:>20}" for c in cells) + f"  {unit_out}")
+        print(f"  {label:<30} " + "  ".join(f"{c:>30}" for c in cells) + f"  {term0.unit or ''}")
     try:
         import matplotlib
 
