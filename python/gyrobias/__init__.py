@@ -12,12 +12,17 @@ unit-aware Python interfaces:
   calibration mean, and [BP]'s batch test.
 - :mod:`gyrobias.kalman` — fixed-gain [rate, bias] Kalman filter for real-time denoising ([NR]):
   steady-state gain, discrete fixed-gain form, bandwidth design, streaming.
+- :mod:`gyrobias.noise` — IEEE-952 noise coefficients (Q, N, B, K, R) with uncertainties:
+  simulation, joint fit and read-off identification, unit conversion, Kalibr/JSON export.
+- :mod:`gyrobias.predict` — bias prediction from a calibration window ([BP]): the fractional
+  (1/f) Kalman predictor (O(n·k) generalized Schur, compiled batch GEMM), moving average and
+  calibration mean, and [BP]'s batch test.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
 """
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan, fractional, io, kalman, predict
+from gyrobias import allan, fractional, io, kalman, noise, predict
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
 from gyrobias.predict import FractionalKalmanPredictor, Prediction
@@ -40,6 +45,7 @@ __all__ = [
     "avar",
     "fractional",
     "io",
+    "noise",
     "predict",
     "kalman",
 ]

@@ -9,6 +9,7 @@ mod error;
 mod fractional;
 mod predict;
 mod kalman;
+mod noise;
 
 use pyo3::prelude::*;
 
@@ -20,5 +21,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     fractional::register(m)?;
     predict::register(m)?;
     kalman::register(m)?;
+    noise::register(m)?;
     Ok(())
 }

@@ -8,6 +8,7 @@
 //! |---|---|---|
 //! | [`allan`] | overlapping / non-overlapping Allan, modified, Hadamard and total variance, noise identification, EDF and confidence intervals | NIST SP 1065, IEEE 952, \[BP\] eq. 2, \[TS\] eq. 1 |
 //! | [`fractional`] | fractional differencing and integration (direct / FFT), ARFIMA(0, d, 0) simulation (type II, Davies–Harte), exact local Whittle estimation of d | SPEC §4, Hosking (1981), \[BP\] eq. 3, Shimotsu & Phillips (2005), Shimotsu (2010) |
+//! | [`noise`] | IEEE-952 noise terms: simulation with known coefficients, joint weighted fit and read-off identification | IEEE 952 Annex C, SPEC §3 |
 //! | [`optimize`] | Brent's derivative-free 1-D minimisation | Brent (1973) |
 //! | [`random`] | seeded normal deviates (xoshiro256++, polar method) | — |
 //! | [`predict`] | bias prediction: calibration mean, moving average, fractional (1/f) Kalman predictor (literal and generalized-Schur O(n·k)), compiled batch predictor | \[BP\] §IV–V, SPEC §5 |
@@ -23,6 +24,7 @@ pub mod fractional;
 pub mod optimize;
 pub mod predict;
 pub mod kalman;
+pub mod noise;
 pub mod random;
 pub mod stats;
 pub mod validate;

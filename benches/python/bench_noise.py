@@ -1,0 +1,61 @@
+"""Timing of gyrobias.noise: simulation of an 8 h, 100 Hz, 3-axis log and the coefficient fits.
+
+Baseline: the same white + flicker + random-walk series built with NumPy (white and random walk)
+and allantools' pink-noise generator (``allantools.noise.pink``, 1/f by FFT shaping). The issue
+sets no speed target; the ratios are printed for information.
+
+Run: ``PYTHONPATH=python python benches/python/bench_noise.py``
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+import gyrobias
+
+FS = 100.0
+N = 8 * 3600 * 100
+TRUE = {"arw": 0.2 / 60.0, "bias_instability": 3.0 / 3600.0, "rrw": 10.0 / 216000.0}
+
+
+def best(fn, repeats: int = 3) -> float:
+    times = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return min(times)
+
+
+def baseline() -> np.ndarray:
+    import allantools
+
+    rng = np.random.default_rng(0)
+    out = np.empty((N, 3))
+    for a in range(3):
+        white = TRUE["arw"] * np.sqrt(FS) * rng.standard_normal(N)
+        walk = np.cumsum(TRUE["rrw"] / np.sqrt(FS) * rng.standard_normal(N))
+        pink = np.asarray(allantools.noise.pink(N)) * TRUE["bias_instability"]  # unscaled PSD level
+        out[:, a] = white + walk + pink
+    return out
+
+
+def main() -> None:
+    t_sim = best(lambda: gyrobias.noise.simulate(N, FS, axes=3, seed=1, **TRUE))
+    try:
+        t_base = best(baseline, repeats=1)
+    except ImportError:
+        t_base = float("nan")
+    rate = gyrobias.noise.simulate(N, FS, axes=3, seed=1, **TRUE)
+    results = gyrobias.allan.adev(rate, FS, confidence=None, units="deg/s")
+    t_joint = best(lambda: gyrobias.noise.fit(results))
+    t_ieee = best(lambda: gyrobias.noise.fit(results, method="ieee"))
+    print(f"simulate 8 h × 3 axes @ 100 Hz: gyrobias {t_sim:.2f} s, NumPy+allantools {t_base:.2f} s "
+          f"(ratio {t_base / t_sim:.1f}x; no target in the issue)")
+    print(f"joint fit, 3 axes: {t_joint * 1e3:.1f} ms; IEEE read-off, 3 axes: {t_ieee * 1e3:.1f} ms")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,200 @@
+//! Bindings of `gyrocore::noise`.
+
+use gyrocore::noise::{self, Ar1, Curve, NoiseSpec, ReadOffOptions, Term, TermEstimate};
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::error::core;
+
+/// Simulated rate noise, row-major `(n, axes)` flattened.
+#[pyfunction]
+#[pyo3(signature = (n, fs, quantization, arw, bias_instability, rrw, rate_ramp, ar1, bias, axes, seed))]
+fn noise_simulate(
+    py: Python<'_>,
+    n: usize,
+    fs: f64,
+    quantization: f64,
+    arw: f64,
+    bias_instability: f64,
+    rrw: f64,
+    rate_ramp: f64,
+    ar1: Option<(f64, f64)>,
+    bias: f64,
+    axes: usize,
+    seed: u64,
+) -> PyResult<Bound<'_, PyArray1<f64>>> {
+    let spec = NoiseSpec {
+        quantization,
+        arw,
+        bias_instability,
+        rrw,
+        rate_ramp,
+        ar1: ar1.map(|(coefficient, sigma)| Ar1 { coefficient, sigma }),
+        bias,
+    };
+    let out = core(py.detach(|| noise::simulate(n, fs, &spec, axes, seed)))?;
+    Ok(out.into_pyarray(py))
+}
+
+fn terms_to_py<'py>(py: Python<'py>, terms: &[TermEstimate]) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    terms
+        .iter()
+        .map(|t| {
+            let d = PyDict::new(py);
+            d.set_item("symbol", t.term.symbol())?;
+            d.set_item("value", t.value)?;
+            d.set_item("uncertainty", t.value.map(|_| t.uncertainty))?;
+            d.set_item("tau_range", t.tau_range)?;
+            d.set_item("marker", t.marker)?;
+            d.set_item("missing", t.missing.clone())?;
+            Ok(d)
+        })
+        .collect()
+}
+
+fn as_usize(v: &[u64]) -> Vec<usize> {
+    v.iter().map(|&x| x as usize).collect()
+}
+
+/// Joint weighted NNLS fit of the five-term model to an Allan-variance curve.
+#[pyfunction]
+#[pyo3(signature = (taus, variance, m, n_terms, overlapping, edf, terms, tau_range))]
+#[allow(clippy::needless_pass_by_value)]
+fn noise_fit_joint<'py>(
+    py: Python<'py>,
+    taus: PyReadonlyArray1<'py, f64>,
+    variance: PyReadonlyArray1<'py, f64>,
+    m: PyReadonlyArray1<'py, u64>,
+    n_terms: PyReadonlyArray1<'py, u64>,
+    overlapping: bool,
+    edf: Option<PyReadonlyArray1<'py, f64>>,
+    terms: Vec<String>,
+    tau_range: Option<(f64, f64)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
+    let enabled = core(noise::parse_terms(&symbols))?;
+    let m = as_usize(m.as_slice()?);
+    let n_terms = as_usize(n_terms.as_slice()?);
+    let edf_slice = match &edf {
+        Some(e) => Some(e.as_slice()?),
+        None => None,
+    };
+    let curve = Curve {
+        taus: taus.as_slice()?,
+        variance: variance.as_slice()?,
+        m: &m,
+        n_terms: &n_terms,
+        overlapping,
+        edf: edf_slice,
+    };
+    let fit = core(noise::joint(&curve, enabled, tau_range))?;
+    let d = PyDict::new(py);
+    d.set_item("terms", terms_to_py(py, &fit.terms)?)?;
+    d.set_item("squared", fit.squared.to_vec())?;
+    d.set_item(
+        "covariance",
+        fit.covariance
+            .iter()
+            .map(|r| r.to_vec())
+            .collect::<Vec<_>>(),
+    )?;
+    d.set_item("chi2", fit.chi2)?;
+    d.set_item("dof", fit.dof)?;
+    d.set_item("tau_range", fit.tau_range)?;
+    d.set_item(
+        "used",
+        fit.used.iter().map(|&u| u as u64).collect::<Vec<_>>(),
+    )?;
+    d.set_item("edf", fit.edf.into_pyarray(py))?;
+    d.set_item("iterations", fit.iterations)?;
+    Ok(d)
+}
+
+/// IEEE-952 read-off of the noise terms from an Allan-variance curve.
+#[pyfunction]
+#[pyo3(signature = (taus, variance, m, n_terms, overlapping, edf, terms, regions, tolerance, min_points))]
+#[allow(clippy::needless_pass_by_value)]
+fn noise_read_off<'py>(
+    py: Python<'py>,
+    taus: PyReadonlyArray1<'py, f64>,
+    variance: PyReadonlyArray1<'py, f64>,
+    m: PyReadonlyArray1<'py, u64>,
+    n_terms: PyReadonlyArray1<'py, u64>,
+    overlapping: bool,
+    edf: Option<PyReadonlyArray1<'py, f64>>,
+    terms: Vec<String>,
+    regions: Vec<Option<(f64, f64)>>,
+    tolerance: f64,
+    min_points: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
+    let enabled = core(noise::parse_terms(&symbols))?;
+    if regions.len() != 5 {
+        return Err(pyo3::exceptions::PyValueError::new_err(
+            "regions must hold one entry per term (Q, N, B, K, R)",
+        ));
+    }
+    let mut region_array = [None; 5];
+    region_array.copy_from_slice(&regions);
+    let m = as_usize(m.as_slice()?);
+    let n_terms = as_usize(n_terms.as_slice()?);
+    let edf_slice = match &edf {
+        Some(e) => Some(e.as_slice()?),
+        None => None,
+    };
+    let curve = Curve {
+        taus: taus.as_slice()?,
+        variance: variance.as_slice()?,
+        m: &m,
+        n_terms: &n_terms,
+        overlapping,
+        edf: edf_slice,
+    };
+    let options = ReadOffOptions {
+        tolerance,
+        min_points,
+        regions: region_array,
+    };
+    let r = core(noise::read_off(&curve, enabled, &options))?;
+    let d = PyDict::new(py);
+    d.set_item("terms", terms_to_py(py, &r.terms)?)?;
+    d.set_item("local_slopes", r.local_slopes.into_pyarray(py))?;
+    Ok(d)
+}
+
+/// Total model variance and each term's contribution.
+type ModelCurves<'py> = (Bound<'py, PyArray1<f64>>, Vec<Bound<'py, PyArray1<f64>>>);
+
+/// The five-term model: total variance and each term's contribution at `taus`.
+#[pyfunction]
+#[pyo3(signature = (squared, taus))]
+#[allow(clippy::needless_pass_by_value)]
+fn noise_model<'py>(
+    py: Python<'py>,
+    squared: [f64; 5],
+    taus: PyReadonlyArray1<'py, f64>,
+) -> PyResult<ModelCurves<'py>> {
+    let taus = taus.as_slice()?;
+    let total: Vec<f64> = taus
+        .iter()
+        .map(|t| noise::model_variance(&squared, *t))
+        .collect();
+    let parts = Term::ALL
+        .iter()
+        .map(|term| {
+            taus.iter()
+                .map(|t| squared[term.index()] * term.basis(*t))
+                .collect::<Vec<f64>>()
+                .into_pyarray(py)
+        })
+        .collect();
+    Ok((total.into_pyarray(py), parts))
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(noise_simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(noise_fit_joint, m)?)?;
+    m.add_function(wrap_pyfunction!(noise_read_off, m)?)?;
+    m.add_function(wrap_pyfunction!(noise_model, m)?)
+}

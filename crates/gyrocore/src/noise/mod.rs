@@ -1,0 +1,31 @@
+//! IEEE-952 noise terms of rate sensors: simulation with known coefficients and their
+//! identification from an Allan variance (SPEC §3, IEEE Std 952-1997 Annex C, [NR] Table 1).
+//!
+//! The five-term model of the (overlapping) Allan variance of a rate signal is
+//!
+//! ```text
+//! σ²(τ) = 3Q²/τ² + N²/τ + (0.664282·B)² + K²τ/3 + R²τ²/2
+//! ```
+//!
+//! with quantisation Q, angle random walk N, bias instability B (flicker rate noise, two-sided
+//! PSD `B²/(2π f)`, plateau factor `√(2 ln 2/π)`), rate random walk K and rate ramp R. For a rate
+//! in u/s: Q in u, N in u/√s, B in u/s, K in u/s^1.5, R in u/s².
+//!
+//! * [`simulate`]: synthetic rate noise with exactly these coefficients.
+//! * [`fit`]: joint weighted non-negative least squares of the model (the better estimator).
+//! * [`ieee`]: the IEEE-952 read-off (fixed-slope lines on detected slope regions, B from the
+//!   minimum).
+//! * [`model`]: the basis functions, slopes, read-off times and simple EDF approximations.
+
+pub mod covariance;
+pub mod curve;
+pub mod fit;
+pub mod ieee;
+pub mod model;
+pub mod simulate;
+
+pub use curve::{Curve, TermEstimate, parse_terms};
+pub use fit::{JointFit, joint};
+pub use ieee::{ReadOff, ReadOffOptions, read_off};
+pub use model::{FLICKER_FACTOR, Term, approximate_edf, model_variance};
+pub use simulate::{Ar1, NoiseSpec, simulate, simulate_axis};

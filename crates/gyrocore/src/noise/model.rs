@@ -1,0 +1,196 @@
+//! The five-term Allan-variance model and the simple EDF approximations used to weight fits.
+//!
+//! ```text
+//! σ²(τ) = 3Q²/τ² + N²/τ + (0.664282·B)² + K²τ/3 + R²τ²/2
+//! ```
+//!
+//! is linear in `c = (Q², N², B², K², R²)` with basis functions `g_j(τ)` ([`Term::basis`]).
+//! Each term has a log-log slope of the Allan *deviation* (−1, −½, 0, +½, +1) and an IEEE-952
+//! read-off time at which its asymptote equals the coefficient (√3, 1, —, 3, √2 s).
+
+use crate::{Error, Result};
+
+/// `√(2 ln 2 / π)`: the Allan-deviation plateau of flicker rate noise per unit `B`.
+pub const FLICKER_FACTOR: f64 = 0.664_282_470_267_960_1;
+
+/// One of the five IEEE-952 noise terms.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Term {
+    /// Quantisation noise Q (angle unit).
+    Quantization,
+    /// Angle (velocity) random walk N.
+    AngleRandomWalk,
+    /// Bias instability B.
+    BiasInstability,
+    /// Rate random walk K.
+    RateRandomWalk,
+    /// Rate ramp R.
+    RateRamp,
+}
+
+impl Term {
+    /// All terms in model order (Q, N, B, K, R).
+    pub const ALL: [Term; 5] = [
+        Term::Quantization,
+        Term::AngleRandomWalk,
+        Term::BiasInstability,
+        Term::RateRandomWalk,
+        Term::RateRamp,
+    ];
+
+    /// Position in [`Term::ALL`].
+    pub fn index(self) -> usize {
+        match self {
+            Term::Quantization => 0,
+            Term::AngleRandomWalk => 1,
+            Term::BiasInstability => 2,
+            Term::RateRandomWalk => 3,
+            Term::RateRamp => 4,
+        }
+    }
+
+    /// The customary symbol ("Q", "N", "B", "K", "R").
+    pub fn symbol(self) -> &'static str {
+        ["Q", "N", "B", "K", "R"][self.index()]
+    }
+
+    /// Parses a symbol.
+    pub fn parse(symbol: &str) -> Result<Self> {
+        Term::ALL
+            .into_iter()
+            .find(|t| t.symbol() == symbol)
+            .ok_or_else(|| {
+                Error::invalid(
+                    "terms",
+                    format!("unknown term {symbol:?}; expected 'Q', 'N', 'B', 'K' or 'R'"),
+                )
+            })
+    }
+
+    /// `g(τ)`: the term's Allan variance per unit squared coefficient.
+    pub fn basis(self, tau: f64) -> f64 {
+        match self {
+            Term::Quantization => 3.0 / (tau * tau),
+            Term::AngleRandomWalk => 1.0 / tau,
+            Term::BiasInstability => FLICKER_FACTOR * FLICKER_FACTOR,
+            Term::RateRandomWalk => tau / 3.0,
+            Term::RateRamp => tau * tau / 2.0,
+        }
+    }
+
+    /// Log-log slope of the term's Allan *deviation*.
+    pub fn slope(self) -> f64 {
+        [-1.0, -0.5, 0.0, 0.5, 1.0][self.index()]
+    }
+
+    /// τ at which the deviation asymptote equals the coefficient (IEEE 952 read-off);
+    /// `None` for B, which is read from the minimum.
+    pub fn read_off_tau(self) -> Option<f64> {
+        match self {
+            Term::Quantization => Some(3f64.sqrt()),
+            Term::AngleRandomWalk => Some(1.0),
+            Term::BiasInstability => None,
+            Term::RateRandomWalk => Some(3.0),
+            Term::RateRamp => Some(2f64.sqrt()),
+        }
+    }
+
+    /// Power-law exponent α of the rate PSD (S ∝ f^α) the term produces, as used by the EDF
+    /// formulas (rate ramp has no stationary PSD; the random-walk formula stands in for it).
+    pub fn alpha(self) -> i32 {
+        [2, 0, -1, -2, -2][self.index()]
+    }
+}
+
+/// Model variance `Σ_j c_j g_j(τ)` for squared coefficients `c` in [`Term::ALL`] order.
+pub fn model_variance(c: &[f64; 5], tau: f64) -> f64 {
+    Term::ALL.iter().map(|t| c[t.index()] * t.basis(tau)).sum()
+}
+
+/// SP1065's simple EDF approximations for the overlapping Allan variance (Table 5, after
+/// Howe, Allan & Barnes 1981) with `n_phase` angle samples at averaging factor `m` for
+/// power-law noise α (rate PSD ∝ f^α):
+///
+/// | α | EDF |
+/// |---|---|
+/// | 2 (white angle) | `(N+1)(N−2m) / (2(N−m))` |
+/// | 1 (flicker angle) | `exp(√(ln((N−1)/2m)·ln((2m+1)(N−1)/4)))` |
+/// | 0 (white rate) | `(3(N−1)/(2m) − 2(N−2)/N) · 4m²/(4m²+5)` |
+/// | −1 (flicker rate) | `2(N−2)/(2.3N−4.9)` for m = 1, else `5N²/(4m(N+3m))` |
+/// | −2 (random-walk rate) | `(N−2)/m · ((N−1)² − 3m(N−1) + 4m²)/(N−3)²` |
+///
+/// Other α use the nearest formula. The result is clamped to at least 1 (the formulas can go
+/// below one, or negative, at the largest m).
+pub fn approximate_edf(n_phase: usize, m: usize, alpha: i32) -> f64 {
+    let n = n_phase as f64;
+    let mf = m as f64;
+    let edf = match alpha.clamp(-2, 2) {
+        2 => (n + 1.0) * (n - 2.0 * mf) / (2.0 * (n - mf)),
+        1 => {
+            let a = ((n - 1.0) / (2.0 * mf)).ln();
+            let b = ((2.0 * mf + 1.0) * (n - 1.0) / 4.0).ln();
+            if a > 0.0 && b > 0.0 {
+                (a * b).sqrt().exp()
+            } else {
+                1.0
+            }
+        }
+        0 => {
+            (3.0 * (n - 1.0) / (2.0 * mf) - 2.0 * (n - 2.0) / n) * 4.0 * mf * mf
+                / (4.0 * mf * mf + 5.0)
+        }
+        -1 => {
+            if m == 1 {
+                2.0 * (n - 2.0) / (2.3 * n - 4.9)
+            } else {
+                5.0 * n * n / (4.0 * mf * (n + 3.0 * mf))
+            }
+        }
+        _ => {
+            (n - 2.0) / mf * ((n - 1.0).powi(2) - 3.0 * mf * (n - 1.0) + 4.0 * mf * mf)
+                / (n - 3.0).powi(2)
+        }
+    };
+    if edf.is_finite() { edf.max(1.0) } else { 1.0 }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flicker_factor() {
+        let f = (2.0 * std::f64::consts::LN_2 / std::f64::consts::PI).sqrt();
+        assert!((FLICKER_FACTOR - f).abs() < 1e-16);
+    }
+
+    #[test]
+    fn read_off_taus_recover_coefficients() {
+        for t in Term::ALL {
+            if let Some(tau) = t.read_off_tau() {
+                assert!((t.basis(tau) - 1.0).abs() < 1e-15, "{t:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn edf_matches_allantools_edf_simple() {
+        // allantools.edf_simple(N, m, alpha) evaluated in Python (same SP1065 formulas).
+        let cases = [
+            (1001, 1, 2, 500.499),
+            (1001, 10, 0, 146.17678617678618),
+            (1001, 10, -1, 121.48411736178467),
+            (1001, 1, -1, 0.8696787673021678),
+            (1001, 10, -2, 97.33189826546881),
+            (1001, 10, 1, 326.6241874875244),
+        ];
+        for (n, m, a, expect) in cases {
+            let got = approximate_edf(n, m, a);
+            let expect = f64::max(expect, 1.0);
+            assert!(
+                (got - expect).abs() < 1e-6 * expect,
+                "{n} {m} {a}: {got} vs {expect}"
+            );
+        }
+    }
+}

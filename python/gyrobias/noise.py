@@ -1,0 +1,891 @@
+"""IEEE-952 noise coefficients of rate sensors: simulation, identification, units and exports.
+
+The five-term model of the Allan variance of a rate signal (IEEE Std 952-1997 Annex C,
+[NR] Table 1) is::
+
+    σ²(τ) = 3Q²/τ² + N²/τ + (0.664282·B)² + K²τ/3 + R²τ²/2
+
+with quantisation ``Q``, angle random walk ``N`` (ARW; velocity random walk VRW for an
+accelerometer), bias instability ``B`` (flicker rate noise, two-sided PSD ``B²/(2πf)``; the
+plateau factor is ``√(2 ln 2 / π) = 0.664282``), rate random walk ``K`` (RRW) and rate ramp ``R``.
+
+Coefficients are stored in the base units of the data: for a rate in ``u/s`` (u = deg or rad)
+``Q`` is in u, ``N`` in u/√s, ``B`` in u/s, ``K`` in u/s^1.5 and ``R`` in u/s².
+
+References
+----------
+.. [IEEE952] IEEE Std 952-1997, Annex C; IEEE Std 647-2006.
+.. [SP1065] W. J. Riley, "Handbook of Frequency Stability Analysis", NIST SP 1065 (2008).
+.. [NR] Xue et al., "Noise reduction of MEMS gyroscope based on direct modeling for an angular
+   rate signal", Micromachines 6 (2015) 266, Table 1.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any, overload
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gyrobias import _core
+from gyrobias._validation import choice, positive_float
+from gyrobias.units import CUSTOMARY, base_unit, parse_unit, sensor_kind
+
+if TYPE_CHECKING:
+    from gyrobias.allan import AllanResult
+
+__all__ = [
+    "FLICKER_FACTOR",
+    "TERM_NAMES",
+    "NoiseCoefficients",
+    "Term",
+    "fit",
+    "simulate",
+    "write_kalibr",
+]
+
+#: Plateau factor of flicker rate noise in the Allan deviation: √(2 ln 2 / π) = 0.664282…
+#: (The same constant as ``gyrocore::noise::FLICKER_FACTOR``.)
+FLICKER_FACTOR: float = math.sqrt(2.0 * math.log(2.0) / math.pi)
+
+_SYMBOLS = ("Q", "N", "B", "K", "R")
+
+#: Names of the terms for gyroscopes and accelerometers.
+TERM_NAMES: dict[str, dict[str, str]] = {
+    "gyro": {
+        "Q": "quantization noise",
+        "N": "angle random walk (ARW)",
+        "B": "bias instability",
+        "K": "rate random walk (RRW)",
+        "R": "rate ramp",
+    },
+    "accel": {
+        "Q": "velocity quantization",
+        "N": "velocity random walk (VRW)",
+        "B": "bias instability",
+        "K": "acceleration random walk",
+        "R": "acceleration ramp",
+    },
+}
+
+#: Read-off τ (s) of each term on its asymptote (IEEE 952); B is read at the minimum.
+READ_OFF_TAU: dict[str, float | None] = {
+    "Q": math.sqrt(3.0),
+    "N": 1.0,
+    "B": None,
+    "K": 3.0,
+    "R": math.sqrt(2.0),
+}
+
+
+def _non_negative(name: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
+    v = float(value)
+    if not np.isfinite(v) or v < 0.0:
+        raise ValueError(f"{name} must be finite and >= 0, got {value!r}")
+    return v
+
+
+def _finite(name: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
+    v = float(value)
+    if not np.isfinite(v):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return v
+
+
+def _count(name: str, value: Any, minimum: int = 1) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
+    if value < minimum:
+        raise ValueError(f"{name} must be >= {minimum}, got {value!r}")
+    return int(value)
+
+
+def simulate(
+    n: int,
+    fs: float,
+    *,
+    quantization: float = 0.0,
+    arw: float = 0.0,
+    bias_instability: float = 0.0,
+    rrw: float = 0.0,
+    rate_ramp: float = 0.0,
+    ar1: tuple[float, float] | None = None,
+    bias: float = 0.0,
+    axes: int = 1,
+    seed: int | None = None,
+) -> NDArray[np.float64]:
+    """Simulate rate-sensor noise with exactly the given IEEE-952 coefficients.
+
+    Parameters
+    ----------
+    n : int
+        Number of samples per axis.
+    fs : float
+        Sample rate in Hz (``t0 = 1/fs``).
+    quantization : float
+        Quantisation noise ``Q`` in u (u·s for a rate unit u, e.g. deg for deg/s).
+    arw : float
+        Angle random walk ``N`` in u·√s (e.g. deg/√s; deg/√h = 60·deg/√s).
+    bias_instability : float
+        Bias instability ``B`` in u (e.g. deg/s; deg/h = 3600·deg/s).
+    rrw : float
+        Rate random walk ``K`` in u/√s (e.g. deg/s^1.5).
+    rate_ramp : float
+        Rate ramp ``R`` in u/s (e.g. deg/s²). May be negative.
+    ar1 : (c, sigma) or None
+        AR(1) (Gauss–Markov) drift ``b_{k+1} = c·b_k + sigma·ξ_k`` with ``|c| < 1``, started
+        from its stationary distribution.
+    bias : float
+        Constant bias in u.
+    axes : int
+        Number of independent axes.
+    seed : int or None
+        Seed (0 ≤ seed < 2**64). The same seed gives the same samples; axis ``a`` does not
+        depend on ``axes`` and each component has its own stream. ``None`` draws a fresh seed.
+
+    Returns
+    -------
+    ndarray
+        Shape ``(n,)`` for ``axes == 1``, else ``(n, axes)``, in the rate unit u.
+
+    Raises
+    ------
+    ValueError
+        Negative coefficients, ``n < 1``, ``fs <= 0``, ``|c| >= 1``.
+
+    Notes
+    -----
+    Sample ``k`` is the sum of: white rate ``N/√t0·ξ_k``; quantisation as white angle noise of
+    standard deviation ``Q`` differenced, ``Q(η_{k+1} − η_k)/t0``; flicker rate noise by
+    spectral shaping of white noise to the two-sided PSD ``S(f) = B²/(2πf)`` (FFT of length
+    ≥ 2n, first n samples kept); rate random walk ``Σ_{i≤k} K√t0·ξ_i``; ramp ``R·k·t0``;
+    AR(1) drift; bias. Their Allan variances are ``3Q²/τ²``, ``N²/τ``, ``(0.664282 B)²``
+    (τ ≫ t0), ``K²τ/3`` and ``R²τ²/2``.
+
+    Examples
+    --------
+    >>> import gyrobias
+    >>> rate = gyrobias.noise.simulate(1000, 100.0, arw=0.2 / 60, axes=3, seed=1)
+    >>> rate.shape
+    (1000, 3)
+    """
+    n = _count("n", n)
+    fs = positive_float("fs", fs)
+    axes = _count("axes", axes)
+    ar: tuple[float, float] | None = None
+    if ar1 is not None:
+        try:
+            c, s = ar1
+        except (TypeError, ValueError):
+            raise TypeError(f"ar1 must be a pair (c, sigma) or None, got {ar1!r}") from None
+        c = _finite("ar1 coefficient", c)
+        if abs(c) >= 1.0:
+            raise ValueError(f"ar1 coefficient must satisfy |c| < 1, got {c!r}")
+        ar = (c, _non_negative("ar1 sigma", s))
+    if seed is None:
+        seed_value = int(np.random.SeedSequence().generate_state(1, dtype=np.uint64)[0])
+    else:
+        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
+            raise TypeError(f"seed must be an integer or None, got {type(seed).__name__}")
+        if not 0 <= int(seed) < 2**64:
+            raise ValueError(f"seed must satisfy 0 <= seed < 2**64, got {seed!r}")
+        seed_value = int(seed)
+    flat = _core.noise_simulate(
+        n,
+        fs,
+        _non_negative("quantization", quantization),
+        _non_negative("arw", arw),
+        _non_negative("bias_instability", bias_instability),
+        _non_negative("rrw", rrw),
+        _finite("rate_ramp", rate_ramp),
+        ar,
+        _finite("bias", bias),
+        axes,
+        seed_value,
+    )
+    return flat if axes == 1 else flat.reshape(n, axes)
+
+
+# --- identified coefficients ---------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Term:
+    """One noise coefficient with its standard uncertainty and unit, or why it is missing.
+
+    Attributes
+    ----------
+    symbol : {"Q", "N", "B", "K", "R"}
+        IEEE-952 symbol.
+    name : str
+        Long name (ARW / VRW etc. depending on the sensor).
+    value : float or None
+        The coefficient in ``unit``; ``None`` when the term is missing.
+    uncertainty : float or None
+        Standard (1σ) uncertainty in ``unit``.
+    unit : str or None
+        Unit of ``value`` and ``uncertainty`` (``None`` if the data unit is unknown).
+    tau_range : (float, float) or None
+        τ range in seconds of the Allan points that determined the term (read-off: the slope
+        region used; joint fit: where the term is ≥ 10 % of the fitted variance).
+    marker : (float, float) or None
+        (τ [s], σ [data unit]) of the read-off point on an Allan plot: on the term's asymptote at
+        τ = √3, 1, 3, √2 s for Q, N, K, R; at the minimum (σ = 0.664·B) for B.
+    missing : str or None
+        Why the term is missing (``value is None``).
+    """
+
+    symbol: str
+    name: str
+    value: float | None
+    uncertainty: float | None
+    unit: str | None
+    tau_range: tuple[float, float] | None = None
+    marker: tuple[float, float] | None = None
+    missing: str | None = None
+
+    @property
+    def present(self) -> bool:
+        """True when the term was identified."""
+        return self.value is not None
+
+    def to(self, unit: str) -> Term:
+        """This term converted to ``unit`` (e.g. ``"deg/h"``, ``"rad/s/√Hz"``).
+
+        Raises
+        ------
+        ValueError
+            Unknown unit (the message lists the valid symbols and customary units), a unit of
+            another dimension, or a term whose data unit is unknown.
+        """
+        if self.unit is None:
+            raise ValueError(
+                f"term {self.symbol} has no unit (the data unit was not given): pass units= to the "
+                "Allan analysis or unit= to gyrobias.noise.fit"
+            )
+        target = parse_unit(unit)
+        source = parse_unit(self.unit)
+        if target.dims != source.dims:
+            raise ValueError(
+                f"cannot express {self.symbol} ({self.name}, in {self.unit}) in {unit!r}: different "
+                f"dimensions; customary units for it: "
+                + ", ".join(sorted({s[self.symbol] for k in CUSTOMARY.values() for s in k.values()}))
+            )
+        f = source.factor / target.factor
+        return replace(
+            self,
+            value=None if self.value is None else self.value * f,
+            uncertainty=None if self.uncertainty is None else self.uncertainty * f,
+            unit=unit,
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {
+            "symbol": self.symbol,
+            "name": self.name,
+            "value": self.value,
+            "uncertainty": self.uncertainty,
+            "unit": self.unit,
+            "tau_range_s": None if self.tau_range is None else list(self.tau_range),
+            "missing": self.missing,
+        }
+
+    def __str__(self) -> str:
+        unit = f" {self.unit}" if self.unit else ""
+        if self.value is None:
+            return f"{self.symbol} ({self.name}): missing — {self.missing}"
+        return f"{self.symbol} ({self.name}) = {self.value:.4g} ± {self.uncertainty:.2g}{unit}"
+
+
+@dataclass(frozen=True)
+class NoiseCoefficients:
+    """IEEE-952 noise coefficients identified from one Allan curve.
+
+    Attributes
+    ----------
+    Q, N, B, K, R : Term
+        Quantisation, angle (velocity) random walk, bias instability, rate (acceleration) random
+        walk and rate ramp. Values in the base units of the data unless converted with
+        :meth:`to`.
+    method : {"joint", "ieee"}
+        Identification method.
+    data_unit : str or None
+        Unit of the rate data (``"deg/s"``, ``"rad/s"``, ``"m/s^2"``, …).
+    sensor : {"gyro", "accel"} or None
+        Derived from ``data_unit``.
+    fs : float
+        Sample rate of the data in Hz.
+    axis : str or None
+        Axis name.
+    tau_range : (float, float)
+        τ range (s) of the Allan points the identification used.
+    edf_source : str
+        Where the weights' EDF came from: ``"noise identification"`` (the Allan result's EDF)
+        or ``"SP1065 simple approximation"``.
+    chi2, dof : float or None, int or None
+        Weighted residual sum of squares and degrees of freedom of the joint fit.
+    squared : tuple of float or None
+        Fitted Q², N², B², K², R² in base units (joint fit), used to draw the model.
+    allan : AllanResult or None
+        The curve the coefficients came from (for plotting).
+    """
+
+    Q: Term
+    N: Term
+    B: Term
+    K: Term
+    R: Term
+    method: str
+    data_unit: str | None
+    sensor: str | None
+    fs: float
+    tau_range: tuple[float, float]
+    edf_source: str
+    axis: str | None = None
+    chi2: float | None = None
+    dof: int | None = None
+    squared: tuple[float, float, float, float, float] | None = None
+    allan: AllanResult | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def terms(self) -> tuple[Term, Term, Term, Term, Term]:
+        """(Q, N, B, K, R)."""
+        return (self.Q, self.N, self.B, self.K, self.R)
+
+    def __getitem__(self, symbol: str) -> Term:
+        return {"Q": self.Q, "N": self.N, "B": self.B, "K": self.K, "R": self.R}[
+            choice("symbol", symbol, _SYMBOLS)
+        ]
+
+    @property
+    def quantization(self) -> Term:
+        """Q."""
+        return self.Q
+
+    @property
+    def arw(self) -> Term:
+        """N (angle random walk; VRW for an accelerometer)."""
+        return self.N
+
+    @property
+    def bias_instability(self) -> Term:
+        """B."""
+        return self.B
+
+    @property
+    def rrw(self) -> Term:
+        """K (rate random walk)."""
+        return self.K
+
+    @property
+    def rate_ramp(self) -> Term:
+        """R."""
+        return self.R
+
+    def to(self, system: str | Mapping[str, str] = "ieee") -> NoiseCoefficients:
+        """Coefficients converted to customary units.
+
+        Parameters
+        ----------
+        system : {"ieee", "si", "kalibr", "base"} or mapping
+            ``"ieee"``: gyro Q deg, N deg/√h, B deg/h, K deg/h^1.5, R deg/h²; accelerometer
+            Q m/s, N m/s/√h, B mg, K m/s/h^1.5, R m/s/h². ``"si"`` (= ``"kalibr"``): gyro rad,
+            rad/s/√Hz, rad/s, rad/s²/√Hz, rad/s²; accelerometer m/s, m/s²/√Hz, m/s², m/s³/√Hz,
+            m/s³. ``"base"``: the data's base units. A mapping such as
+            ``{"N": "deg/√h", "B": "deg/h"}`` converts only the terms it names.
+
+        Raises
+        ------
+        ValueError
+            Unknown system or unit string (listing the valid ones), unknown data unit.
+        """
+        if isinstance(system, str):
+            choice("system", system, ("ieee", "si", "kalibr", "base"))
+            if self.data_unit is None or self.sensor is None:
+                raise ValueError(
+                    "the data unit is unknown: pass units= to the Allan analysis (e.g. 'deg/s') "
+                    "or unit= to gyrobias.noise.fit"
+                )
+            if system == "base":
+                mapping = {s: base_unit(self.data_unit, s) for s in _SYMBOLS}
+            else:
+                mapping = CUSTOMARY[self.sensor][system]
+        else:
+            mapping = dict(system)
+            for key in mapping:
+                choice("system key", key, _SYMBOLS)
+        conv = {s: self[s].to(mapping[s]) if s in mapping else self[s] for s in _SYMBOLS}
+        return replace(self, Q=conv["Q"], N=conv["N"], B=conv["B"], K=conv["K"], R=conv["R"])
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary with units and conventions stated."""
+        return {
+            "method": self.method,
+            "axis": self.axis,
+            "sensor": self.sensor,
+            "data_unit": self.data_unit,
+            "fs_hz": self.fs,
+            "tau_range_s": list(self.tau_range),
+            "edf_source": self.edf_source,
+            "chi2": self.chi2,
+            "dof": self.dof,
+            "model": "sigma^2(tau) = 3Q^2/tau^2 + N^2/tau + (0.664282 B)^2 + K^2 tau/3 + R^2 tau^2/2",
+            "psd_convention": "two-sided (IEEE 952): white rate noise of per-sample std s at period t0 has N = s*sqrt(t0)",
+            "uncertainty": "standard (1 sigma)",
+            "terms": {t.symbol: t.to_dict() for t in self.terms},
+        }
+
+    def to_json(self, path: str | os.PathLike[str] | None = None, **kwargs: Any) -> str:
+        """:meth:`to_dict` as JSON; also written to ``path`` when given."""
+        kwargs.setdefault("indent", 2)
+        text = json.dumps(self.to_dict(), **kwargs)
+        if path is not None:
+            with open(path, "w", encoding="utf-8") as fh:
+                fh.write(text + "\n")
+        return text
+
+    def summary(self) -> str:
+        """A plain-text table of the coefficients with uncertainties, units and τ ranges."""
+        sensor = self.sensor or "sensor"
+        axis = f" axis {self.axis}" if self.axis else ""
+        lines = [
+            f"Noise coefficients{axis} ({sensor}, {self.method} identification, "
+            f"τ {self.tau_range[0]:.3g}–{self.tau_range[1]:.3g} s, EDF: {self.edf_source})"
+        ]
+        names = TERM_NAMES.get(self.sensor or "gyro", TERM_NAMES["gyro"])
+        for t in self.terms:
+            label = f"  {t.symbol}  {names[t.symbol]:<27}"
+            if t.value is None:
+                lines.append(f"{label} missing: {t.missing}")
+                continue
+            unc = f"{t.uncertainty:.2g}" if t.uncertainty is not None else "?"
+            rng = f"  (τ {t.tau_range[0]:.3g}–{t.tau_range[1]:.3g} s)" if t.tau_range else ""
+            if t.uncertainty is not None and t.value < 2.0 * t.uncertainty:
+                rng += "  not significant (< 2σ)"
+            lines.append(f"{label} {t.value:12.5g} ± {unc:<8} {t.unit or '':<12}{rng}")
+        if self.chi2 is not None and self.dof:
+            lines.append(f"  weighted χ²/ν = {self.chi2 / self.dof:.3g} (ν = {self.dof})")
+        return "\n".join(lines)
+
+    def __str__(self) -> str:
+        return self.summary()
+
+    def to_kalibr(
+        self,
+        path: str | os.PathLike[str],
+        *,
+        update_rate: float | None = None,
+        rostopic: str = "/imu0",
+    ) -> str:
+        """Write a Kalibr ``imu.yaml`` with this axis' coefficients (see :func:`write_kalibr`)."""
+        if self.sensor == "accel":
+            return write_kalibr(path, accel=[self], update_rate=update_rate, rostopic=rostopic)
+        return write_kalibr(path, gyro=[self], update_rate=update_rate, rostopic=rostopic)
+
+    def model(self, taus: Any) -> tuple[NDArray[np.float64], dict[str, NDArray[np.float64]]]:
+        """Model Allan deviation at ``taus`` and each term's asymptote (data units).
+
+        For the read-off, the model is built from the identified coefficients (missing terms
+        count as zero).
+        """
+        t = np.ascontiguousarray(np.asarray(taus, dtype=np.float64))
+        squared = self._squared_base()
+        total, parts = _core.noise_model(squared, t)
+        return np.sqrt(total), {s: np.sqrt(p) for s, p in zip(_SYMBOLS, parts)}
+
+    def _squared_base(self) -> list[float]:
+        if self.squared is not None:
+            return list(self.squared)
+        base = self.to("base") if self.data_unit is not None else self
+        return [0.0 if t.value is None else float(t.value) ** 2 for t in base.terms]
+
+    def plot(self, ax: Any = None, *, allan: AllanResult | None = None, show_data: bool = True) -> Any:
+        """Draw the fitted model, each term's asymptote and the labelled read-off points.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Axes to draw on (a new figure otherwise).
+        allan : AllanResult, optional
+            The Allan curve to draw beneath (defaults to the one the coefficients came from).
+        show_data : bool
+            Draw the Allan deviation points (set False when the caller has drawn them).
+
+        Returns
+        -------
+        matplotlib Axes
+        """
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(7, 5))
+        allan = allan if allan is not None else self.allan
+        base = self.to("base") if self.data_unit is not None else self
+        if allan is not None:
+            taus = np.asarray(allan.taus, dtype=np.float64)
+            lo, hi = float(taus[0]), float(taus[-1])
+            if show_data:
+                ax.loglog(taus, allan.adev, "o", ms=3, color="0.3", label="Allan deviation")
+        else:
+            lo, hi = self.tau_range
+        grid = np.geomspace(lo, hi, 200)
+        total, parts = self.model(grid)
+        colours = {"Q": "tab:purple", "N": "tab:blue", "B": "tab:green", "K": "tab:orange", "R": "tab:red"}
+        ax.loglog(grid, total, "-", color="k", lw=1.5, label=f"{self.method} model")
+        unit = self.data_unit or ""
+        for t, b in zip(self.terms, base.terms):
+            if t.value is None:
+                continue
+            curve = parts[t.symbol]
+            ax.loglog(grid, curve, "--", color=colours[t.symbol], lw=1, label=f"{t.symbol} asymptote")
+            if t.marker is not None:
+                mt, ms = t.marker
+                ax.loglog([mt], [ms], "s", color=colours[t.symbol], ms=7, mfc="none", mew=1.5)
+                value = f"{t.value:.3g} {t.unit or ''}".strip()
+                if t.symbol != "B":
+                    where = f"σ at τ = {mt:.3g} s"
+                elif self.method == "ieee":
+                    where = "min σ / 0.664"
+                else:
+                    where = "plateau σ = 0.664·B"
+                ax.annotate(
+                    f"{t.symbol} = {value}\n({where})",
+                    (mt, ms),
+                    textcoords="offset points",
+                    xytext=(6, 6),
+                    fontsize=7,
+                    color=colours[t.symbol],
+                )
+        # Keep the view on the data and model: asymptotes of negligible terms run far below.
+        markers = [t.marker[1] for t in self.terms if t.value is not None and t.marker is not None]
+        shown = np.concatenate([total, np.asarray(allan.adev) if allan is not None else total, markers])
+        shown = shown[np.isfinite(shown) & (shown > 0)]
+        if shown.size:
+            ax.set_ylim(shown.min() / 5.0, shown.max() * 3.0)
+        ax.set_xlabel("τ [s]")
+        ax.set_ylabel(f"σ(τ) [{unit}]" if unit else "σ(τ)")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7, loc="best")
+        return ax
+
+
+def _edf_source(result: AllanResult) -> str:
+    return "noise identification" if result.edf is not None else "SP1065 simple approximation"
+
+
+@overload
+def fit(
+    allan: AllanResult,
+    *,
+    method: str = ...,
+    terms: Iterable[str] = ...,
+    tau_range: tuple[float, float] | None = ...,
+    regions: Mapping[str, tuple[float, float]] | None = ...,
+    slope_tolerance: float = ...,
+    min_points: int = ...,
+    unit: str | None = ...,
+) -> NoiseCoefficients: ...
+
+
+@overload
+def fit(
+    allan: Sequence[AllanResult],
+    *,
+    method: str = ...,
+    terms: Iterable[str] = ...,
+    tau_range: tuple[float, float] | None = ...,
+    regions: Mapping[str, tuple[float, float]] | None = ...,
+    slope_tolerance: float = ...,
+    min_points: int = ...,
+    unit: str | None = ...,
+) -> tuple[NoiseCoefficients, ...]: ...
+
+
+def fit(
+    allan: AllanResult | Sequence[AllanResult],
+    *,
+    method: str = "joint",
+    terms: Iterable[str] = _SYMBOLS,
+    tau_range: tuple[float, float] | None = None,
+    regions: Mapping[str, tuple[float, float]] | None = None,
+    slope_tolerance: float = 0.1,
+    min_points: int = 3,
+    unit: str | None = None,
+) -> NoiseCoefficients | tuple[NoiseCoefficients, ...]:
+    """Identify the IEEE-952 noise coefficients from an Allan-deviation result.
+
+    Parameters
+    ----------
+    allan : AllanResult or sequence of AllanResult
+        Overlapping or non-overlapping Allan result(s) of rate (or angle) data
+        (``gyrobias.allan.adev``). A sequence gives a tuple, one per axis.
+    method : {"joint", "ieee"}
+        ``"joint"``: weighted non-negative least squares of the five-term model (the better
+        estimator). ``"ieee"``: IEEE-952 read-off from fixed-slope lines on the detected slope
+        regions and B from the minimum.
+    terms : iterable of {"Q", "N", "B", "K", "R"}
+        Terms to identify; the others are reported missing ("not requested").
+    tau_range : (float, float), optional
+        Only use Allan points with τ in this range (seconds) for the joint fit.
+    regions : mapping, optional
+        ``"ieee"`` only: explicit τ range per term (e.g. ``{"N": (0.02, 2.0)}``) overriding
+        the automatic slope-region detection.
+    slope_tolerance : float
+        ``"ieee"``: allowed deviation of the local log-log slope from the term's slope.
+    min_points : int
+        ``"ieee"``: minimum number of consecutive points of a detected region.
+    unit : str, optional
+        Rate unit of the data when the Allan result does not carry one (``"deg/s"``, ``"rad/s"``,
+        ``"m/s^2"``, ``"g"``, …).
+
+    Returns
+    -------
+    NoiseCoefficients or tuple of NoiseCoefficients
+
+    Raises
+    ------
+    ValueError
+        Not an Allan-deviation result (the model is the Allan variance's), constant data
+        (σ = 0 everywhere), fewer than 3 usable points in the fit range, unknown terms, units
+        or methods, or a region that contains no τ.
+
+    Notes
+    -----
+    Model: ``σ²(τ) = 3Q²/τ² + N²/τ + (0.664282·B)² + K²τ/3 + R²τ²/2``.
+
+    *Joint*: linear in ``c = (Q², N², B², K², R²) ≥ 0``; weights ``w_i = edf_i/(2σ_i⁴)`` (the
+    variance of a chi-square estimate with ``edf_i`` degrees of freedom), with σ_i² the fitted
+    model after the first pass (iteratively reweighted, which removes the bias of weighting
+    by the noisy observations). Exact NNLS over all subsets of terms. Uncertainties from the
+    weighted least-squares covariance, inflated by ``max(1, χ²/ν)``, and ``u(√c) = u(c)/(2√c)``.
+    The EDFs are the Allan result's own (``confidence=`` given) or SP1065's simple
+    approximations for the locally dominant noise type.
+
+    *IEEE read-off*: local slopes by central differences in log-log; the longest run of points
+    within ``slope_tolerance`` of −1, −½, +½, +1 is fitted with a line of that fixed slope and
+    read at τ = √3, 1, 3, √2 s for Q, N, K, R; ``B = min σ / 0.664282`` when the minimum lies
+    inside the curve. Uncertainty: the relative standard deviation ``1/√(2·edf)`` of the most
+    precise point used. The read-off of B is biased high where the neighbouring asymptotes
+    still contribute at the minimum (SPEC §3: 3.6 instead of 3 deg/h on an 8 h log).
+
+    References
+    ----------
+    IEEE Std 952-1997 Annex C; NIST SP 1065 §5 (EDF); [NR] Table 1.
+
+    Examples
+    --------
+    >>> import gyrobias
+    >>> rate = gyrobias.noise.simulate(360_000, 100.0, arw=0.2 / 60, bias_instability=3 / 3600, seed=1)
+    >>> r = gyrobias.allan.adev(rate, 100.0, confidence=None, units="deg/s")
+    >>> c = gyrobias.noise.fit(r).to("ieee")
+    >>> round(c.N.value, 2), c.N.unit
+    (0.2, 'deg/√h')
+    """
+    if not hasattr(allan, "avar"):
+        if isinstance(allan, (str, bytes)) or not isinstance(allan, Sequence):
+            raise TypeError(f"allan must be an AllanResult or a sequence of them, got {type(allan).__name__}")
+        return tuple(
+            fit(  # type: ignore[misc]
+                a,
+                method=method,
+                terms=terms,
+                tau_range=tau_range,
+                regions=regions,
+                slope_tolerance=slope_tolerance,
+                min_points=min_points,
+                unit=unit,
+            )
+            for a in allan
+        )
+    result: AllanResult = allan  # type: ignore[assignment]
+    method = choice("method", method, ("joint", "ieee"))
+    if result.kind != "adev":
+        raise ValueError(
+            f"allan must be an Allan-deviation result (kind 'adev'); the five-term model does not "
+            f"hold for kind {result.kind!r}"
+        )
+    term_list = [str(t) for t in terms] if not isinstance(terms, str) else [terms]
+    for t in term_list:
+        choice("terms", t, _SYMBOLS)
+    data_unit = unit if unit is not None else result.unit
+    sensor: str | None = None
+    if data_unit is not None:
+        sensor = sensor_kind(data_unit)
+    if tau_range is not None:
+        lo, hi = (float(v) for v in tau_range)
+        if not (lo >= 0.0 and hi > lo):
+            raise ValueError(f"tau_range must be (low, high) seconds with 0 <= low < high, got {tau_range!r}")
+        tau_range = (lo, hi)
+    taus = np.ascontiguousarray(result.taus, dtype=np.float64)
+    variance = np.ascontiguousarray(result.avar, dtype=np.float64)
+    m = np.ascontiguousarray(result.m, dtype=np.uint64)
+    n_terms = np.ascontiguousarray(result.n_terms, dtype=np.uint64)
+    edf = None if result.edf is None else np.ascontiguousarray(result.edf, dtype=np.float64)
+    if method == "joint":
+        if regions is not None:
+            raise ValueError("regions applies to method='ieee' only; use tau_range for the joint fit")
+        raw = _core.noise_fit_joint(taus, variance, m, n_terms, result.overlapping, edf, term_list, tau_range)
+        extra: dict[str, Any] = {
+            "chi2": float(raw["chi2"]),
+            "dof": int(raw["dof"]),
+            "squared": tuple(float(v) for v in raw["squared"]),
+            "tau_range": tuple(raw["tau_range"]),
+        }
+    else:
+        slope_tolerance = positive_float("slope_tolerance", slope_tolerance)
+        if isinstance(min_points, bool) or not isinstance(min_points, (int, np.integer)) or min_points < 1:
+            raise ValueError(f"min_points must be an integer >= 1, got {min_points!r}")
+        region_list: list[tuple[float, float] | None] = [None] * 5
+        for key, rng in (regions or {}).items():
+            choice("regions key", key, _SYMBOLS)
+            lo, hi = (float(v) for v in rng)
+            region_list[_SYMBOLS.index(key)] = (lo, hi)
+        raw = _core.noise_read_off(
+            taus, variance, m, n_terms, result.overlapping, edf, term_list, region_list,
+            slope_tolerance, int(min_points),
+        )
+        extra = {"tau_range": (float(taus[0]), float(taus[-1]))}
+    names = TERM_NAMES[sensor or "gyro"]
+    built = {}
+    for d in raw["terms"]:
+        s = d["symbol"]
+        built[s] = Term(
+            symbol=s,
+            name=names[s],
+            value=d["value"],
+            uncertainty=d["uncertainty"],
+            unit=None if data_unit is None else base_unit(data_unit, s),
+            tau_range=None if d["tau_range"] is None else tuple(d["tau_range"]),
+            marker=None if d["marker"] is None else tuple(d["marker"]),
+            missing=d["missing"],
+        )
+    return NoiseCoefficients(
+        Q=built["Q"],
+        N=built["N"],
+        B=built["B"],
+        K=built["K"],
+        R=built["R"],
+        method=method,
+        data_unit=data_unit,
+        sensor=sensor,
+        fs=result.fs,
+        axis=result.axis,
+        edf_source=_edf_source(result),
+        allan=result,
+        tau_range=extra["tau_range"],
+        chi2=extra.get("chi2"),
+        dof=extra.get("dof"),
+        squared=extra.get("squared"),
+    )
+
+
+# --- Kalibr --------------------------------------------------------------------------------------
+
+
+def _worst(coefficients: Sequence[NoiseCoefficients], symbol: str, unit: str) -> tuple[float | None, str]:
+    """Largest value over axes (the conservative choice for a filter) and a comment."""
+    values = []
+    missing = []
+    for c in coefficients:
+        t = c[symbol]
+        if t.value is None:
+            missing.append(f"{c.axis or '?'}: {t.missing}")
+        else:
+            values.append((t.to(unit).value, c.axis))
+    if not values:
+        return None, "; ".join(missing)
+    best = max(values, key=lambda v: float(v[0] or 0.0))
+    axes = ", ".join(str(c.axis) for c in coefficients if c.axis) or f"{len(coefficients)} axis(es)"
+    return best[0], f"max over {axes}"
+
+
+def write_kalibr(
+    path: str | os.PathLike[str],
+    *,
+    gyro: Sequence[NoiseCoefficients] = (),
+    accel: Sequence[NoiseCoefficients] = (),
+    update_rate: float | None = None,
+    rostopic: str = "/imu0",
+) -> str:
+    """Write a Kalibr ``imu.yaml`` (no YAML library needed) and return its text.
+
+    Parameters
+    ----------
+    path : path-like
+        Output file.
+    gyro, accel : sequence of NoiseCoefficients
+        Per-axis coefficients of the gyroscopes (rate unit deg/s, rad/s, …) and
+        accelerometers (m/s², g, …). Each value is the largest over the axes given.
+    update_rate : float, optional
+        IMU rate in Hz (Kalibr discretises with it); default: the data's sample rate.
+    rostopic : str
+        Kalibr's ``rostopic`` entry.
+
+    Returns
+    -------
+    str
+        The file's text.
+
+    Notes
+    -----
+    Kalibr's parameters are continuous-time densities: ``gyroscope_noise_density`` = N in
+    rad/s/√Hz, ``gyroscope_random_walk`` = K in rad/s²/√Hz, ``accelerometer_noise_density`` =
+    N in m/s²/√Hz, ``accelerometer_random_walk`` = K in m/s³/√Hz. Kalibr discretises them as
+    ``σ_d = σ·√update_rate`` (white noise) and ``σ_bd = σ_b/√update_rate`` (bias random walk). A
+    term that could not be identified is written as a comment with the reason, so that Kalibr
+    refuses the file rather than using a made-up number.
+    """
+    gyro = list(gyro)
+    accel = list(accel)
+    if not gyro and not accel:
+        raise ValueError("write_kalibr needs gyro and/or accel coefficients")
+    for name, group, kind in (("gyro", gyro, "gyro"), ("accel", accel, "accel")):
+        for c in group:
+            if not isinstance(c, NoiseCoefficients):
+                raise TypeError(f"{name} must contain NoiseCoefficients, got {type(c).__name__}")
+            if c.data_unit is None:
+                raise ValueError(f"{name}: the data unit is unknown; Kalibr needs SI units (pass units=)")
+            if c.sensor != kind:
+                raise ValueError(f"{name}: coefficients of data in {c.data_unit!r} are not {kind} data")
+    if update_rate is None:
+        update_rate = max(c.fs for c in gyro + accel)
+    update_rate = positive_float("update_rate", update_rate)
+    lines = [
+        "# Kalibr IMU noise model written by gyrobias",
+        "# Continuous-time convention (Kalibr): noise densities are the white-noise coefficient N",
+        "# (IEEE-952 ARW/VRW, two-sided PSD) and random walks the coefficient K (RRW);",
+        "# Kalibr discretises them with update_rate: sigma_d = sigma*sqrt(rate), sigma_bd = sigma_b/sqrt(rate).",
+        "# Units: gyroscope_noise_density rad/s/sqrt(Hz), gyroscope_random_walk rad/s^2/sqrt(Hz),",
+        "#        accelerometer_noise_density m/s^2/sqrt(Hz), accelerometer_random_walk m/s^3/sqrt(Hz).",
+        "# Each value is the largest over the axes analysed.",
+    ]
+    entries = (
+        ("accelerometer", accel, "m/s²/√Hz", "m/s³/√Hz"),
+        ("gyroscope", gyro, "rad/s/√Hz", "rad/s²/√Hz"),
+    )
+    for prefix, group, n_unit, k_unit in entries:
+        if not group:
+            continue
+        lines.append(f"#{prefix.capitalize()}s")
+        for key, symbol, unit in (("noise_density", "N", n_unit), ("random_walk", "K", k_unit)):
+            value, note = _worst(group, symbol, unit)
+            if value is None:
+                lines.append(f"# {prefix}_{key}: not identified ({note})")
+            else:
+                lines.append(f"{prefix}_{key}: {value:.6e}  # {unit}, {note}")
+    lines.append(f"rostopic: {rostopic}")
+    lines.append(f"update_rate: {update_rate:.6g}  # Hz")
+    text = "\n".join(lines) + "\n"
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    return text
