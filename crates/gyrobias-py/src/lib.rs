@@ -6,6 +6,9 @@
 
 mod allan;
 mod error;
+mod fir;
+mod spectral;
+mod thermal;
 
 use pyo3::prelude::*;
 
@@ -14,5 +17,8 @@ use pyo3::prelude::*;
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     error::register(m)?;
     allan::register(m)?;
+    fir::register(m)?;
+    spectral::register(m)?;
+    thermal::register(m)?;
     Ok(())
 }

@@ -8,6 +8,9 @@
 //! |---|---|---|
 //! | [`allan`] | overlapping / non-overlapping Allan, modified, Hadamard and total variance, noise identification, EDF and confidence intervals | NIST SP 1065, IEEE 952, \[BP\] eq. 2, \[TS\] eq. 1 |
 //! | [`fractional`] | fractional differencing and integration, ARFIMA(0, d, 0) | SPEC §4, Hosking (1981), [BP] eq. 3 |
+//! | [`fir`] | Kaiser-window FIR low-pass design, causal and zero-phase filtering | \[TS\] eqs. 14–20, Orfanidis §10.2 |
+//! | [`spectral`] | least-squares spectral analysis with significance, Welch PSD | \[TS\] §2.2, Vaníček 1969, Pagiatakis 1999, Welch 1967 |
+//! | [`thermal`] | AR(1) drift fits, temperature interpolation of noise parameters | \[TS\] §4 |
 //! | [`stats`] | chi-square quantiles and the special functions behind them | — |
 //!
 //! Units: time in seconds; rates and angles in the caller's unit (the core is unit-agnostic).
@@ -15,8 +18,11 @@
 
 pub mod allan;
 pub mod error;
+pub mod fir;
 pub mod fractional;
+pub mod spectral;
 pub mod stats;
+pub mod thermal;
 pub mod validate;
 
 pub use error::{Error, Result};
