@@ -5,14 +5,21 @@ unit-aware Python interfaces:
 
 - :mod:`gyrobias.allan` — overlapping / non-overlapping Allan, modified, Hadamard and total
   deviations with chi-square confidence intervals (NIST SP 1065, IEEE Std 952).
+- :mod:`gyrobias.fir` — Kaiser-window FIR low-pass design, causal and zero-phase filtering ([TS]).
+- :mod:`gyrobias.spectral` — least-squares spectral analysis of unequally spaced data with
+  significance tests, Welch PSD and noise density ([TS] §2.2, Pagiatakis 1999).
+- :mod:`gyrobias.thermal` — AR(1) drift fits and temperature-dependent noise models ([TS] §4).
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
 """
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan
+from gyrobias import allan, fir, spectral, thermal
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
+from gyrobias.fir import KaiserLowpass, kaiser_lowpass
+from gyrobias.spectral import LSSAResult, lssa
+from gyrobias.thermal import AR1Fit, TemperatureModel, fit_ar1
 
 try:
     __version__ = version("gyrobias")
@@ -20,10 +27,20 @@ except PackageNotFoundError:  # running from a source tree without installation
     __version__ = "0.0.0+unknown"
 
 __all__ = [
+    "AR1Fit",
     "AllanResult",
     "GyroLinAlgError",
+    "KaiserLowpass",
+    "LSSAResult",
+    "TemperatureModel",
     "__version__",
     "adev",
     "allan",
     "avar",
+    "fir",
+    "fit_ar1",
+    "kaiser_lowpass",
+    "lssa",
+    "spectral",
+    "thermal",
 ]

@@ -26,3 +26,44 @@ def allan_factors(
     per_decade: int,
     taus: NDArray[np.float64] | None,
 ) -> NDArray[np.uint64]: ...
+
+# --- fir ---------------------------------------------------------------------------------------
+
+def kaiser_design(
+    fs: float, fpass: float, fstop: float, apass_db: float, astop_db: float
+) -> dict[str, float | NDArray[np.float64]]: ...
+def fir_filter(
+    taps: NDArray[np.float64], x: NDArray[np.float64], zero_phase: bool, padtype: str, padlen: int
+) -> NDArray[np.float64]: ...
+def fir_response(
+    taps: NDArray[np.float64], fs: float, freqs: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+
+# --- spectral ----------------------------------------------------------------------------------
+
+def lssa(
+    t: NDArray[np.float64],
+    y: NDArray[np.float64],
+    freqs: NDArray[np.float64],
+    weights: NDArray[np.float64] | None,
+    cov: NDArray[np.float64] | None,
+    trend: bool,
+    known_periods: NDArray[np.float64],
+) -> dict[str, float | int | NDArray[np.float64]]: ...
+def lssa_critical(n: int, n_known: int, alpha: float) -> float: ...
+def lssa_frequencies(t: NDArray[np.float64]) -> NDArray[np.float64]: ...
+def welch_psd(
+    x: NDArray[np.float64], fs: float, nperseg: int, noverlap: int, window: str
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+
+# --- thermal -----------------------------------------------------------------------------------
+
+def ar1_fit(x: NDArray[np.float64], dt: float, demean: bool) -> dict[str, float | int]: ...
+def temperature_interpolate(
+    temperatures: NDArray[np.float64],
+    values: NDArray[np.float64],
+    method: str,
+    degree: int,
+    at: NDArray[np.float64],
+    extrapolate: bool,
+) -> NDArray[np.float64]: ...
