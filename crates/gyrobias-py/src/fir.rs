@@ -57,7 +57,7 @@ fn fir_filter<'py>(
         Mode::Causal
     };
     let out = core(py.detach(|| fir::filter_rows(h, data, shape[0], mode)))?;
-    Ok(out.into_pyarray(py).reshape(shape)?)
+    out.into_pyarray(py).reshape(shape)
 }
 
 /// Complex frequency response of `taps` at `freqs` (Hz): (real, imag).

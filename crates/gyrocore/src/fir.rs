@@ -314,36 +314,38 @@ fn convolve_fft(taps: &[f64], input: &[f64], out: &mut [f64], fft_len: usize) {
 /// Direct convolution, blocked over the output.
 fn convolve_direct(taps: &[f64], input: &[f64], out: &mut [f64]) {
     let nt = taps.len();
-    out.par_chunks_mut(BLOCK).enumerate().for_each(|(b, block)| {
-        let start = b * BLOCK;
-        let len = block.len();
-        block.fill(0.0);
-        // Register blocking: 8 taps per sweep over the block (one load/store of the output
-        // per 8 multiply-adds); every output is independent, so the sweep vectorises.
-        let src = |k: usize| &input[start + nt - 1 - k..start + nt - 1 - k + len];
-        let mut k = 0;
-        while k + 8 <= nt {
-            let h = &taps[k..k + 8];
-            let (s0, s1, s2, s3) = (src(k), src(k + 1), src(k + 2), src(k + 3));
-            let (s4, s5, s6, s7) = (src(k + 4), src(k + 5), src(k + 6), src(k + 7));
-            for i in 0..len {
-                block[i] += h[0] * s0[i]
-                    + h[1] * s1[i]
-                    + h[2] * s2[i]
-                    + h[3] * s3[i]
-                    + h[4] * s4[i]
-                    + h[5] * s5[i]
-                    + h[6] * s6[i]
-                    + h[7] * s7[i];
+    out.par_chunks_mut(BLOCK)
+        .enumerate()
+        .for_each(|(b, block)| {
+            let start = b * BLOCK;
+            let len = block.len();
+            block.fill(0.0);
+            // Register blocking: 8 taps per sweep over the block (one load/store of the output
+            // per 8 multiply-adds); every output is independent, so the sweep vectorises.
+            let src = |k: usize| &input[start + nt - 1 - k..start + nt - 1 - k + len];
+            let mut k = 0;
+            while k + 8 <= nt {
+                let h = &taps[k..k + 8];
+                let (s0, s1, s2, s3) = (src(k), src(k + 1), src(k + 2), src(k + 3));
+                let (s4, s5, s6, s7) = (src(k + 4), src(k + 5), src(k + 6), src(k + 7));
+                for i in 0..len {
+                    block[i] += h[0] * s0[i]
+                        + h[1] * s1[i]
+                        + h[2] * s2[i]
+                        + h[3] * s3[i]
+                        + h[4] * s4[i]
+                        + h[5] * s5[i]
+                        + h[6] * s6[i]
+                        + h[7] * s7[i];
+                }
+                k += 8;
             }
-            k += 8;
-        }
-        for (kk, &h) in taps.iter().enumerate().skip(k) {
-            for (o, &v) in block.iter_mut().zip(src(kk)) {
-                *o += h * v;
+            for (kk, &h) in taps.iter().enumerate().skip(k) {
+                for (o, &v) in block.iter_mut().zip(src(kk)) {
+                    *o += h * v;
+                }
             }
-        }
-    });
+        });
 }
 
 /// Filters one signal `x` with FIR `taps` (see the module docs for the two modes).

@@ -572,7 +572,7 @@ mod tests {
     #[test]
     fn recurrence_equals_direct() {
         let (t, y) = series(301);
-        let freqs: Vec<f64> = (1..200).map(|k| k as f64 * 0.005).collect();
+        let freqs: Vec<f64> = (1..200).map(|k| f64::from(k) * 0.005).collect();
         let a = lssa(&t, &y, &freqs, &LssaOptions::default()).unwrap();
         // A non-uniform grid takes the direct path: perturb one frequency, compare the rest.
         let mut f2 = freqs.clone();
@@ -590,7 +590,7 @@ mod tests {
     #[test]
     fn unit_covariance_equals_unweighted() {
         let (t, y) = series(60);
-        let freqs: Vec<f64> = (1..40).map(|k| k as f64 * 0.013).collect();
+        let freqs: Vec<f64> = (1..40).map(|k| f64::from(k) * 0.013).collect();
         let mut cov = vec![0.0; 60 * 60];
         for i in 0..60 {
             cov[i * 60 + i] = 4.0;

@@ -133,7 +133,7 @@ mod tests {
     #[test]
     fn parseval_for_boxcar_periodogram() {
         // One boxcar segment: Σ P·Δf equals the (population) variance of x exactly.
-        let x: Vec<f64> = (0..64).map(|i| ((i * 37 % 11) as f64).sin()).collect();
+        let x: Vec<f64> = (0..64).map(|i| f64::from(i * 37 % 11).sin()).collect();
         let (f, p) = welch(&x, 10.0, 64, 0, Window::Boxcar).unwrap();
         let df = f[1] - f[0];
         let mean = x.iter().sum::<f64>() / 64.0;
