@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
 from gyrobias import fir
-from reference_fir import kaiser_design
+from tests.reference_fir import kaiser_design
 
 PAPER = {"fs": 100.0, "fpass": 14.0, "fstop": 18.0, "apass_db": 0.0001, "astop_db": 100.0}
 

@@ -13,8 +13,8 @@ from numpy.testing import assert_allclose
 
 import gyrobias
 from gyrobias import spectral
-from reference_spectral import lssa as lssa_ref
-from reference_spectral import welch_hann
+from tests.reference_spectral import lssa as lssa_ref
+from tests.reference_spectral import welch_hann
 
 
 def irregular(n: int, seed: int, gap: bool = True) -> tuple[np.ndarray, np.ndarray]:

@@ -17,7 +17,7 @@ from scipy.interpolate import PchipInterpolator
 import gyrobias
 from gyrobias import fir, thermal
 from gyrobias.cli import thermal as cli_thermal
-from reference_thermal import ar1 as ar1_ref
+from tests.reference_thermal import ar1 as ar1_ref
 
 
 def simulate_ar1(c: float, n: int, seed: int) -> np.ndarray:
@@ -219,7 +219,7 @@ def test_cli_prints_table_and_writes_model(tmp_path: Path, capsys: pytest.Captur
             np.save(p, x.reshape(-1, 1))
             tags.append(f"{p}@{t:g}")
     out_json = tmp_path / "model.json"
-    assert run_cli([*tags, "--fs", "100", "--column", "-1", "--json", str(out_json)]) == 0
+    assert run_cli([*tags, "--fs", "100", "--json", str(out_json)]) == 0
     text = capsys.readouterr().out
     assert "C_AR = -c" in text and "IEEE 952" in text
     rows = [line for line in text.splitlines() if line.strip().startswith(("-30.0", "0.0", "30.0", "60.0"))]
@@ -239,3 +239,4 @@ def test_cli_errors(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert run_cli([f"{tmp_path / 'missing.npy'}@0", "--fs", "100"]) == 2
     assert run_cli([f"{p}@0", "--fs", "100", "--column", "3"]) == 2
     assert "column" in capsys.readouterr().err
+    assert run_cli([f"{p}@0", f"{p}@10", "--fs", "100", "--column", "0", "--no-filter"]) == 0

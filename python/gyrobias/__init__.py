@@ -9,15 +9,19 @@ unit-aware Python interfaces:
 - :mod:`gyrobias.spectral` — least-squares spectral analysis of unequally spaced data with
   significance tests, Welch PSD and noise density ([TS] §2.2, Pagiatakis 1999).
 - :mod:`gyrobias.thermal` — AR(1) drift fits and temperature-dependent noise models ([TS] §4).
+- :mod:`gyrobias.predict` — bias prediction from a calibration window ([BP]): the fractional
+  (1/f) Kalman predictor (O(n·k) generalized Schur, compiled batch GEMM), moving average and
+  calibration mean, and [BP]'s batch test.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
 """
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan, fir, spectral, thermal
+from gyrobias import allan, fir, io, predict, spectral, thermal
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
 from gyrobias.fir import KaiserLowpass, kaiser_lowpass
+from gyrobias.predict import FractionalKalmanPredictor, Prediction
 from gyrobias.spectral import LSSAResult, lssa
 from gyrobias.thermal import AR1Fit, TemperatureModel, fit_ar1
 
@@ -29,9 +33,11 @@ except PackageNotFoundError:  # running from a source tree without installation
 __all__ = [
     "AR1Fit",
     "AllanResult",
+    "FractionalKalmanPredictor",
     "GyroLinAlgError",
     "KaiserLowpass",
     "LSSAResult",
+    "Prediction",
     "TemperatureModel",
     "__version__",
     "adev",
@@ -39,8 +45,10 @@ __all__ = [
     "avar",
     "fir",
     "fit_ar1",
+    "io",
     "kaiser_lowpass",
     "lssa",
+    "predict",
     "spectral",
     "thermal",
 ]

@@ -1,5 +1,7 @@
 """Type stubs of the Rust extension module (checked by ``python -m mypy.stubtest gyrobias._core``)."""
 
+from typing import Any, final
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -67,3 +69,52 @@ def temperature_interpolate(
     at: NDArray[np.float64],
     extrapolate: bool,
 ) -> NDArray[np.float64]: ...
+
+# --- predict -----------------------------------------------------------------------------------
+
+def fractional_kalman(
+    calibration: NDArray[np.float64],
+    horizon: int,
+    d: float,
+    q: float,
+    r: float,
+    mean: str,
+    mu0: float,
+    p0: float,
+    algorithm: str,
+    n_threads: int,
+) -> dict[str, Any]: ...
+def calibration_mean(calibration: NDArray[np.float64], horizon: int) -> NDArray[np.float64]: ...
+def moving_average(calibration: NDArray[np.float64], horizon: int) -> NDArray[np.float64]: ...
+
+@final
+class CompiledPredictor:
+    def __new__(
+        cls,
+        calibration_length: int,
+        horizon: int,
+        d: float,
+        q: float,
+        r: float,
+        mean: str,
+        mu0: float,
+        p0: float,
+        n_threads: int,
+    ) -> CompiledPredictor: ...
+    def predict(
+        self, batch: NDArray[np.float64], n_threads: int
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+    @property
+    def calibration_length(self) -> int: ...
+    @property
+    def horizon(self) -> int: ...
+    @property
+    def weights(self) -> NDArray[np.float64]: ...
+    @property
+    def offset(self) -> NDArray[np.float64]: ...
+    @property
+    def std(self) -> NDArray[np.float64]: ...
+    @property
+    def std_observation(self) -> NDArray[np.float64]: ...
+    @property
+    def mean_std(self) -> float: ...

@@ -9,6 +9,7 @@ mod error;
 mod fir;
 mod spectral;
 mod thermal;
+mod predict;
 
 use pyo3::prelude::*;
 
@@ -20,5 +21,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     fir::register(m)?;
     spectral::register(m)?;
     thermal::register(m)?;
+    predict::register(m)?;
     Ok(())
 }

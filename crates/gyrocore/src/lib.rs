@@ -11,6 +11,7 @@
 //! | [`fir`] | Kaiser-window FIR low-pass design, causal and zero-phase filtering | \[TS\] eqs. 14–20, Orfanidis §10.2 |
 //! | [`spectral`] | least-squares spectral analysis with significance, Welch PSD | \[TS\] §2.2, Vaníček 1969, Pagiatakis 1999, Welch 1967 |
 //! | [`thermal`] | AR(1) drift fits, temperature interpolation of noise parameters | \[TS\] §4 |
+//! | [`predict`] | bias prediction: calibration mean, moving average, fractional (1/f) Kalman predictor (literal and generalized-Schur O(n·k)), compiled batch predictor | \[BP\] §IV–V, SPEC §5 |
 //! | [`stats`] | chi-square quantiles and the special functions behind them | — |
 //!
 //! Units: time in seconds; rates and angles in the caller's unit (the core is unit-agnostic).
@@ -20,6 +21,7 @@ pub mod allan;
 pub mod error;
 pub mod fir;
 pub mod fractional;
+pub mod predict;
 pub mod spectral;
 pub mod stats;
 pub mod thermal;

@@ -6,8 +6,8 @@ Usage::
         [--fpass 14 --fstop 18 --apass-db 0.0001 --astop-db 100 | --no-filter]
         [--method pchip] [--json model.json]
 
-Each ``LOG@T`` is a rate log (``.npy``, or CSV/TSV/whitespace text; ``--column`` selects the
-axis) recorded at ``T`` °C.
+Each ``LOG@T`` is a rate log (``.npy``, or CSV/TSV/whitespace text, read by
+:func:`gyrobias.io.load`; ``--column`` selects the channel) recorded at ``T`` °C.
 """
 
 from __future__ import annotations
@@ -24,36 +24,16 @@ from numpy.typing import NDArray
 __all__ = ["register", "run"]
 
 
-def _load_log(path: Path, column: int) -> NDArray[np.float64]:
-    """One column of a log file as float64 (to be replaced by ``gyrobias.io.load``).
+def _load_log(path: Path, column: str | None, fs: float) -> NDArray[np.float64]:
+    """One rate channel of a log file (``gyrobias.io.load``: .npy, CSV/TSV/whitespace text).
 
-    ``.npy`` files are read with ``np.load``; anything else as delimited text (comma,
-    semicolon, tab or whitespace, detected from the first data line; ``#`` comments and one
-    non-numeric header line are skipped).
+    ``column`` is a header name or 0-based index; default the first channel after the time
+    column (if any).
     """
-    if path.suffix.lower() == ".npy":
-        arr = np.asarray(np.load(path, allow_pickle=False), dtype=np.float64)
-    else:
-        delimiter: str | None = None
-        with path.open() as fh:
-            for line in fh:
-                if line.strip() and not line.lstrip().startswith("#"):
-                    for cand in (",", ";", "\t"):
-                        if cand in line:
-                            delimiter = cand
-                            break
-                    break
-        try:
-            arr = np.loadtxt(path, delimiter=delimiter, comments="#", ndmin=2)
-        except ValueError:
-            arr = np.loadtxt(path, delimiter=delimiter, comments="#", ndmin=2, skiprows=1)
-    if arr.ndim == 1:
-        arr = arr.reshape(-1, 1)
-    if arr.ndim != 2:
-        raise ValueError(f"{path}: expected a 1-D or 2-D array, got shape {arr.shape}")
-    if not -arr.shape[1] <= column < arr.shape[1]:
-        raise ValueError(f"{path}: column {column} does not exist ({arr.shape[1]} columns)")
-    return np.ascontiguousarray(arr[:, column])
+    from gyrobias import io
+
+    log = io.load(path, columns=None if column is None else [column], fs=fs)
+    return np.ascontiguousarray(log.data[:, 0] if log.data.ndim == 2 else log.data)
 
 
 def _parse_tag(tag: str) -> tuple[Path, float]:
@@ -82,7 +62,9 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument("logs", nargs="+", metavar="LOG@T", help="log file and its temperature in °C")
     p.add_argument("--fs", type=float, required=True, help="sample rate in Hz")
-    p.add_argument("--column", type=int, default=0, help="column of the rate axis (default 0)")
+    p.add_argument(
+        "--column", default=None, help="rate channel: header name or 0-based index (default: first channel)"
+    )
     p.add_argument("--units", default="deg/s", help="unit of the samples (default deg/s)")
     p.add_argument("--fpass", type=float, default=None, help="FIR pass-band edge, Hz (default 0.14·fs)")
     p.add_argument("--fstop", type=float, default=None, help="FIR stop-band edge, Hz (default 0.18·fs)")
@@ -105,7 +87,7 @@ def run(args: argparse.Namespace) -> int:
         if len(set(temps)) != len(temps):
             dup = next(t for t in temps if temps.count(t) > 1)
             raise ValueError(f"temperatures must be distinct: {dup:g} °C is given twice")
-        logs = [(t, _load_log(path, args.column)) for path, t in tagged]
+        logs = [(t, _load_log(path, args.column, args.fs)) for path, t in tagged]
         analyses = thermal.analyse_logs(
             logs,
             args.fs,

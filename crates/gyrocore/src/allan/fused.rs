@@ -1,0 +1,119 @@
+//! Cache-blocked evaluation of many overlapping difference sums in one pass over the data.
+//!
+//! For a set of averaging factors `m_j`, the overlapping Allan sum `Σ_k (x_{k+2m} − 2x_{k+m} + x_k)²`
+//! reads `x` at the offsets `0, m_j, 2m_j`. Evaluated τ by τ, every τ streams the whole series
+//! from memory (three times for lags beyond the cache). Here the index range is cut into blocks
+//! of [`BLOCK`] samples and every τ is accumulated block by block, so each region of `x` is
+//! fetched from memory once per block and reused from cache by all τ that touch it: for
+//! octave τ the traffic drops from about 3 passes per τ to about one per distinct lag. Blocks
+//! are grouped into chunks processed in parallel; chunk sums are combined in a fixed order with
+//! compensated addition, so results do not depend on the number of threads.
+
+use rayon::prelude::*;
+
+const BLOCK: usize = 4096;
+const CHUNK: usize = BLOCK * 64;
+const LANES: usize = 8;
+
+/// Which finite difference of the angle series is squared and summed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Difference {
+    /// `x_{k+2m} − 2x_{k+m} + x_k` (Allan).
+    Second,
+    /// `x_{k+3m} − 3x_{k+2m} + 3x_{k+m} − x_k` (Hadamard).
+    Third,
+}
+
+impl Difference {
+    fn span(self) -> usize {
+        match self {
+            Difference::Second => 2,
+            Difference::Third => 3,
+        }
+    }
+}
+
+#[inline]
+fn block_sum(x: &[f64], m: usize, start: usize, end: usize, diff: Difference) -> f64 {
+    let count = end - start;
+    let mut lanes = [0.0_f64; LANES];
+    let mut tail = 0.0_f64;
+    match diff {
+        Difference::Second => {
+            let a = &x[start..end];
+            let b = &x[start + m..end + m];
+            let c = &x[start + 2 * m..end + 2 * m];
+            let whole = count - count % LANES;
+            for ((ca, cb), cc) in a[..whole]
+                .chunks_exact(LANES)
+                .zip(b[..whole].chunks_exact(LANES))
+                .zip(c[..whole].chunks_exact(LANES))
+            {
+                for l in 0..LANES {
+                    let d = cc[l] - 2.0 * cb[l] + ca[l];
+                    lanes[l] += d * d;
+                }
+            }
+            for k in whole..count {
+                let d = c[k] - 2.0 * b[k] + a[k];
+                tail += d * d;
+            }
+        }
+        Difference::Third => {
+            let a = &x[start..end];
+            let b = &x[start + m..end + m];
+            let c = &x[start + 2 * m..end + 2 * m];
+            let e = &x[start + 3 * m..end + 3 * m];
+            let whole = count - count % LANES;
+            for (((ca, cb), cc), ce) in a[..whole]
+                .chunks_exact(LANES)
+                .zip(b[..whole].chunks_exact(LANES))
+                .zip(c[..whole].chunks_exact(LANES))
+                .zip(e[..whole].chunks_exact(LANES))
+            {
+                for l in 0..LANES {
+                    let d = ce[l] - 3.0 * cc[l] + 3.0 * cb[l] - ca[l];
+                    lanes[l] += d * d;
+                }
+            }
+            for k in whole..count {
+                let d = e[k] - 3.0 * c[k] + 3.0 * b[k] - a[k];
+                tail += d * d;
+            }
+        }
+    }
+    lanes.iter().sum::<f64>() + tail
+}
+
+/// `Σ_{k < n_terms(m)} diff(x, k, m)²` for every `m` in `ms`, with `n_terms = len − span·m`.
+///
+/// Every `m` must satisfy `span·m < x.len()` (checked by the caller).
+pub(crate) fn difference_sums(x: &[f64], ms: &[usize], diff: Difference) -> Vec<f64> {
+    let span = diff.span();
+    let terms: Vec<usize> = ms.iter().map(|&m| x.len() - span * m).collect();
+    let longest = terms.iter().copied().max().unwrap_or(0);
+    let chunk_starts: Vec<usize> = (0..longest).step_by(CHUNK).collect();
+    let partials: Vec<Vec<f64>> = chunk_starts
+        .par_iter()
+        .map(|&c0| {
+            let c1 = (c0 + CHUNK).min(longest);
+            let mut sums = vec![0.0_f64; ms.len()];
+            let mut b0 = c0;
+            while b0 < c1 {
+                let b1 = (b0 + BLOCK).min(c1);
+                for (j, (&m, &t)) in ms.iter().zip(&terms).enumerate() {
+                    let end = b1.min(t);
+                    if b0 < end {
+                        sums[j] += block_sum(x, m, b0, end, diff);
+                    }
+                }
+                b0 = b1;
+            }
+            sums
+        })
+        .collect();
+    // Fixed-order compensated combination of the chunk sums.
+    (0..ms.len())
+        .map(|j| crate::validate::neumaier_sum(partials.iter().map(|p| p[j])))
+        .collect()
+}

@@ -1,0 +1,86 @@
+"""The ``gyrobias`` command line.
+
+Each subcommand lives in its own module exposing ``register(subparsers)``, which adds an
+argparse subparser and sets ``func=run`` (``run(args) -> int``). Modules of the ``gyrobias
+experiment …`` group expose ``register_experiment(exp_subparsers)`` instead. To add a command,
+append its module name to :data:`SUBCOMMANDS` or :data:`EXPERIMENTS`.
+
+Errors the library raises for bad input (``ValueError``, ``FileNotFoundError``, a missing
+optional dependency) are printed as one line ``gyrobias: error: …`` with exit code 2; usage
+errors exit with 2 as well (argparse's convention); ``--traceback`` shows the full traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import sys
+from collections.abc import Sequence
+
+__all__ = ["EXPERIMENTS", "SUBCOMMANDS", "build_parser", "main"]
+
+#: Modules with ``register(subparsers)``, in the order they appear in ``gyrobias --help``.
+SUBCOMMANDS: list[str] = [
+    "gyrobias.cli.allan",
+    "gyrobias.cli.demo",
+]
+
+#: Modules with ``register_experiment(exp_subparsers)`` for the ``gyrobias experiment`` group
+#: (the group is shown only when this list is non-empty).
+EXPERIMENTS: list[str] = []
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every registered subcommand."""
+    from gyrobias import __version__
+
+    parser = argparse.ArgumentParser(
+        prog="gyrobias",
+        description="MEMS gyroscope noise analysis and bias prediction.",
+    )
+    parser.add_argument("--version", action="version", version=f"gyrobias {__version__}")
+    parser.add_argument(
+        "--traceback", action="store_true", help="show the full traceback on errors (for bug reports)"
+    )
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for name in SUBCOMMANDS:
+        importlib.import_module(name).register(subparsers)
+    if EXPERIMENTS:
+        exp = subparsers.add_parser("experiment", help="laboratory experiments (planning and evaluation)")
+        exp_subparsers = exp.add_subparsers(dest="experiment", metavar="EXPERIMENT", required=True)
+        for name in EXPERIMENTS:
+            importlib.import_module(name).register_experiment(exp_subparsers)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line with ``argv`` (default ``sys.argv[1:]``); returns the exit code."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version, usage errors
+        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
+    try:
+        code = args.func(args)
+    except BrokenPipeError:  # output piped into `head` etc.: stop quietly
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 1
+    except KeyboardInterrupt:
+        print("\ngyrobias: interrupted", file=sys.stderr)
+        return 130
+    except (ValueError, OSError, ImportError) as exc:
+        if args.traceback:
+            raise
+        print(f"gyrobias: error: {_message(exc)}", file=sys.stderr)
+        return 2
+    return int(code or 0)
+
+
+def _message(exc: BaseException) -> str:
+    """One line for ``exc``: its message, or for OS errors the reason and the file."""
+    if isinstance(exc, OSError) and exc.strerror and exc.filename:
+        return f"{exc.strerror}: '{exc.filename}'"
+    text = str(exc) or type(exc).__name__
+    return " ".join(text.split())

@@ -1,0 +1,694 @@
+"""Reading gyro logs (CSV/TSV/whitespace text and ``.npy``) with sampling checks.
+
+:func:`load` returns a :class:`GyroLog`: the selected channels as an ``(n, k)`` float64 array,
+their names, the sample rate, the time vector (if the log has one) and a
+:class:`SamplingReport`. Allan analysis assumes uniform sampling, so the loader does not
+silently assume a rate: when the log carries timestamps it estimates the rate from the median
+interval and reports jitter, gaps, duplicate timestamps, and a user-given ``fs`` that disagrees
+with the timestamps. Out-of-order timestamps are an error.
+
+Examples
+--------
+>>> import gyrobias, tempfile, pathlib
+>>> path = pathlib.Path(tempfile.mkdtemp()) / "log.csv"
+>>> _ = path.write_text("t,gx\\n0.00,0.1\\n0.01,0.2\\n0.02,0.1\\n0.03,0.3\\n")
+>>> log = gyrobias.io.load(path, columns=["gx"], time_column="t")
+>>> log.columns, log.fs, log.data.shape
+(('gx',), 100.0, (4, 1))
+"""
+
+from __future__ import annotations
+
+import bz2
+import gzip
+import lzma
+import os
+import re
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gyrobias._validation import choice, positive_float
+
+__all__ = ["GyroLog", "SamplingReport", "load"]
+
+#: Intervals longer than this multiple of the median interval count as gaps.
+GAP_FACTOR = 1.5
+#: A user-given ``fs`` differing from the timestamps' estimate by more than this (relative) is reported.
+FS_TOLERANCE = 0.01
+#: Relative jitter (s.d. of the regular intervals / median interval) above which a warning is given.
+JITTER_WARN = 0.01
+#: ``time_unit="auto"`` reads timestamps as nanoseconds when the median interval is at least this.
+NS_THRESHOLD = 1e3
+
+_PER_SECOND = {"s": 1.0, "ms": 1e3, "us": 1e6, "ns": 1e9}
+_TIME_UNITS = ("auto", "s", "ms", "us", "ns")
+_TIME_NAMES = ("t", "time", "timestamp", "times", "time_s", "t_s", "time_ns", "t_ns", "timestamp_ns",
+               "time_us", "t_us", "timestamp_us", "time_ms", "t_ms", "timestamp_ms")
+_OPENERS: dict[str, Any] = {".gz": gzip.open, ".bz2": bz2.open, ".xz": lzma.open}  # as np.loadtxt
+_INT_RE = re.compile(r"^[+-]?\d+$")
+_LOADTXT_CELL = re.compile(r"could not convert string '(.*)' to \w+ at row (\d+), column (\d+)")
+_LOADTXT_COLS = re.compile(r"number of columns changed from (\d+) to (\d+) at row (\d+)")
+_LOADTXT_INDEX = re.compile(r"invalid column index (\d+) at row (\d+) with (\d+) columns")
+
+
+@dataclass(frozen=True)
+class SamplingReport:
+    """What the timestamps (or their absence) say about the sampling of a log.
+
+    Attributes
+    ----------
+    n_samples : int
+        Number of samples (rows).
+    fs : float or None
+        Sample rate used for the log, Hz (user-given, else estimated; ``None`` if neither).
+    fs_source : {"user", "timestamps", None}
+        Where ``fs`` came from.
+    fs_estimated : float or None
+        Rate from the timestamps, Hz: 1 / mean of the regular intervals (those that are
+        neither gaps nor zero), rounded to 9 significant digits.
+    median_interval : float or None
+        Median interval between timestamps, s.
+    jitter : float or None
+        Relative standard deviation of the intervals (excluding gaps) about the median interval.
+    time_unit : str or None
+        Unit the time column was read in (``"s"``, ``"ms"``, ``"us"`` or ``"ns"``).
+    duration : float or None
+        Last minus first timestamp, s.
+    n_gaps : int
+        Intervals longer than ``GAP_FACTOR`` (1.5) × the median interval.
+    gap_rows : ndarray of int
+        Data-row index (0-based) of the sample *after* each gap.
+    gap_durations : ndarray of float
+        Length of each gap interval, s.
+    missing_samples : int
+        Samples the gaps would hold at the median interval (Σ round(gap / median) − 1).
+    n_duplicates : int
+        Intervals of exactly zero (repeated timestamps).
+    duplicate_rows : ndarray of int
+        Data-row index of the second sample of each repeated timestamp.
+    warnings : tuple of str
+        Human-readable findings (irregular sampling, disagreeing ``fs``); empty if all is well.
+    """
+
+    n_samples: int
+    fs: float | None
+    fs_source: str | None
+    fs_estimated: float | None = None
+    median_interval: float | None = None
+    jitter: float | None = None
+    time_unit: str | None = None
+    duration: float | None = None
+    n_gaps: int = 0
+    gap_rows: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    gap_durations: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0))
+    missing_samples: int = 0
+    n_duplicates: int = 0
+    duplicate_rows: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def longest_gap(self) -> float | None:
+        """Longest gap interval in seconds (``None`` without gaps)."""
+        return float(self.gap_durations.max()) if self.n_gaps else None
+
+    @property
+    def regular(self) -> bool:
+        """``True`` when nothing was found to warn about."""
+        return not self.warnings
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (rows 0-based data rows, times in seconds)."""
+        return {
+            "n_samples": self.n_samples,
+            "fs_hz": self.fs,
+            "fs_source": self.fs_source,
+            "fs_estimated_hz": self.fs_estimated,
+            "median_interval_s": self.median_interval,
+            "jitter": self.jitter,
+            "time_unit": self.time_unit,
+            "duration_s": self.duration,
+            "n_gaps": self.n_gaps,
+            "gap_rows": self.gap_rows.tolist(),
+            "gap_durations_s": self.gap_durations.tolist(),
+            "longest_gap_s": self.longest_gap,
+            "missing_samples": self.missing_samples,
+            "n_duplicates": self.n_duplicates,
+            "duplicate_rows": self.duplicate_rows.tolist(),
+            "warnings": list(self.warnings),
+        }
+
+    def __str__(self) -> str:
+        parts = [f"{self.n_samples} samples"]
+        if self.fs is not None:
+            parts.append(f"fs = {self.fs:g} Hz ({self.fs_source})")
+        if self.jitter is not None:
+            parts.append(f"jitter {100 * self.jitter:.3g} %")
+        if self.time_unit is not None:
+            parts.append(f"{self.n_gaps} gaps, {self.n_duplicates} repeated timestamps")
+        text = ", ".join(parts)
+        return "\n".join([text, *("warning: " + w for w in self.warnings)])
+
+
+@dataclass(frozen=True)
+class GyroLog:
+    """A loaded gyro log.
+
+    Attributes
+    ----------
+    data : ndarray, shape (n, k)
+        The selected channels as float64, one column per channel, in file units.
+    columns : tuple of str
+        Channel names (header names, or ``"col<i>"`` for files without a header / ``.npy``).
+    fs : float or None
+        Sample rate in Hz: the user's ``fs`` if given, else estimated from the timestamps,
+        else ``None``.
+    time : ndarray, shape (n,), or None
+        Timestamps in seconds relative to the first sample (exact for integer nanosecond stamps).
+    time_start : float or None
+        First timestamp as given in the file, converted to seconds.
+    time_column : str or None
+        Name of the time column used.
+    path : pathlib.Path
+        The source file.
+    sampling : SamplingReport
+        Findings about the sampling (rate, jitter, gaps, repeated timestamps).
+    """
+
+    data: NDArray[np.float64]
+    columns: tuple[str, ...]
+    fs: float | None
+    time: NDArray[np.float64] | None
+    time_start: float | None
+    time_column: str | None
+    path: Path
+    sampling: SamplingReport
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """The sampling report's warnings (irregular sampling, disagreeing ``fs``)."""
+        return self.sampling.warnings
+
+    @property
+    def n_samples(self) -> int:
+        """Number of samples (rows)."""
+        return int(self.data.shape[0])
+
+    def __getitem__(self, name: str) -> NDArray[np.float64]:
+        """One channel by name, as a 1-D view."""
+        try:
+            return self.data[:, self.columns.index(name)]
+        except ValueError:
+            raise KeyError(f"no channel {name!r}; channels are {', '.join(self.columns)}") from None
+
+
+ColumnSpec = str | int
+
+
+def load(
+    path: str | os.PathLike[str],
+    *,
+    columns: Sequence[ColumnSpec] | str | None = None,
+    time_column: ColumnSpec | Literal[False] | None = None,
+    time_unit: str = "auto",
+    fs: float | None = None,
+    delimiter: str | None = None,
+    skip_rows: int = 0,
+    comments: str = "#",
+) -> GyroLog:
+    """Load a gyro log from a CSV/TSV/whitespace-separated text file or a ``.npy`` array.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file. ``.npy`` files hold a 1-D or 2-D numeric array (rows = samples); anything
+        else is read as delimited text.
+    columns : sequence of str/int, or comma-separated str, optional
+        Channels to load, by header name or 0-based column index (``"col2"`` or ``"2"`` also
+        work for index 2). Default: every column except the time column.
+    time_column : str or int, optional
+        Column of timestamps. Default ``None`` uses a header column named ``t``, ``time``,
+        ``timestamp`` (optionally with a ``_s``/``_ms``/``_us``/``_ns`` suffix;
+        case-insensitive) if there is one; ``False`` means the log has no time column.
+    time_unit : {"auto", "s", "ms", "us", "ns"}
+        Unit of the timestamps. ``"auto"``: a ``_s``/``_ms``/``_us``/``_ns`` suffix of the
+        column name decides; otherwise nanoseconds if the median interval is ≥ 1000 (no gyro
+        log has samples 1000 s apart, and every rate below 1 MHz is ≥ 1000 ns apart), else
+        seconds. Millisecond or microsecond stamps without such a suffix need ``time_unit``.
+    fs : float, optional
+        Sample rate in Hz. Required when there is no time column; with one, a value
+        differing by more than 1 % from the timestamps' estimate is reported in the warnings
+        (and ``fs`` is still used).
+    delimiter : str, optional
+        Field separator. Default: detected among ``,`` ``;`` tab and whitespace.
+    skip_rows : int
+        Lines to skip at the top of a text file before the header / first data row.
+    comments : str
+        Lines starting with this are ignored in text files.
+
+    Returns
+    -------
+    GyroLog
+
+    Raises
+    ------
+    FileNotFoundError
+        ``path`` does not exist.
+    ValueError
+        Empty file or no data rows; unknown column (the available ones are listed); a cell
+        that is not a number (row and column given); NaN or infinite values (where); rows
+        with a different number of fields; out-of-order timestamps (the row); a time column
+        among the channels; bad option values.
+
+    Notes
+    -----
+    Rows are reported 1-based as *lines of the file* in text errors (``line 12``) and as
+    0-based data-row indices in :class:`SamplingReport`. Gaps are intervals
+    ``Δt > 1.5 · median(Δt)``; the regular intervals are ``0 < Δt ≤ 1.5 · median(Δt)``; the
+    estimated rate is ``fs = 1 / mean(regular Δt)`` and the jitter ``std(regular Δt) /
+    median(Δt)``. Integer timestamps are read as int64, so epoch nanoseconds keep their
+    exact intervals. Text files (also ``.gz``/``.bz2``/``.xz`` compressed) are parsed by
+    :func:`numpy.loadtxt` (C parser; memory O(N), about three times the result at the peak):
+    10⁷ rows × 4 columns (485 MB) load in about 8 s.
+    """
+    p = Path(os.fspath(path))
+    if not p.exists():
+        raise FileNotFoundError(f"no such file: '{p}'")
+    if p.is_dir():
+        raise ValueError(f"'{p}' is a directory, not a log file")
+    choice("time_unit", time_unit, _TIME_UNITS)
+    if fs is not None:
+        fs = positive_float("fs", fs)
+    if isinstance(skip_rows, bool) or not isinstance(skip_rows, (int, np.integer)) or skip_rows < 0:
+        raise ValueError(f"skip_rows must be an integer >= 0, got {skip_rows!r}")
+    if isinstance(columns, str):
+        columns = [c.strip() for c in columns.split(",") if c.strip()]
+        if not columns:
+            raise ValueError("columns is empty")
+    elif columns is not None:
+        columns = list(columns)
+        if not columns:
+            raise ValueError("columns is empty")
+
+    if p.suffix.lower() == ".npy":
+        table, names, t_raw, t_name = _read_npy(p, columns, time_column)
+        line_of = None
+    else:
+        table, names, t_raw, t_name, line_of = _read_text(
+            p, columns, time_column, time_unit, delimiter, int(skip_rows), comments
+        )
+
+    bad = ~np.isfinite(table)
+    if bad.any():
+        row, col = (int(i) for i in np.argwhere(bad)[0])
+        where = f"line {line_of(row)}" if line_of else f"row {row}"
+        raise ValueError(
+            f"{p.name}: {table[row, col]} in column '{names[col]}' at {where} "
+            f"({int(bad.sum())} non-finite value(s) in all); clean or interpolate the log first"
+        )
+
+    time = time_start = None
+    if t_raw is not None:
+        assert t_name is not None
+        time, intervals, time_start, unit_used, guessed = _time_seconds(p, t_raw, t_name, time_unit, line_of)
+        report = _sampling_report(len(table), time, intervals, unit_used, fs, unit_guessed=guessed)
+    else:
+        report = SamplingReport(n_samples=len(table), fs=fs, fs_source=None if fs is None else "user")
+    return GyroLog(
+        data=table,
+        columns=tuple(names),
+        fs=report.fs,
+        time=time,
+        time_start=time_start,
+        time_column=t_name,
+        path=p,
+        sampling=report,
+    )
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def _resolve(spec: ColumnSpec, header: Sequence[str] | None, n_cols: int, what: str, source: str) -> int:
+    """0-based index of the column ``spec`` (a name, an index, ``"col<i>"`` or ``"<i>"``)."""
+    available = list(header) if header is not None else [f"col{i}" for i in range(n_cols)]
+    if isinstance(spec, (int, np.integer)) and not isinstance(spec, bool):
+        if 0 <= spec < n_cols:
+            return int(spec)
+        raise ValueError(f"{what} index {spec} out of range: {source} has {n_cols} columns (0..{n_cols - 1})")
+    if not isinstance(spec, str):
+        raise TypeError(f"{what} must be a column name or integer index, got {type(spec).__name__}")
+    name = spec.strip()
+    if header is not None:
+        hits = [i for i, h in enumerate(header) if h == name]
+        if len(hits) > 1:
+            raise ValueError(f"{what} '{name}' is ambiguous: the header has it at columns {hits}")
+        if hits:
+            return hits[0]
+    m = re.fullmatch(r"(?:col)?(\d+)", name)
+    if m and int(m.group(1)) < n_cols:
+        return int(m.group(1))
+    raise ValueError(f"unknown {what} '{name}' in {source}; available: {', '.join(available)}")
+
+
+def _select(
+    columns: Sequence[ColumnSpec] | None,
+    time_column: ColumnSpec | Literal[False] | None,
+    header: Sequence[str] | None,
+    n_cols: int,
+    source: str,
+) -> tuple[list[int], int | None]:
+    """Indices of the channels and of the time column."""
+    t_idx: int | None = None
+    if time_column is None:
+        if header is not None:
+            for i, h in enumerate(header):
+                if h.lower() in _TIME_NAMES:
+                    t_idx = i
+                    break
+    elif time_column is not False:
+        t_idx = _resolve(time_column, header, n_cols, "time column", source)
+    if columns is None:
+        idx = [i for i in range(n_cols) if i != t_idx]
+        if not idx:
+            raise ValueError(f"{source} has no data columns besides the time column")
+    else:
+        idx = [_resolve(c, header, n_cols, "column", source) for c in columns]
+        if t_idx is not None and t_idx in idx:
+            if time_column is None:  # auto-detected: the user asked for it as data, so it is data
+                t_idx = None
+            else:
+                raise ValueError("the time column is also listed in columns")
+        dup = {i for i in idx if idx.count(i) > 1}
+        if dup:
+            raise ValueError(f"columns lists column(s) {sorted(dup)} more than once")
+    return idx, t_idx
+
+
+def _read_npy(
+    p: Path, columns: Sequence[ColumnSpec] | None, time_column: ColumnSpec | Literal[False] | None
+) -> tuple[NDArray[np.float64], list[str], NDArray[Any] | None, str | None]:
+    try:
+        arr = np.load(p, allow_pickle=False)
+    except (ValueError, OSError, EOFError) as exc:
+        raise ValueError(f"{p.name}: not a readable .npy file ({exc})") from None
+    if arr.dtype.kind not in "iuf":
+        raise ValueError(f"{p.name}: array dtype {arr.dtype} is not real numeric")
+    if arr.ndim == 1:
+        arr = arr.reshape(-1, 1)
+    if arr.ndim != 2:
+        raise ValueError(f"{p.name}: expected a 1-D or 2-D array (samples × channels), got shape {arr.shape}")
+    if arr.shape[0] == 0 or arr.shape[1] == 0:
+        raise ValueError(f"{p.name}: the array is empty (shape {arr.shape})")
+    idx, t_idx = _select(columns, time_column, None, arr.shape[1], p.name)
+    table = np.ascontiguousarray(arr[:, idx], dtype=np.float64)
+    t_raw = None if t_idx is None else arr[:, t_idx].copy()
+    return table, [f"col{i}" for i in idx], t_raw, None if t_idx is None else f"col{t_idx}"
+
+
+def _content_lines(p: Path, skip_rows: int, comments: str) -> Iterator[tuple[int, str]]:
+    """(1-based line number, stripped text) of non-blank, non-comment lines after ``skip_rows``."""
+    opener = _OPENERS.get(p.suffix.lower(), open)
+    with opener(p, "rt", encoding="utf-8-sig", errors="replace") as fh:
+        for number, line in enumerate(fh, start=1):
+            if number <= skip_rows:
+                continue
+            text = line.strip()
+            if not text or (comments and text.startswith(comments)):
+                continue
+            yield number, text
+
+
+def _split(line: str, delimiter: str | None) -> list[str]:
+    return [f.strip().strip("\"'") for f in (line.split(delimiter) if delimiter else line.split())]
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _detect_delimiter(lines: list[str]) -> str | None:
+    """The first of ``;``, tab, ``,`` that occurs in every sample line, else ``None`` (whitespace).
+
+    ``;`` and tab come first: where they separate fields, a comma is a decimal separator
+    (which is then reported as a non-numeric cell), never the other way round. Lines with a
+    different number of fields are reported by the parser, naming the line.
+    """
+    for cand in (";", "\t", ","):
+        if all(cand in line for line in lines):
+            return cand
+    return None
+
+
+def _read_text(
+    p: Path,
+    columns: Sequence[ColumnSpec] | None,
+    time_column: ColumnSpec | Literal[False] | None,
+    time_unit: str,
+    delimiter: str | None,
+    skip_rows: int,
+    comments: str,
+) -> tuple[NDArray[np.float64], list[str], NDArray[Any] | None, str | None, Any]:
+    sample: list[tuple[int, str]] = []
+    for item in _content_lines(p, skip_rows, comments):
+        sample.append(item)
+        if len(sample) >= 20:
+            break
+    if not sample:
+        raise ValueError(f"{p.name}: the file is empty (no data rows)")
+    if delimiter is None:
+        delimiter = _detect_delimiter([s for _, s in sample])
+    first_fields = _split(sample[0][1], delimiter)
+    has_header = not all(_is_number(f) for f in first_fields)
+    header = first_fields if has_header else None
+    data_start = sample[1][0] if has_header and len(sample) > 1 else sample[0][0]
+    if has_header and len(sample) == 1:
+        raise ValueError(f"{p.name}: the file has a header ({', '.join(first_fields)}) but no data rows")
+    n_cols = len(_split(sample[1 if has_header else 0][1], delimiter))
+    if header is not None and len(header) != n_cols:
+        raise ValueError(
+            f"{p.name}: the header has {len(header)} names but line {data_start} has {n_cols} fields"
+        )
+    idx, t_idx = _select(columns, time_column, header, n_cols, p.name)
+    names = [header[i] if header is not None else f"col{i}" for i in idx]
+    t_name = None if t_idx is None else (header[t_idx] if header is not None else f"col{t_idx}")
+
+    def line_of(row: int) -> int:
+        """File line (1-based) of data row ``row`` (0-based); scans the file, error path only."""
+        for k, (number, _) in enumerate(
+            (item for item in _content_lines(p, skip_rows, comments) if item[0] >= data_start)
+        ):
+            if k == row:
+                return number
+        return -1
+
+    usecols = ([t_idx] if t_idx is not None else []) + idx
+    first_data = _split(sample[1 if has_header else 0][1], delimiter)
+    int_time = t_idx is not None and bool(_INT_RE.match(first_data[t_idx])) and time_unit != "s"
+    kw: dict[str, Any] = {
+        "delimiter": delimiter,
+        "skiprows": data_start - 1,
+        "comments": comments or None,
+        "usecols": usecols,
+        "ndmin": 2,
+        "encoding": "utf-8-sig",
+    }
+
+    def col_name(file_col: int) -> str:
+        """Name of 0-based file column ``file_col`` for messages."""
+        return f"'{header[file_col]}'" if header is not None else f"{file_col}"
+
+    if int_time:
+        # integer stamps (typically epoch nanoseconds, ~1e18) are read exactly as int64: as
+        # float64 they would carry a ±128 ns rounding error that shows up as jitter
+        dtype = [("t", np.int64)] + [(f"c{k}", np.float64) for k in range(len(idx))]
+        try:
+            rec = _loadtxt(p, kw, dtype, col_name, line_of, int_column=t_idx)
+        except _NotInteger:
+            int_time = False
+        else:
+            rec = rec.reshape(-1)
+            t_raw: NDArray[Any] | None = rec["t"].copy()
+            table = np.empty((len(rec), len(idx)))
+            for k in range(len(idx)):
+                table[:, k] = rec[f"c{k}"]
+            del rec
+            return table, names, t_raw, t_name, line_of
+    full = _loadtxt(p, kw, np.float64, col_name, line_of)
+    if t_idx is not None:
+        t_raw = full[:, 0].copy()
+        table = np.ascontiguousarray(full[:, 1:])
+    else:
+        t_raw = None
+        table = full
+    del full
+    return table, names, t_raw, t_name, line_of
+
+
+class _NotInteger(Exception):
+    pass
+
+
+def _loadtxt(
+    p: Path, kw: dict[str, Any], dtype: Any, col_name: Any, line_of: Any, int_column: int | None = None
+) -> Any:
+    """np.loadtxt with its errors turned into messages naming the file line and column.
+
+    Raises ``_NotInteger`` when the ``int_column`` (0-based file column) holds a non-integer
+    number, so that the caller can re-read it as float.
+    """
+    try:
+        out = np.loadtxt(p, dtype=dtype, **kw)
+    except ValueError as exc:
+        msg = str(exc)
+        m = _LOADTXT_CELL.search(msg)
+        if m:
+            text, row, col = m.group(1), int(m.group(2)), int(m.group(3))
+            # numpy counts data rows from 0 (skipping comments) and file columns from 1
+            if int_column is not None and col == int_column + 1 and _is_number(text):
+                raise _NotInteger from None
+            what = "an empty cell" if not text.strip() else f"'{text}' (not a number)"
+            hint = ""
+            if re.fullmatch(r"[+-]?\d+,\d+", text.strip()):
+                hint = " (decimal commas are not supported)"
+            raise ValueError(
+                f"{p.name}: {what} in column {col_name(col - 1)} at line {line_of(row)}{hint}"
+            ) from None
+        m = _LOADTXT_COLS.search(msg)
+        if m:
+            raise ValueError(
+                f"{p.name}: line {line_of(int(m.group(3)))} has {m.group(2)} fields, "
+                f"the lines before it have {m.group(1)}"
+            ) from None
+        m = _LOADTXT_INDEX.search(msg)
+        if m:  # this numpy message counts rows from 1
+            raise ValueError(
+                f"{p.name}: line {line_of(int(m.group(2)) - 1)} has only {m.group(3)} fields"
+            ) from None
+        raise ValueError(f"{p.name}: {msg}") from None
+    except IndexError:
+        raise ValueError(f"{p.name}: some line has fewer fields than the selected columns need") from None
+    if len(out) == 0:
+        raise ValueError(f"{p.name}: the file is empty (no data rows)")
+    return out
+
+
+def _time_seconds(
+    p: Path, t_raw: NDArray[Any], t_name: str, time_unit: str, line_of: Any
+) -> tuple[NDArray[np.float64], NDArray[np.float64], float, str, bool]:
+    """Timestamps → seconds since the first sample; checks their order."""
+    if t_raw.dtype.kind == "f" and not np.isfinite(t_raw).all():
+        row = int(np.flatnonzero(~np.isfinite(t_raw))[0])
+        where = f"line {line_of(row)}" if line_of else f"row {row}"
+        raise ValueError(f"{p.name}: {t_raw[row]} in the time column '{t_name}' at {where}")
+    rel = t_raw - t_raw[0]  # exact in int64 for integer stamps
+    steps = np.diff(rel)
+    back = np.flatnonzero(steps < 0)
+    if back.size:
+        row = int(back[0]) + 1
+        where = f"line {line_of(row)}" if line_of else f"row {row}"
+        raise ValueError(
+            f"{p.name}: timestamps out of order in '{t_name}' at {where} "
+            f"({t_raw[row]} after {t_raw[row - 1]}; {back.size} backward step(s) in all); "
+            "sort the log or fix its clock"
+        )
+    unit = time_unit
+    guessed = False
+    if unit == "auto":
+        m = re.search(r"_(s|ms|us|ns)$", t_name.lower())
+        if m:
+            unit = m.group(1)
+        else:
+            positive = steps[steps > 0]
+            median = float(np.median(positive)) if positive.size else 0.0
+            unit = "ns" if median >= NS_THRESHOLD else "s"
+            guessed = True
+    per_second = _PER_SECOND[unit]  # dividing by an exact power of ten rounds correctly
+    # the intervals from the raw differences: exact for integer stamps, so a perfectly
+    # regular nanosecond log has exactly zero jitter
+    intervals = steps.astype(np.float64) / per_second
+    return rel.astype(np.float64) / per_second, intervals, float(t_raw[0]) / per_second, unit, guessed
+
+
+def _sampling_report(
+    n: int,
+    time: NDArray[np.float64],
+    steps: NDArray[np.float64],
+    unit: str,
+    fs: float | None,
+    *,
+    unit_guessed: bool = False,
+) -> SamplingReport:
+    warnings: list[str] = []
+    duration = float(time[-1])
+    dup_rows = np.flatnonzero(steps == 0) + 1
+    positive = steps[steps > 0]
+    if positive.size == 0:
+        raise ValueError(f"the time column does not advance ({n} samples, all with the same timestamp)")
+    median = float(np.median(positive))
+    gap_mask = steps > GAP_FACTOR * median
+    gap_rows = np.flatnonzero(gap_mask) + 1
+    gap_durations = steps[gap_mask]
+    regular = steps[(steps > 0) & ~gap_mask]
+    jitter = float(np.std(regular) / median) if regular.size > 1 else 0.0
+    # the mean of the regular intervals: unaffected by gaps like the median, but not stuck on
+    # one quantised interval value; 9 significant digits drop the decimal-rounding noise of
+    # timestamps written as text (0.0100 → 100.00000000000213 Hz)
+    fs_est = float(f"{1.0 / float(np.mean(regular if regular.size else positive)):.9g}")
+    missing = int(np.sum(np.rint(gap_durations / median) - 1)) if gap_rows.size else 0
+
+    if gap_rows.size:
+        longest = int(np.argmax(gap_durations))
+        warnings.append(
+            f"{gap_rows.size} gap(s) in the timestamps (intervals > {GAP_FACTOR:g}× the median "
+            f"{median:.6g} s): longest {gap_durations[longest]:.6g} s before row {gap_rows[longest]} "
+            f"(t = {time[gap_rows[longest]]:.6g} s), ~{missing} sample(s) missing; the analysis "
+            "treats the samples as uniformly spaced"
+        )
+    if dup_rows.size:
+        warnings.append(
+            f"{dup_rows.size} repeated timestamp(s) (zero intervals), first at row {dup_rows[0]}"
+        )
+    if jitter > JITTER_WARN:
+        warnings.append(
+            f"sampling jitter {100 * jitter:.3g} % (s.d. of the intervals / median interval) "
+            f"exceeds {100 * JITTER_WARN:g} %"
+        )
+    if unit_guessed and unit == "s" and fs_est < 1.0:
+        warnings.append(
+            f"the timestamps, read as seconds, give fs = {fs_est:.6g} Hz; if they are milliseconds "
+            "or microseconds, pass time_unit (--time-unit)"
+        )
+    source = "timestamps"
+    if fs is not None:
+        source = "user"
+        if abs(fs - fs_est) > FS_TOLERANCE * fs_est:
+            warnings.append(
+                f"given fs = {fs:g} Hz disagrees with the timestamps ({fs_est:.6g} Hz) "
+                f"by {100 * abs(fs - fs_est) / fs_est:.3g} %; using fs = {fs:g} Hz"
+            )
+    return SamplingReport(
+        n_samples=n,
+        fs=fs if fs is not None else fs_est,
+        fs_source=source,
+        fs_estimated=fs_est,
+        median_interval=median,
+        jitter=jitter,
+        time_unit=unit,
+        duration=duration,
+        n_gaps=int(gap_rows.size),
+        gap_rows=gap_rows.astype(np.int64),
+        gap_durations=gap_durations.astype(np.float64),
+        missing_samples=missing,
+        n_duplicates=int(dup_rows.size),
+        duplicate_rows=dup_rows.astype(np.int64),
+        warnings=tuple(warnings),
+    )

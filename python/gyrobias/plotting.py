@@ -1,0 +1,182 @@
+"""Log-log plots of Allan-family deviations with their confidence bars.
+
+matplotlib is optional (``pip install "gyrobias[plot]"``) and imported only when a plot is made.
+:func:`plot_allan` draws into a given or a new pyplot ``Axes``; :func:`save_allan_plot` renders
+straight to a file through a pyplot-free ``Figure`` (Agg canvas), so it works headless and does
+not touch pyplot's global state — the command line uses it.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from gyrobias.allan import AllanResult
+
+__all__ = ["plot_allan", "save_allan_plot"]
+
+_SYMBOL = {"adev": "σ(τ)", "mdev": "Mod σ(τ)", "hdev": "Hadamard σ(τ)", "totdev": "Tot σ(τ)"}
+_NAME = {"adev": "Allan", "mdev": "modified Allan", "hdev": "Hadamard", "totdev": "total"}
+
+
+def _require_matplotlib() -> Any:
+    try:
+        import matplotlib
+    except ImportError as exc:
+        raise ImportError(
+            "plotting needs matplotlib, which is not installed; install it with "
+            "pip install \"gyrobias[plot]\" (or pip install matplotlib)"
+        ) from exc
+    return matplotlib
+
+
+def _as_list(results: AllanResult | Sequence[AllanResult]) -> list[AllanResult]:
+    from gyrobias.allan import AllanResult
+
+    items = [results] if isinstance(results, AllanResult) else list(results)
+    if not items:
+        raise ValueError("results is empty: nothing to plot")
+    for r in items:
+        if not isinstance(r, AllanResult):
+            raise TypeError(f"results must be AllanResult objects, got {type(r).__name__}")
+    return items
+
+
+def plot_allan(
+    results: AllanResult | Sequence[AllanResult],
+    ax: Any = None,
+    labels: Sequence[str] | None = None,
+    *,
+    title: str | None = None,
+    confidence_bars: bool = True,
+    **kwargs: Any,
+) -> Any:
+    """Log-log plot of one or more Allan-family deviations σ(τ) against τ.
+
+    Parameters
+    ----------
+    results : AllanResult or sequence of AllanResult
+        E.g. the tuple returned by :func:`gyrobias.allan.adev` for a multi-axis log.
+    ax : matplotlib Axes, optional
+        Where to draw; default a new figure from :func:`matplotlib.pyplot.subplots`.
+    labels : sequence of str, optional
+        Legend entries, one per result; default the axis names (``result.axis``), else the
+        estimator names when several kinds are shown.
+    title : str, optional
+        Axes title.
+    confidence_bars : bool
+        Draw the asymmetric confidence bars ``[ci_low, ci_high]`` of results that have them.
+    **kwargs
+        Passed to :meth:`~matplotlib.axes.Axes.errorbar` (e.g. ``fmt``, ``color``, ``ms``).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Raises
+    ------
+    ImportError
+        matplotlib is not installed (the message names the ``gyrobias[plot]`` extra).
+    ValueError
+        Empty ``results`` or ``labels`` of the wrong length.
+
+    Notes
+    -----
+    The y label carries the deviation's unit (``σ(τ) [deg/s]``) when all results share it,
+    the x label is ``τ [s]``; the legend title states the confidence level of the bars.
+    """
+    items = _as_list(results)
+    _require_matplotlib()
+    if labels is not None and len(labels) != len(items):
+        raise ValueError(f"labels has {len(labels)} entries for {len(items)} results")
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        _, ax = plt.subplots(figsize=(7.5, 5.0), layout="constrained")
+    _draw(ax, items, labels, title, confidence_bars, kwargs)
+    return ax
+
+
+def save_allan_plot(
+    results: AllanResult | Sequence[AllanResult],
+    path: str | os.PathLike[str],
+    labels: Sequence[str] | None = None,
+    *,
+    title: str | None = None,
+    dpi: int = 150,
+    **kwargs: Any,
+) -> None:
+    """Render :func:`plot_allan` to an image file (format from the suffix: png, pdf, svg, …).
+
+    Uses a standalone ``matplotlib.figure.Figure`` (Agg canvas for raster formats), so no
+    display and no pyplot state are involved.
+    """
+    items = _as_list(results)
+    _require_matplotlib()
+    from matplotlib.figure import Figure
+
+    if labels is not None and len(labels) != len(items):
+        raise ValueError(f"labels has {len(labels)} entries for {len(items)} results")
+    fig = Figure(figsize=(7.5, 5.0), layout="constrained")
+    ax = fig.add_subplot()
+    _draw(ax, items, labels, title, kwargs.pop("confidence_bars", True), kwargs)
+    fig.savefig(os.fspath(path), dpi=dpi)
+
+
+def _draw(
+    ax: Any,
+    items: list[AllanResult],
+    labels: Sequence[str] | None,
+    title: str | None,
+    confidence_bars: bool,
+    kwargs: dict[str, Any],
+) -> None:
+    kinds = {r.kind for r in items}
+    if labels is None:
+        auto: list[str | None] = []
+        for i, r in enumerate(items):
+            name = r.axis or (f"series {i + 1}" if len(items) > 1 and len(kinds) == 1 else None)
+            if len(kinds) > 1:
+                name = f"{name} {r.kind.upper()}" if name else r.kind.upper()
+            auto.append(name)
+        labels = None if all(a is None for a in auto) else [a or "" for a in auto]
+    style = {"fmt": "o-", "ms": 3.5, "lw": 1.2, "capsize": 2.5, "elinewidth": 0.9}
+    style.update(kwargs)
+    levels = set()
+    for i, r in enumerate(items):
+        label = labels[i] if labels is not None else None
+        yerr = None
+        if confidence_bars and r.ci_low is not None and r.ci_high is not None:
+            dev = r.adev
+            yerr = np.vstack([np.clip(dev - r.ci_low, 0.0, None), np.clip(r.ci_high - dev, 0.0, None)])
+            if r.confidence is not None:
+                levels.add(r.confidence)
+        ax.errorbar(r.taus, r.adev, yerr=yerr, label=label, **style)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("τ [s]")
+    units = {r.unit for r in items}
+    symbol = _SYMBOL[items[0].kind] if len(kinds) == 1 else "deviation"
+    unit = f" [{units.pop()}]" if len(units) == 1 and None not in units else ""
+    ax.set_ylabel(f"{symbol}{unit}")
+    ax.grid(True, which="major", alpha=0.6)
+    ax.grid(True, which="minor", alpha=0.2)
+    if title is None and len(kinds) == 1:
+        kind = items[0].kind
+        title = f"{'Overlapping ' if items[0].overlapping else 'Non-overlapping '}{_NAME[kind]} deviation"
+        if kind != "adev":
+            title = f"{_NAME[kind].capitalize()} deviation"
+    if title:
+        ax.set_title(title)
+    if labels is not None or levels:
+        legend_title = None
+        if len(levels) == 1:
+            legend_title = f"bars: {100 * levels.pop():.3g} % confidence"
+        if labels is not None:
+            ax.legend(title=legend_title)
+        elif legend_title:
+            ax.text(0.98, 0.98, legend_title, transform=ax.transAxes, ha="right", va="top", fontsize=9)

@@ -1,0 +1,617 @@
+"""Bias prediction from a calibration window ([BP] §IV–V).
+
+A vehicle stops; the gyro output during the standstill (``k`` samples) is a calibration window
+and the bias is predicted for the ``h`` samples of the drive that follows. Three predictors:
+
+- :func:`calibration_mean` — the mean of the window ([BP] eq. 9);
+- :func:`moving_average` — the mean of the last ``j`` samples for the ``j``-th step ([BP] eq. 8);
+- :class:`FractionalKalmanPredictor` — the optimal predictor under a 1/f (ARFIMA(0, d, 0)) bias
+  plus white noise ([BP] §IV-A), with the standard deviations of the forecast.
+
+plus the metrics :func:`integrated_error` and :func:`rsse` and :func:`evaluate`, which runs
+[BP]'s batch test (§V-C, Table I) on a long static log. All computations run in the Rust core;
+a window or horizon is in samples, rates in the caller's unit.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gyrobias import _core
+from gyrobias._validation import as_float_array, choice, positive_float
+
+__all__ = [
+    "CompiledPredictor",
+    "Evaluation",
+    "FractionalKalmanPredictor",
+    "MethodStats",
+    "Prediction",
+    "calibration_mean",
+    "evaluate",
+    "integrated_error",
+    "moving_average",
+    "rsse",
+]
+
+_MEAN_MODES = ("sample", "diffuse", "none")
+
+
+def _n_threads(n_threads: int | None) -> int:
+    if n_threads is None:
+        return 0
+    if isinstance(n_threads, bool) or not isinstance(n_threads, (int, np.integer)) or n_threads < 1:
+        raise ValueError(f"n_threads must be a positive integer or None, got {n_threads!r}")
+    return int(n_threads)
+
+
+def _horizon(horizon: Any) -> int:
+    if isinstance(horizon, bool) or not isinstance(horizon, (int, np.integer)):
+        raise TypeError(f"horizon must be an integer number of samples, got {type(horizon).__name__}")
+    if horizon < 1:
+        raise ValueError(f"horizon must be at least 1 sample, got {horizon}")
+    return int(horizon)
+
+
+def _windows(name: str, value: Any) -> tuple[NDArray[np.float64], bool]:
+    """``value`` as a C-contiguous (windows × k) array and whether it was 1-D."""
+    try:
+        arr = as_float_array(name, value, ndims=(1, 2))
+    except ValueError as exc:
+        if "inhomogeneous" in str(exc) or "sequence" in str(exc):
+            raise ValueError(f"{name} has ragged rows: every window must have the same length") from exc
+        raise
+    one = arr.ndim == 1
+    arr2 = arr.reshape(1, -1) if one else arr
+    if arr2.shape[1] < 2:
+        raise ValueError(f"calibration ({name}) is too short: at least 2 samples needed, got {arr2.shape[1]}")
+    return arr2, one
+
+
+def _asarray_ragged(name: str, value: Any) -> Any:
+    if isinstance(value, (list, tuple)) and value and all(isinstance(v, (list, tuple, np.ndarray)) for v in value):
+        lengths = {len(v) for v in value}
+        if len(lengths) > 1:
+            raise ValueError(f"{name} has ragged rows (lengths {sorted(lengths)}): every window must have the same length")
+    return value
+
+
+def calibration_mean(y: Any, horizon: int) -> NDArray[np.float64]:
+    """Calibration-mean bias forecast ([BP] eq. 9).
+
+    Parameters
+    ----------
+    y : array_like, shape (k,) or (windows, k)
+        Calibration window(s), k ≥ 2 finite samples.
+    horizon : int
+        Number of future samples h ≥ 1.
+
+    Returns
+    -------
+    ndarray, shape (h,) or (windows, h)
+        ``ŷ_j = mean(y_0..y_{k−1})`` for every step j.
+    """
+    arr, one = _windows("y", _asarray_ragged("y", y))
+    h = _horizon(horizon)
+    out = _core.calibration_mean(arr, h).reshape(arr.shape[0], h)
+    return out[0] if one else out
+
+
+def moving_average(y: Any, horizon: int) -> NDArray[np.float64]:
+    """Moving-average bias forecast ([BP] eq. 8, extended by eq. 9).
+
+    Notes
+    -----
+    For ``1 ≤ j ≤ k`` the forecast of step ``j`` is the mean of the last ``j`` calibration samples
+    (``ŷ_1 = y_{k−1}``); for ``j > k`` it is the calibration mean.
+
+    Parameters and returns as :func:`calibration_mean`.
+    """
+    arr, one = _windows("y", _asarray_ragged("y", y))
+    h = _horizon(horizon)
+    out = _core.moving_average(arr, h).reshape(arr.shape[0], h)
+    return out[0] if one else out
+
+
+def integrated_error(y: Any, yhat: Any) -> NDArray[np.float64] | float:
+    """Integrated error ``IE = Σ_j (y_j − ŷ_j)`` (data minus prediction) along the last axis."""
+    a = as_float_array("y", y, ndims=(1, 2))
+    b = as_float_array("yhat", yhat, ndims=(1, 2))
+    if a.shape != b.shape:
+        raise ValueError(f"y and yhat must have the same shape, got {a.shape} and {b.shape}")
+    out = np.sum(a - b, axis=-1)
+    return float(out) if out.ndim == 0 else out
+
+
+def rsse(y: Any, yhat: Any) -> NDArray[np.float64] | float:
+    """Root of the sum of squared errors ``√Σ_j (y_j − ŷ_j)²`` along the last axis.
+
+    Notes
+    -----
+    [BP]'s text defines the plain sum of squares; its Table I values need the root (SPEC §5).
+    """
+    a = as_float_array("y", y, ndims=(1, 2))
+    b = as_float_array("yhat", yhat, ndims=(1, 2))
+    if a.shape != b.shape:
+        raise ValueError(f"y and yhat must have the same shape, got {a.shape} and {b.shape}")
+    out = np.sqrt(np.sum((a - b) ** 2, axis=-1))
+    return float(out) if out.ndim == 0 else out
+
+
+@dataclass(frozen=True)
+class Prediction:
+    """A bias forecast with its uncertainty.
+
+    Attributes
+    ----------
+    bias : ndarray, shape (h,) or (windows, h)
+        Predicted bias for the h samples after the calibration window (caller's rate unit).
+    std : ndarray, same shape
+        Standard deviation of the bias forecast error (±2·std is the ~95 % band of the bias).
+    std_observation : ndarray, same shape
+        Standard deviation of a future *observation* around the forecast (white noise included).
+    mean : float or ndarray, shape (windows,)
+        Estimated mean state m̂ (the constant part of the bias).
+    mean_std : float
+        Standard deviation of m̂ (0 for ``mean="sample"``/``"none"``).
+    """
+
+    bias: NDArray[np.float64]
+    std: NDArray[np.float64]
+    std_observation: NDArray[np.float64]
+    mean: NDArray[np.float64] | float
+    mean_std: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain-Python dictionary (lists), e.g. for JSON."""
+        mean = self.mean.tolist() if isinstance(self.mean, np.ndarray) else self.mean
+        return {
+            "bias": self.bias.tolist(),
+            "std": self.std.tolist(),
+            "std_observation": self.std_observation.tolist(),
+            "mean": mean,
+            "mean_std": self.mean_std,
+        }
+
+
+def _mean_spec(mean: Any) -> tuple[str, float, float]:
+    """(mode, mu0, p0) for the core from ``mean``."""
+    if isinstance(mean, str):
+        return choice("mean", mean, _MEAN_MODES), 0.0, 0.0
+    if isinstance(mean, (tuple, list)) and len(mean) == 2:
+        mu0, p0 = mean
+        for nm, v in (("mu0", mu0), ("p0", p0)):
+            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
+                raise TypeError(f"mean=(mu0, p0): {nm} must be a real number, got {type(v).__name__}")
+        mu0, p0 = float(mu0), float(p0)
+        if not math.isfinite(mu0):
+            raise ValueError(f"mean=(mu0, p0): mu0 must be finite, got {mu0}")
+        if p0 == math.inf:
+            return "diffuse", 0.0, 0.0
+        if not (p0 >= 0.0 and math.isfinite(p0)):
+            raise ValueError(f"mean=(mu0, p0): p0 must be ≥ 0 (or inf for a diffuse prior), got {p0}")
+        return "proper", mu0, p0
+    raise ValueError(f"mean must be 'sample', 'diffuse', 'none' or a pair (mu0, p0); got {mean!r}")
+
+
+class CompiledPredictor:
+    """A fractional Kalman predictor compiled to the linear map ``ŷ = W·y + w0``.
+
+    Built by :meth:`FractionalKalmanPredictor.compile`. :meth:`predict` on a (windows × k) batch
+    is one matrix product in the Rust core (multi-threaded, GIL released). Immutable and safe to
+    share between threads.
+    """
+
+    def __init__(self, inner: Any, predictor: FractionalKalmanPredictor) -> None:
+        self._inner = inner
+        self.predictor = predictor
+
+    @property
+    def calibration_length(self) -> int:
+        """k, the window length the map was compiled for."""
+        return int(self._inner.calibration_length)
+
+    @property
+    def horizon(self) -> int:
+        """h, the number of predicted samples."""
+        return int(self._inner.horizon)
+
+    @property
+    def weights(self) -> NDArray[np.float64]:
+        """W, shape (h, k)."""
+        return self._inner.weights  # type: ignore[no-any-return]
+
+    @property
+    def offset(self) -> NDArray[np.float64]:
+        """w0, shape (h,) (nonzero only for a proper mean prior)."""
+        return self._inner.offset  # type: ignore[no-any-return]
+
+    def predict(self, batch: Any, *, n_threads: int | None = None) -> Prediction:
+        """Forecast every window of ``batch`` (shape (windows, k) or (k,))."""
+        arr, one = _windows("batch", _asarray_ragged("batch", batch))
+        if arr.shape[1] != self.calibration_length:
+            raise ValueError(
+                f"batch windows have {arr.shape[1]} samples; the predictor was compiled for "
+                f"calibration_length={self.calibration_length}"
+            )
+        bias, mean = self._inner.predict(arr, _n_threads(n_threads))
+        rows, h = arr.shape[0], self.horizon
+        bias = bias.reshape(rows, h)
+        std = np.broadcast_to(self._inner.std, (rows, h))
+        std_obs = np.broadcast_to(self._inner.std_observation, (rows, h))
+        if one:
+            return Prediction(bias[0], std[0], std_obs[0], float(mean[0]), float(self._inner.mean_std))
+        return Prediction(bias, std, std_obs, mean, float(self._inner.mean_std))
+
+
+@dataclass(frozen=True)
+class FractionalKalmanPredictor:
+    """The fractional (1/f) Kalman bias predictor of [BP] §IV-A.
+
+    Parameters
+    ----------
+    d : float
+        Memory parameter of the ARFIMA(0, d, 0) bias, −½ < d < 3/2 (½ is flicker / 1/f noise).
+    q : float
+        Variance of the driving white noise per sample (> 0), in (rate unit)².
+    r : float
+        Variance of the white measurement noise per sample (≥ 0), in (rate unit)².
+    mean : {"sample", "diffuse", "none"} or (mu0, p0)
+        Prior of the constant mean state m: the calibration sample mean held fixed ("sample",
+        [BP]'s reading and the default), an exactly infinite prior ("diffuse": the GLS/BLUP
+        estimate), m = 0 ("none"), or a proper prior N(mu0, p0) (p0 = 0: known mean,
+        p0 = inf: diffuse).
+    algorithm : {"schur", "literal"}
+        "schur" (default): generalized Schur algorithm, O(n·k) time and O(n) memory;
+        "literal": [BP]'s growing-state Kalman filter, O(n³) (reference, small n only).
+
+    Notes
+    -----
+    Model (SPEC §5), with time 0 the first calibration sample::
+
+        x_t = Σ_{l=1}^{t} φ_l x_{t−l} + w_t,  φ_l = −π_l(d),  w_t ~ N(0, q),  x_0 = w_0
+        y_t = m + x_t + v_t,                   v_t ~ N(0, r)
+
+    with ``π_0 = 1, π_l = π_{l−1}(l − 1 − d)/l`` (the type-II fractional difference; [BP] eq. 3 is
+    misprinted, SPEC §4). The forecast is ``b̂_t = m̂ + x̂_t`` with variance
+    ``P_mm + 2P_mx + P_xx``; an observation adds ``r``. Both algorithms give the same numbers
+    (to ~1e-13).
+
+    References
+    ----------
+    [BP] M. Kirkko-Jaakkola, J. Collin, J. Takala, "Bias prediction for MEMS gyroscopes",
+    IEEE Sensors Journal 12(6), 2012, §IV-A.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrobias.predict import FractionalKalmanPredictor
+    >>> y = np.cumsum(np.random.default_rng(0).standard_normal(200)) * 0.01 + 0.3
+    >>> p = FractionalKalmanPredictor(d=0.5, q=1e-4, r=1e-4).predict(y, 100)
+    >>> p.bias.shape, bool(np.all(p.std > 0))
+    ((100,), True)
+    """
+
+    d: float = 0.5
+    q: float = 1.0
+    r: float = 0.0
+    mean: Any = "sample"
+    algorithm: str = "schur"
+    _spec: tuple[str, float, float] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        for name in ("d", "q", "r"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
+                raise TypeError(f"{name} must be a real number, got {type(v).__name__}")
+            object.__setattr__(self, name, float(v))
+        if not math.isfinite(self.d):
+            raise ValueError(f"d must be finite, got {self.d}")
+        positive_float("q", self.q)
+        if not (math.isfinite(self.r) and self.r >= 0.0):
+            raise ValueError(f"r must be finite and ≥ 0, got {self.r}")
+        choice("algorithm", self.algorithm, ("schur", "literal"))
+        object.__setattr__(self, "_spec", _mean_spec(self.mean))
+
+    def _args(self) -> tuple[float, float, float, str, float, float]:
+        mode, mu0, p0 = self._spec
+        return self.d, self.q, self.r, mode, mu0, p0
+
+    def predict(self, calibration: Any, horizon: int, *, n_threads: int | None = None) -> Prediction:
+        """Forecast the bias for ``horizon`` samples after each calibration window.
+
+        Parameters
+        ----------
+        calibration : array_like, shape (k,) or (windows, k)
+            Calibration window(s) of k ≥ 2 finite samples.
+        horizon : int
+            Number of samples to predict, h ≥ 1.
+        n_threads : int, optional
+            Threads for many windows (default: all).
+
+        Returns
+        -------
+        Prediction
+            1-D fields for 1-D input, (windows, h) fields for 2-D input.
+
+        Raises
+        ------
+        ValueError
+            Bad input (too short, non-finite, ragged rows, parameters out of range).
+        gyrobias.GyroLinAlgError
+            The problem is numerically singular or ill-conditioned (never a silent NaN).
+        """
+        arr, one = _windows("calibration", _asarray_ragged("calibration", calibration))
+        h = _horizon(horizon)
+        res = _core.fractional_kalman(arr, h, *self._args(), self.algorithm, _n_threads(n_threads))
+        rows = arr.shape[0]
+        bias = res["bias"].reshape(rows, h)
+        if one:
+            return Prediction(bias[0], res["std"], res["std_observation"], float(res["mean"][0]), float(res["mean_std"]))
+        std = np.broadcast_to(res["std"], (rows, h))
+        std_obs = np.broadcast_to(res["std_observation"], (rows, h))
+        return Prediction(bias, std, std_obs, res["mean"], float(res["mean_std"]))
+
+    def compile(self, calibration_length: int, horizon: int, *, n_threads: int | None = None) -> CompiledPredictor:
+        """Precompute the linear map ``ŷ = W·y + w0`` for windows of ``calibration_length``.
+
+        Compiling costs O(n·k) memory and one triangular solve; afterwards a batch of R windows
+        is one (R × k)·(k × h) matrix product.
+        """
+        if isinstance(calibration_length, bool) or not isinstance(calibration_length, (int, np.integer)):
+            raise TypeError(f"calibration_length must be an integer, got {type(calibration_length).__name__}")
+        k = int(calibration_length)
+        if k < 2:
+            raise ValueError(f"calibration_length must be at least 2 samples, got {k}")
+        h = _horizon(horizon)
+        inner = _core.CompiledPredictor(k, h, *self._args(), _n_threads(n_threads))
+        return CompiledPredictor(inner, self)
+
+    @classmethod
+    def from_noise(
+        cls,
+        coefficients: Any = None,
+        fs: float | None = None,
+        d: float = 0.5,
+        *,
+        arw: float | None = None,
+        bias_instability: float | None = None,
+        mean: Any = "sample",
+    ) -> FractionalKalmanPredictor:
+        """Model parameters from Allan-variance noise coefficients.
+
+        Parameters
+        ----------
+        coefficients : object with attributes ``N`` and ``B``, optional
+            E.g. :class:`gyrobias.noise.NoiseCoefficients`; ``N.value`` is the angle random walk
+            in (rate unit)·√s (u/√s for u = deg/s: deg/√s), ``B.value`` the bias instability in
+            the rate unit (both base units).
+        fs : float
+            Sample rate in Hz.
+        d : float
+            Memory parameter (default ½; e.g. from :func:`gyrobias.fractional.elw`).
+        arw, bias_instability : float, optional
+            N and B as plain floats instead of ``coefficients``.
+        mean : see :class:`FractionalKalmanPredictor`
+
+        Notes
+        -----
+        White noise: rate white noise of per-sample variance σ_w² at period t0 has the two-sided
+        PSD N², i.e. ``N² = σ_w²·t0`` (IEEE 952), so ``r = N²·fs``.
+
+        1/f noise: the ARFIMA(0, d, 0) process driven by variance q has the two-sided PSD
+        ``S(f) = q·t0·|2 sin(π f t0)|^(−2d)``, which for d = ½ and f ≪ fs is ``q/(2π f)``; the
+        flicker PSD with bias instability B is ``B²/(2π f)`` (IEEE 952; Allan plateau
+        0.664·B). Hence **q = B²** for d = ½, independent of fs (per-sample units). For d ≠ ½
+        the spectra have different slopes; q = B² then matches them at ω = 2π f t0 = 1 rad/sample
+        — treat it as a starting value and estimate d from data.
+        """
+        if coefficients is not None:
+            if arw is not None or bias_instability is not None:
+                raise ValueError("give either coefficients or arw=/bias_instability=, not both")
+            try:
+                arw = float(coefficients.N.value)
+                bias_instability = float(coefficients.B.value)
+            except AttributeError as exc:
+                raise TypeError(
+                    "coefficients must have attributes N and B with a float .value (e.g. "
+                    "gyrobias.noise.NoiseCoefficients)"
+                ) from exc
+        if arw is None or bias_instability is None:
+            raise ValueError("from_noise needs coefficients or both arw= and bias_instability=")
+        if fs is None:
+            raise ValueError("fs (the sample rate in Hz) is required")
+        fs = positive_float("fs", fs)
+        if not (math.isfinite(arw) and arw >= 0.0):
+            raise ValueError(f"arw (N) must be finite and ≥ 0, got {arw}")
+        b = positive_float("bias_instability", bias_instability)
+        return cls(d=d, q=b * b, r=arw * arw * fs, mean=mean)
+
+
+# --- batch test ([BP] §V-C, Table I) -------------------------------------------------------------
+
+_METHOD_NAMES = {"kf": "fractional Kalman", "ma": "moving average", "cm": "calibration mean"}
+
+
+@dataclass(frozen=True)
+class MethodStats:
+    """Table I statistics of one method over the sections of a log.
+
+    ``ie``/``rsse`` hold the per-section values; the summary fields are their mean and sample
+    standard deviation (ddof = 1).
+    """
+
+    method: str
+    ie: NDArray[np.float64]
+    rsse: NDArray[np.float64]
+
+    @property
+    def mean_ie(self) -> float:
+        """Mean integrated error."""
+        return float(np.mean(self.ie))
+
+    @property
+    def ie_std(self) -> float:
+        """Standard deviation of the integrated error."""
+        return float(np.std(self.ie, ddof=1))
+
+    @property
+    def mean_rsse(self) -> float:
+        """Mean RSSE."""
+        return float(np.mean(self.rsse))
+
+    @property
+    def rsse_std(self) -> float:
+        """Standard deviation of the RSSE."""
+        return float(np.std(self.rsse, ddof=1))
+
+    def to_dict(self) -> dict[str, Any]:
+        """Summary statistics as a dictionary."""
+        return {
+            "method": self.method,
+            "mean_ie": self.mean_ie,
+            "ie_std": self.ie_std,
+            "mean_rsse": self.mean_rsse,
+            "rsse_std": self.rsse_std,
+        }
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """Result of :func:`evaluate`: per-method statistics over ``sections`` disjoint sections."""
+
+    calibration: int
+    horizon: int
+    sections: int
+    methods: dict[str, MethodStats]
+
+    def ratio(self, method: str, reference: str = "cm", statistic: str = "rsse") -> tuple[float, float]:
+        """Ratio of a statistic to the reference method's with a paired bootstrap standard error.
+
+        ``statistic`` is ``"rsse"`` (ratio of mean RSSEs) or ``"ie_std"`` (ratio of IE standard
+        deviations). The standard error uses 400 paired bootstrap resamples of the sections
+        (fixed seed, so the numbers are reproducible); NaN with fewer than 10 sections.
+        """
+        a, b = self.methods[method], self.methods[reference]
+        choice("statistic", statistic, ("rsse", "ie_std"))
+        value = a.mean_rsse / b.mean_rsse if statistic == "rsse" else a.ie_std / b.ie_std
+        if self.sections < 10:  # too few sections for a meaningful bootstrap
+            return float(value), math.nan
+        rng = np.random.default_rng(12345)
+        idx = rng.integers(0, self.sections, size=(400, self.sections))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            if statistic == "rsse":
+                boot = a.rsse[idx].mean(axis=1) / b.rsse[idx].mean(axis=1)
+            else:
+                boot = a.ie[idx].std(axis=1, ddof=1) / b.ie[idx].std(axis=1, ddof=1)
+        boot = boot[np.isfinite(boot)]
+        return float(value), float(np.std(boot, ddof=1)) if boot.size > 1 else math.nan
+
+    def table(self) -> str:
+        """Text table as [BP] Table I, with ratios to CM when it was evaluated."""
+        lines = [
+            f"{self.sections} sections, calibration {self.calibration} + horizon {self.horizon} samples",
+            f"{'method':<18} {'mean IE':>12} {'IE std':>12} {'mean RSSE':>12} {'RSSE std':>12}",
+        ]
+        for key, st in self.methods.items():
+            lines.append(
+                f"{_METHOD_NAMES.get(key, key):<18} {st.mean_ie:>12.4g} {st.ie_std:>12.4g} "
+                f"{st.mean_rsse:>12.4g} {st.rsse_std:>12.4g}"
+            )
+        if "cm" in self.methods and self.sections > 2:
+            lines.append("ratios to calibration mean (± bootstrap s.e.):")
+            for key in self.methods:
+                if key == "cm":
+                    continue
+                r1, s1 = self.ratio(key, "cm", "rsse")
+                r2, s2 = self.ratio(key, "cm", "ie_std")
+                lines.append(f"  {key.upper()}/CM  RSSE {r1:.4f} ± {s1:.4f}   IE std {r2:.4f} ± {s2:.4f}")
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Summary as a dictionary."""
+        return {
+            "calibration": self.calibration,
+            "horizon": self.horizon,
+            "sections": self.sections,
+            "methods": {k: v.to_dict() for k, v in self.methods.items()},
+        }
+
+
+def evaluate(
+    log: Any,
+    *,
+    calibration: int,
+    horizon: int,
+    methods: Sequence[str] = ("kf", "ma", "cm"),
+    predictor: FractionalKalmanPredictor | None = None,
+    n_threads: int | None = None,
+) -> Evaluation:
+    """[BP]'s batch test (§V-C): split a long static log into disjoint sections and predict.
+
+    Parameters
+    ----------
+    log : array_like, shape (n,) or (sections, k + h)
+        A long static gyro log (split into ``n // (k + h)`` disjoint sections, the remainder
+        dropped) or the sections themselves.
+    calibration, horizon : int
+        k and h in samples.
+    methods : sequence of {"kf", "ma", "cm"}
+        Fractional Kalman, moving average, calibration mean.
+    predictor : FractionalKalmanPredictor, optional
+        The Kalman predictor ("kf"); default ``FractionalKalmanPredictor(d=0.5, q=1, r=0)`` as in
+        [BP]'s simulation (with r = 0 and the sample mean the forecast does not depend on q).
+
+    Returns
+    -------
+    Evaluation
+        Per method the integrated error and RSSE of every section and their mean and standard
+        deviation ([BP] Table I); ``.table()`` prints it with ratios to CM.
+    """
+    if isinstance(calibration, bool) or not isinstance(calibration, (int, np.integer)):
+        raise TypeError(f"calibration must be an integer number of samples, got {type(calibration).__name__}")
+    k = int(calibration)
+    if k < 2:
+        raise ValueError(f"calibration must be at least 2 samples, got {k}")
+    h = _horizon(horizon)
+    arr = as_float_array("log", log, ndims=(1, 2))
+    if arr.ndim == 1:
+        sections = arr.size // (k + h)
+        if sections < 1:
+            raise ValueError(f"log is too short: {arr.size} samples, one section needs {k + h}")
+        arr = arr[: sections * (k + h)].reshape(sections, k + h)
+    elif arr.shape[1] != k + h:
+        raise ValueError(f"log sections have {arr.shape[1]} samples, calibration + horizon = {k + h}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError("log contains a non-finite value (NaN or inf)")
+    methods = list(methods)
+    for m in methods:
+        choice("methods", m, tuple(_METHOD_NAMES))
+    cal = np.ascontiguousarray(arr[:, :k])
+    fut = arr[:, k:]
+    out: dict[str, MethodStats] = {}
+    for m in methods:
+        if m == "kf":
+            pred = predictor or FractionalKalmanPredictor()
+            yhat = pred.compile(k, h, n_threads=n_threads).predict(cal, n_threads=n_threads).bias
+        elif m == "ma":
+            yhat = moving_average(cal, h)
+        else:
+            yhat = calibration_mean(cal, h)
+        yhat = np.asarray(yhat).reshape(arr.shape[0], h)
+        out[m] = MethodStats(m, np.asarray(integrated_error(fut, yhat)), np.asarray(rsse(fut, yhat)))
+    return Evaluation(k, h, arr.shape[0], out)
+
+
+# Paper values ([BP] Table I, simulated columns) used by the table1 experiment.
+PAPER_TABLE1 = {
+    "kf": {"mean_rsse": 136.0, "ie_std": 2120.0, "rsse_std": 23.3},
+    "ma": {"mean_rsse": 139.0, "ie_std": 2210.0, "rsse_std": 25.4},
+    "cm": {"mean_rsse": 138.0, "ie_std": 2280.0, "rsse_std": 24.9},
+}
+
