@@ -11,12 +11,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 
-def known_design(t: NDArray[np.float64], trend: bool, periods: tuple[float, ...]) -> NDArray[np.float64]:
+def known_design(
+    t: NDArray[np.float64], trend: bool, periods: tuple[float, ...], columns: NDArray[np.float64] | None = None
+) -> NDArray[np.float64]:
     cols = [np.ones_like(t)]
     if trend:
         cols.append(t - t.mean())
     for p in periods:
         cols += [np.cos(2 * np.pi * t / p), np.sin(2 * np.pi * t / p)]
+    if columns is not None:
+        cols += list(np.asarray(columns).reshape(t.size, -1).T)
     return np.column_stack(cols)
 
 
@@ -29,13 +33,14 @@ def lssa(
     cov: NDArray[np.float64] | None = None,
     trend: bool = False,
     periods: tuple[float, ...] = (),
+    columns: NDArray[np.float64] | None = None,
 ) -> NDArray[np.float64]:
     if cov is not None:
         white = np.linalg.inv(np.linalg.cholesky(cov))
     else:
         w = np.ones_like(t) if weights is None else weights
         white = np.diag(np.sqrt(w))
-    phi_k = white @ known_design(t, trend, periods)
+    phi_k = white @ known_design(t, trend, periods, columns)
     yw = white @ y
     base = yw - phi_k @ np.linalg.lstsq(phi_k, yw, rcond=None)[0]
     q0 = base @ base

@@ -74,6 +74,25 @@ def test_equals_dense_reference(trend: bool, periods: tuple[float, ...], weighti
     assert_allclose(r.spectrum, ref, rtol=0, atol=1e-9)
 
 
+def test_user_columns() -> None:
+    t, y = irregular(150, 12)
+    step = (t > t[70]).astype(float)  # a bias jump at a known epoch
+    y = y + 3.0 * step
+    cols = np.column_stack([step, np.cos(t / 40.0)])
+    f = np.linspace(0.004, 0.45, 80)
+    r = spectral.lssa(t, y, f, columns=cols, known_periods=[10.0])
+    ref = lssa_ref(t, y, f, periods=(10.0,), columns=cols)
+    assert r.n_known == 5
+    assert_allclose(r.spectrum, ref, rtol=0, atol=1e-9)  # as test_equals_dense_reference
+    assert r.known_params[3] == pytest.approx(3.0, abs=0.5)  # the step's height
+    one = spectral.lssa(t, y, f, columns=step)
+    assert_allclose(one.spectrum, lssa_ref(t, y, f, columns=step), rtol=0, atol=1e-9)
+    with pytest.raises(ValueError, match="columns"):
+        spectral.lssa(t, y, f, columns=np.ones(10))
+    with pytest.raises(gyrobias.GyroLinAlgError, match="linearly dependent"):
+        spectral.lssa(t, y, f, columns=np.ones(t.size))  # duplicates the bias
+
+
 def test_diagonal_cov_equals_weights() -> None:
     t, y = irregular(80, 6)
     w = np.random.default_rng(1).uniform(0.5, 2.0, t.size)

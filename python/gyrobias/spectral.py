@@ -59,14 +59,15 @@ class LSSAResult:
     n : int
         Number of observations.
     n_known : int
-        Number of known-constituent parameters ``u`` (bias, trend, 2 per known period).
+        Number of known-constituent parameters ``u`` (bias, trend, 2 per known period, user
+        columns).
     trend : bool
         Whether a linear trend was fitted.
     known_periods : tuple of float
         Periods of the known sinusoids.
     known_params : ndarray
-        Their least-squares estimates: bias at ``t_ref``, trend per unit time, then a (cos, sin)
-        amplitude pair per known period (phases relative to ``t_ref``).
+        Their least-squares estimates: bias at ``t_ref``, trend per unit time, a (cos, sin)
+        amplitude pair per known period (phases relative to ``t_ref``), one per user column.
     t_ref : float
         Reference time of ``known_params`` (midpoint of the series).
     residual_norm : float
@@ -142,6 +143,7 @@ def lssa(
     cov: ArrayLike | None = None,
     trend: bool = False,
     known_periods: Sequence[float] | ArrayLike = (),
+    columns: ArrayLike | None = None,
     alpha: float = 0.01,
 ) -> LSSAResult:
     """Least-squares spectrum of an unequally spaced series with significance test.
@@ -167,6 +169,9 @@ def lssa(
         Fit a linear trend as a known constituent (the datum bias is always fitted).
     known_periods : sequence of float
         Periods (s) of sinusoids fitted as known constituents (suppressed from the spectrum).
+    columns : array_like, shape (n,) or (n, k), optional
+        Further known constituents (e.g. a temperature record, a step at a known epoch),
+        fitted simultaneously like the others.
     alpha : float
         Significance level, ``0 < alpha < 1`` (0.01: 99 % confidence, as [TS]).
 
@@ -180,7 +185,7 @@ def lssa(
         Unsorted or duplicate times; NaN/inf; lengths that differ; too few points for the
         fitted parameters (``n < u + 3``); non-positive frequencies, weights or periods; a
         frequency equal to ``1/P`` of a known period; both ``weights`` and ``cov``; a bad
-        ``cov``; ``alpha`` outside (0, 1).
+        ``cov``; ``columns`` without one row per observation; ``alpha`` outside (0, 1).
     gyrobias.GyroLinAlgError
         ``cov`` not positive definite, dependent known constituents, or ``y`` explained exactly
         by the known constituents.
@@ -231,7 +236,13 @@ def lssa(
         periods = np.ascontiguousarray(np.asarray(known_periods, dtype=np.float64).reshape(-1))
     except (TypeError, ValueError) as exc:
         raise TypeError(f"known_periods must be a sequence of numbers, got {known_periods!r}") from exc
-    r = _core.lssa(tt, yy, ff, w, c, bool(trend), periods)
+    user = None
+    if columns is not None:
+        user = as_float_array("columns", columns, ndims=(1, 2))
+        user = np.ascontiguousarray(user.reshape(tt.size, -1)) if user.shape[0] == tt.size else user
+        if user.ndim != 2 or user.shape[0] != tt.size:
+            raise ValueError(f"columns must have {tt.size} rows (one per observation), got shape {user.shape}")
+    r = _core.lssa(tt, yy, ff, w, c, bool(trend), periods, user)
     n_known = int(r["n_known"])
     return LSSAResult(
         frequencies=ff,

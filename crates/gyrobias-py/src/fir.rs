@@ -13,14 +13,14 @@ use crate::error::core;
 /// Kaiser-window low-pass design: dict with the design quantities and `taps`.
 #[pyfunction]
 #[pyo3(signature = (fs, fpass, fstop, apass_db, astop_db))]
-fn kaiser_design<'py>(
-    py: Python<'py>,
+fn kaiser_design(
+    py: Python<'_>,
     fs: f64,
     fpass: f64,
     fstop: f64,
     apass_db: f64,
     astop_db: f64,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<Bound<'_, PyDict>> {
     let f = core(fir::kaiser_lowpass(fs, fpass, fstop, apass_db, astop_db))?;
     let d = PyDict::new(py);
     d.set_item("cutoff", f.cutoff)?;

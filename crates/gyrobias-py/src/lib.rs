@@ -7,9 +7,9 @@
 mod allan;
 mod error;
 mod fir;
+mod predict;
 mod spectral;
 mod thermal;
-mod predict;
 
 use pyo3::prelude::*;
 

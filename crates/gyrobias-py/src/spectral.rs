@@ -1,7 +1,7 @@
 //! Bindings of `gyrocore::spectral`.
 
 use gyrocore::spectral::{self, LssaOptions, Window};
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -10,7 +10,7 @@ use crate::error::core;
 /// Least-squares spectrum: dict with `spectrum`, `n_known`, `known_params`, `t_ref`,
 /// `residual_norm`.
 #[pyfunction]
-#[pyo3(signature = (t, y, freqs, weights, cov, trend, known_periods))]
+#[pyo3(signature = (t, y, freqs, weights, cov, trend, known_periods, columns))]
 #[allow(clippy::needless_pass_by_value)]
 fn lssa<'py>(
     py: Python<'py>,
@@ -21,6 +21,7 @@ fn lssa<'py>(
     cov: Option<PyReadonlyArray2<'py, f64>>,
     trend: bool,
     known_periods: PyReadonlyArray1<'py, f64>,
+    columns: Option<PyReadonlyArray2<'py, f64>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let t = t.as_slice()?;
     let y = y.as_slice()?;
@@ -34,11 +35,16 @@ fn lssa<'py>(
         None => None,
     };
     let periods = known_periods.as_slice()?;
+    let columns = match &columns {
+        Some(c) => Some((c.as_slice()?, c.shape()[1])),
+        None => None,
+    };
     let opts = LssaOptions {
         weights,
         cov,
         trend,
         known_periods: periods,
+        columns,
     };
     let r = core(py.detach(|| spectral::lssa(t, y, freqs, &opts)))?;
     let d = PyDict::new(py);

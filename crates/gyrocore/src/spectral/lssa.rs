@@ -6,8 +6,8 @@
 //! weights, or the inverse of a full covariance matrix $C_f$ (then everything below is computed
 //! on the data whitened once with the Cholesky factor, $C_f = LL^T$, $\tilde f = L^{-1}f$).
 //!
-//! **Known constituents** $\Phi_K$ ($u$ columns: the datum bias, optionally a linear trend, and
-//! a cos/sin pair for every known period) are fitted first, giving the residual
+//! **Known constituents** $\Phi_K$ ($u$ columns: the datum bias, optionally a linear trend, a
+//! cos/sin pair for every known period, and any user-supplied columns) are fitted first, giving the residual
 //! $g = f - \Phi_K N_{11}^{-1}\Phi_K^T P f$ with $N_{11} = \Phi_K^T P \Phi_K$.
 //!
 //! **Spectrum.** At every frequency $\omega$ the pair $\Phi_\omega = [\cos\omega t, \sin\omega t]$
@@ -55,6 +55,8 @@ pub struct LssaOptions<'a> {
     pub trend: bool,
     /// Periods (in the unit of `t`) of known sinusoids fitted as constituents.
     pub known_periods: &'a [f64],
+    /// Further known constituents: a row-major `n × k` matrix of user columns and its `k`.
+    pub columns: Option<(&'a [f64], usize)>,
 }
 
 /// Result of [`lssa`].
@@ -65,7 +67,8 @@ pub struct LssaResult {
     /// Number of known-constituent parameters $u$.
     pub n_known: usize,
     /// Estimated known-constituent parameters, in the order bias, trend (per unit of `t`),
-    /// then (cos, sin) amplitude per known period; time measured from `t_ref`.
+    /// (cos, sin) amplitude per known period, then one per user column; time measured from
+    /// `t_ref`.
     pub known_params: Vec<f64>,
     /// Reference time of the parameters: the midpoint of the series.
     pub t_ref: f64,
@@ -124,7 +127,13 @@ fn check_increasing(t: &[f64]) -> Result<()> {
 /// Small dense symmetric positive-definite inverse (u ≤ a few dozen) via nalgebra's Cholesky.
 fn spd_inverse(a: &[f64], u: usize) -> Option<Vec<f64>> {
     let m = nalgebra::DMatrix::from_row_slice(u, u, a);
-    let inv = m.cholesky()?.inverse();
+    let chol = m.cholesky()?;
+    // Reject numerically dependent columns: a pivot L_ii² tiny against its diagonal entry.
+    let l = chol.l_dirty();
+    if (0..u).any(|i| l[(i, i)] * l[(i, i)] <= 1e-12 * a[i * u + i]) {
+        return None;
+    }
+    let inv = chol.inverse();
     let mut out = vec![0.0; u * u];
     for i in 0..u {
         for j in 0..u {
@@ -322,7 +331,8 @@ pub fn lssa(t: &[f64], y: &[f64], freqs: &[f64], opts: &LssaOptions<'_>) -> Resu
             ));
         }
     }
-    let u = 1 + usize::from(opts.trend) + 2 * periods.len();
+    let n_user = opts.columns.map_or(0, |(_, k)| k);
+    let u = 1 + usize::from(opts.trend) + 2 * periods.len() + n_user;
     validate::min_len("t", n, u + 3)?;
     check_increasing(t)?;
     if opts.weights.is_some() && opts.cov.is_some() {
@@ -372,6 +382,15 @@ pub fn lssa(t: &[f64], y: &[f64], freqs: &[f64], opts: &LssaOptions<'_>) -> Resu
         None => None,
     };
 
+    if let Some((cols, k)) = opts.columns {
+        if k == 0 || cols.len() != n * k {
+            return Err(Error::ShapeMismatch {
+                name: "columns",
+                reason: format!("{} values do not form {n} rows of {k} columns", cols.len()),
+            });
+        }
+        validate::finite("columns", cols)?;
+    }
     let t_ref = 0.5 * (t[0] + t[n - 1]);
     let half_span = 0.5 * (t[n - 1] - t[0]);
     let ts: Vec<f64> = t.iter().map(|&v| v - t_ref).collect();
@@ -385,6 +404,11 @@ pub fn lssa(t: &[f64], y: &[f64], freqs: &[f64], opts: &LssaOptions<'_>) -> Resu
         let (sn, cs): (Vec<f64>, Vec<f64>) = ts.iter().map(|&v| (TWO_PI * v / p).sin_cos()).unzip();
         cols.push(cs);
         cols.push(sn);
+    }
+    if let Some((user, k)) = opts.columns {
+        for j in 0..k {
+            cols.push((0..n).map(|i| user[i * k + j]).collect());
+        }
     }
     let mut yw = y.to_vec();
     if let Some(l) = &chol {
@@ -407,7 +431,7 @@ pub fn lssa(t: &[f64], y: &[f64], freqs: &[f64], opts: &LssaOptions<'_>) -> Resu
         rhs[a] = (0..n).map(|i| w[i] * cols[a][i] * yw[i]).sum();
     }
     let n11_inv = spd_inverse(&n11, u).ok_or_else(|| Error::Singular {
-        reason: "the known constituents (bias, trend, known periods) are linearly dependent at these times".into(),
+        reason: "the known constituents (bias, trend, known periods, columns) are linearly dependent at these times".into(),
     })?;
     let mut params: Vec<f64> = (0..u)
         .map(|a| (0..u).map(|b| n11_inv[a * u + b] * rhs[b]).sum())
