@@ -12,15 +12,18 @@ unit-aware Python interfaces:
 - :mod:`gyrobias.predict` — bias prediction from a calibration window ([BP]): the fractional
   (1/f) Kalman predictor (O(n·k) generalized Schur, compiled batch GEMM), moving average and
   calibration mean, and [BP]'s batch test.
+- :mod:`gyrobias.kalman` — fixed-gain [rate, bias] Kalman filter for real-time denoising ([NR]):
+  steady-state gain, discrete fixed-gain form, bandwidth design, streaming.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
 """
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan, fir, io, predict, spectral, thermal
+from gyrobias import allan, fir, io, kalman, predict, spectral, thermal
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
 from gyrobias.fir import KaiserLowpass, kaiser_lowpass
+from gyrobias.kalman import FixedGainKalman
 from gyrobias.predict import FractionalKalmanPredictor, Prediction
 from gyrobias.spectral import LSSAResult, lssa
 from gyrobias.thermal import AR1Fit, TemperatureModel, fit_ar1
@@ -33,6 +36,7 @@ except PackageNotFoundError:  # running from a source tree without installation
 __all__ = [
     "AR1Fit",
     "AllanResult",
+    "FixedGainKalman",
     "FractionalKalmanPredictor",
     "GyroLinAlgError",
     "KaiserLowpass",
@@ -48,6 +52,7 @@ __all__ = [
     "io",
     "kaiser_lowpass",
     "lssa",
+    "kalman",
     "predict",
     "spectral",
     "thermal",

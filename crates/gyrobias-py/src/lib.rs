@@ -7,6 +7,7 @@
 mod allan;
 mod error;
 mod fir;
+mod kalman;
 mod predict;
 mod spectral;
 mod thermal;
@@ -22,5 +23,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     spectral::register(m)?;
     thermal::register(m)?;
     predict::register(m)?;
+    kalman::register(m)?;
     Ok(())
 }

@@ -12,6 +12,7 @@
 //! | [`spectral`] | least-squares spectral analysis with significance, Welch PSD | \[TS\] §2.2, Vaníček 1969, Pagiatakis 1999, Welch 1967 |
 //! | [`thermal`] | AR(1) drift fits, temperature interpolation of noise parameters | \[TS\] §4 |
 //! | [`predict`] | bias prediction: calibration mean, moving average, fractional (1/f) Kalman predictor (literal and generalized-Schur O(n·k)), compiled batch predictor | \[BP\] §IV–V, SPEC §5 |
+//! | [`kalman`] | fixed-gain 2-state [rate, bias] Kalman filter: steady-state gain, discrete fixed-gain form, bandwidth design, streaming | \[NR\] eqs. 4–18, SPEC §6 |
 //! | [`stats`] | chi-square quantiles and the special functions behind them | — |
 //!
 //! Units: time in seconds; rates and angles in the caller's unit (the core is unit-agnostic).
@@ -21,6 +22,7 @@ pub mod allan;
 pub mod error;
 pub mod fir;
 pub mod fractional;
+pub mod kalman;
 pub mod predict;
 pub mod spectral;
 pub mod stats;

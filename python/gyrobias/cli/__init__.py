@@ -24,11 +24,16 @@ __all__ = ["EXPERIMENTS", "SUBCOMMANDS", "build_parser", "main"]
 SUBCOMMANDS: list[str] = [
     "gyrobias.cli.allan",
     "gyrobias.cli.demo",
+    "gyrobias.cli.predict",
+    "gyrobias.cli.filter",
 ]
 
 #: Modules with ``register_experiment(exp_subparsers)`` for the ``gyrobias experiment`` group
 #: (the group is shown only when this list is non-empty).
-EXPERIMENTS: list[str] = []
+EXPERIMENTS: list[str] = [
+    "gyrobias.cli.experiment_table1",
+    "gyrobias.cli.experiment_kalman",
+]
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -20,7 +20,10 @@ import numpy as np
 __all__ = ["SECTIONS", "TRUE_COEFFICIENTS", "register", "run"]
 
 #: Modules providing ``demo_section(rate, fs, outdir)``; appended to extend the demo.
-SECTIONS: list[str] = []
+SECTIONS: list[str] = [
+    "gyrobias.cli.predict",
+    "gyrobias.cli.experiment_kalman",
+]
 
 #: The simulated gyro, per axis (x, y, z), in customary units. Typical of a consumer/industrial
 #: MEMS gyro: ARW 0.25–0.35 deg/√h, bias instability 4–6 deg/h, RRW 8–12 deg/h^1.5.

@@ -1,0 +1,407 @@
+//! Bindings of `gyrocore::kalman`.
+
+use gyrocore::kalman::{self, DiscreteNoise, FilterState, Form};
+use numpy::PyUntypedArrayMethods;
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyReadonlyArray1,
+    PyReadonlyArrayDyn,
+};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyTuple;
+
+use crate::error::core;
+
+/// Designed fixed-gain filter (immutable; safe to share between threads).
+#[pyclass(name = "FixedGainKalmanCore", module = "gyrobias._core", frozen)]
+struct FixedGainKalmanCore {
+    inner: kalman::FixedGainKalman,
+}
+
+fn design(
+    fs: f64,
+    arw: f64,
+    rrw: f64,
+    q_omega: Option<f64>,
+    bandwidth: Option<f64>,
+    form: &str,
+) -> PyResult<kalman::FixedGainKalman> {
+    let noise = core(DiscreteNoise::from_coefficients(fs, arw, rrw))?;
+    let form = core(Form::parse(form))?;
+    match (q_omega, bandwidth) {
+        (Some(q), None) => core(kalman::FixedGainKalman::new(noise, q, form)),
+        (None, Some(bw)) => core(kalman::FixedGainKalman::with_bandwidth(noise, bw, form)),
+        _ => Err(PyValueError::new_err(
+            "give exactly one of q_omega and bandwidth",
+        )),
+    }
+}
+
+fn vec2(py: Python<'_>, v: [f64; 2]) -> Bound<'_, PyArray1<f64>> {
+    v.to_vec().into_pyarray(py)
+}
+
+/// Row-major 2×2 array from `m[(row, col)]` (nalgebra stores column-major: never copy its
+/// storage order into NumPy).
+fn mat2(py: Python<'_>, m: [[f64; 2]; 2]) -> PyResult<Bound<'_, PyArray2<f64>>> {
+    let rows = vec![m[0].to_vec(), m[1].to_vec()];
+    Ok(PyArray2::from_vec2(py, &rows)?)
+}
+
+macro_rules! rows {
+    ($m:expr) => {{
+        let m = $m;
+        [[m[(0, 0)], m[(0, 1)]], [m[(1, 0)], m[(1, 1)]]]
+    }};
+}
+
+#[pymethods]
+impl FixedGainKalmanCore {
+    #[new]
+    #[pyo3(signature = (fs, arw, rrw, q_omega, bandwidth, form))]
+    fn new(
+        fs: f64,
+        arw: f64,
+        rrw: f64,
+        q_omega: Option<f64>,
+        bandwidth: Option<f64>,
+        form: &str,
+    ) -> PyResult<Self> {
+        Ok(FixedGainKalmanCore {
+            inner: design(fs, arw, rrw, q_omega, bandwidth, form)?,
+        })
+    }
+
+    #[getter]
+    fn q_omega(&self) -> f64 {
+        self.inner.q_omega()
+    }
+    #[getter]
+    fn r_d(&self) -> f64 {
+        self.inner.noise().r_d
+    }
+    #[getter]
+    fn q_b(&self) -> f64 {
+        self.inner.noise().q_b
+    }
+    #[getter]
+    fn kappa(&self) -> f64 {
+        self.inner.kappa()
+    }
+    #[getter]
+    fn pole(&self) -> f64 {
+        self.inner.pole()
+    }
+    #[getter]
+    fn dc_gain(&self) -> f64 {
+        self.inner.dc_gain()
+    }
+    #[getter]
+    fn white_noise_gain(&self) -> f64 {
+        self.inner.white_noise_gain()
+    }
+    #[getter]
+    fn bandwidth(&self) -> Option<f64> {
+        self.inner.bandwidth()
+    }
+    #[getter]
+    fn gain<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec2(py, self.inner.gain().into())
+    }
+    #[getter]
+    fn continuous_gain<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec2(py, self.inner.continuous_gain().into())
+    }
+    #[getter]
+    fn g<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec2(py, self.inner.g().into())
+    }
+    #[getter]
+    fn a<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        mat2(py, rows!(self.inner.a()))
+    }
+    #[getter]
+    fn b<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        mat2(py, rows!(self.inner.b()))
+    }
+
+    /// Complex response z → rate estimate at `freqs` (Hz) as (real, imag).
+    #[allow(clippy::type_complexity, clippy::needless_pass_by_value)]
+    fn frequency_response<'py>(
+        &self,
+        py: Python<'py>,
+        freqs: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+        let f = freqs.as_slice()?;
+        let mut re = vec![0.0; f.len()];
+        let mut im = vec![0.0; f.len()];
+        core(self.inner.frequency_response_into(f, &mut re, &mut im))?;
+        Ok((re.into_pyarray(py), im.into_pyarray(py)))
+    }
+
+    /// The state before the first sample for initial estimates rate0 = ω̂₀, bias0 = b̂₀.
+    fn initial_state(&self, rate0: Vec<f64>, bias0: Vec<f64>) -> PyResult<KalmanState> {
+        let st = core(self.inner.initial_state(&rate0, &bias0))?;
+        Ok(KalmanState {
+            level: st.level,
+            offset: st.offset,
+            rate: rate0,
+            bias: bias0,
+            gain: self.inner.g().into(),
+            samples: 0,
+        })
+    }
+
+    /// The estimates (rate, bias) per axis that a state stands for.
+    fn estimates(&self, state: &KalmanState) -> PyResult<(Vec<f64>, Vec<f64>)> {
+        self.check_state(state, state.level.len())?;
+        Ok(self.inner.estimates(&FilterState {
+            level: state.level.clone(),
+            offset: state.offset.clone(),
+        }))
+    }
+
+    /// Filters a C-contiguous (samples,) or (samples × axes) array `z` from `state` into the preallocated
+    /// C-contiguous `rate` and `bias` arrays of the same shape; returns the new state.
+    /// Allocation is left to the caller (NumPy's allocator asks the kernel for huge pages,
+    /// which halves the page-fault cost of large outputs).
+    #[allow(clippy::needless_pass_by_value)]
+    fn filter_into<'py>(
+        &self,
+        py: Python<'py>,
+        z: PyReadonlyArrayDyn<'py, f64>,
+        rate: &Bound<'py, PyArrayDyn<f64>>,
+        bias: &Bound<'py, PyArrayDyn<f64>>,
+        state: &KalmanState,
+    ) -> PyResult<KalmanState> {
+        let overlap = |e: numpy::BorrowError| {
+            PyValueError::new_err(format!(
+                "out arrays must be writeable and overlap neither each other nor z ({e})"
+            ))
+        };
+        let mut rate = rate.try_readwrite().map_err(overlap)?;
+        let mut bias = bias.try_readwrite().map_err(overlap)?;
+        let (n_rows, n_axes) = match *z.shape() {
+            [n] => (n, 1),
+            [n, a] => (n, a),
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "z must be a 1-D or 2-D array, got shape {:?}",
+                    z.shape()
+                )));
+            }
+        };
+        if n_rows == 0 || n_axes == 0 {
+            return Err(PyValueError::new_err("z is empty"));
+        }
+        if rate.shape() != z.shape() || bias.shape() != z.shape() {
+            return Err(PyValueError::new_err(format!(
+                "out arrays must have the shape of z {:?}",
+                z.shape()
+            )));
+        }
+        if !(z.is_c_contiguous() && rate.is_c_contiguous() && bias.is_c_contiguous()) {
+            // `as_slice` also accepts Fortran order, which would scramble the axes.
+            return Err(PyTypeError::new_err(
+                "z and the out arrays must be C-contiguous float64 arrays",
+            ));
+        }
+        self.check_state(state, n_axes)?;
+        let data = z.as_slice()?;
+        let rate_out = rate.as_slice_mut()?;
+        let bias_out = bias.as_slice_mut()?;
+        let mut next = FilterState {
+            level: state.level.clone(),
+            offset: state.offset.clone(),
+        };
+        let inner = &self.inner;
+        let mut run = |rate_out: &mut [f64], bias_out: &mut [f64]| {
+            inner.filter_into(data, n_axes, &mut next, rate_out, bias_out)
+        };
+        // Releasing the GIL costs about a microsecond: not worth it for small chunks.
+        if data.len() >= 1 << 14 {
+            core(py.detach(|| run(rate_out, bias_out)))?;
+        } else {
+            core(run(rate_out, bias_out))?;
+        }
+        let last = data.len() - n_axes;
+        Ok(KalmanState {
+            level: next.level,
+            offset: next.offset,
+            rate: rate_out[last..].to_vec(),
+            bias: bias_out[last..].to_vec(),
+            gain: state.gain,
+            samples: state.samples + n_rows as u64,
+        })
+    }
+}
+
+impl FixedGainKalmanCore {
+    fn check_state(&self, state: &KalmanState, n_axes: usize) -> PyResult<()> {
+        let gain: [f64; 2] = self.inner.g().into();
+        if state.gain != gain {
+            return Err(PyValueError::new_err(format!(
+                "state was produced by a different filter (gain {:?}, this filter {:?})",
+                state.gain, gain
+            )));
+        }
+        if state.level.len() != n_axes || state.offset.len() != n_axes {
+            return Err(PyValueError::new_err(format!(
+                "state carries {} axes but z has {n_axes}",
+                state.level.len()
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Carried state of the fixed-gain filter (immutable, picklable).
+#[pyclass(
+    name = "KalmanState",
+    module = "gyrobias._core",
+    frozen,
+    eq,
+    skip_from_py_object
+)]
+#[derive(Clone, PartialEq)]
+pub(crate) struct KalmanState {
+    level: Vec<f64>,
+    offset: Vec<f64>,
+    rate: Vec<f64>,
+    bias: Vec<f64>,
+    gain: [f64; 2],
+    samples: u64,
+}
+
+#[pymethods]
+impl KalmanState {
+    #[new]
+    #[pyo3(signature = (level, offset, rate, bias, gain, samples=0))]
+    fn new(
+        level: Vec<f64>,
+        offset: Vec<f64>,
+        rate: Vec<f64>,
+        bias: Vec<f64>,
+        gain: [f64; 2],
+        samples: u64,
+    ) -> PyResult<Self> {
+        let n = level.len();
+        if n == 0 || offset.len() != n || rate.len() != n || bias.len() != n {
+            return Err(PyValueError::new_err(
+                "state: level, offset, rate and bias need one value per axis",
+            ));
+        }
+        if level.iter().chain(&offset).any(|v| !v.is_finite()) {
+            return Err(PyValueError::new_err("state contains a non-finite value"));
+        }
+        Ok(KalmanState {
+            level,
+            offset,
+            rate,
+            bias,
+            gain,
+            samples,
+        })
+    }
+    #[getter]
+    fn level<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        PyTuple::new(py, &self.level)
+    }
+    #[getter]
+    fn offset<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        PyTuple::new(py, &self.offset)
+    }
+    #[getter]
+    fn rate<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        PyTuple::new(py, &self.rate)
+    }
+    #[getter]
+    fn bias<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        PyTuple::new(py, &self.bias)
+    }
+    #[getter]
+    fn gain(&self) -> (f64, f64) {
+        (self.gain[0], self.gain[1])
+    }
+    #[getter]
+    fn samples(&self) -> u64 {
+        self.samples
+    }
+    #[getter]
+    fn n_axes(&self) -> usize {
+        self.level.len()
+    }
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let py = slf.py();
+        let s = slf.get();
+        let args = (
+            s.level.clone(),
+            s.offset.clone(),
+            s.rate.clone(),
+            s.bias.clone(),
+            (s.gain[0], s.gain[1]),
+            s.samples,
+        )
+            .into_pyobject(py)?;
+        Ok((slf.get_type().into_any(), args))
+    }
+    fn __repr__(&self) -> String {
+        format!(
+            "KalmanState(rate={:?}, bias={:?}, samples={})",
+            self.rate, self.bias, self.samples
+        )
+    }
+}
+
+/// Closed-form steady-state gain [k1, k2] (SPEC §6).
+#[pyfunction]
+fn kalman_steady_state_gain(
+    py: Python<'_>,
+    q_omega: f64,
+    q_b: f64,
+    r_d: f64,
+) -> PyResult<Bound<'_, PyArray1<f64>>> {
+    Ok(vec2(
+        py,
+        core(kalman::steady_state_gain(q_omega, q_b, r_d))?.into(),
+    ))
+}
+
+/// Gain after `iterations` steps of [NR] eqs. 9–11 from P0 = 0.
+#[pyfunction]
+fn kalman_riccati_gain(
+    py: Python<'_>,
+    q_omega: f64,
+    q_b: f64,
+    r_d: f64,
+    iterations: usize,
+) -> PyResult<Bound<'_, PyArray1<f64>>> {
+    Ok(vec2(
+        py,
+        core(kalman::riccati_gain(q_omega, q_b, r_d, iterations))?.into(),
+    ))
+}
+
+/// Per-step q_omega for a target −3 dB bandwidth (Hz).
+#[pyfunction]
+fn kalman_q_omega_for_bandwidth(
+    bandwidth: f64,
+    fs: f64,
+    arw: f64,
+    rrw: f64,
+    form: &str,
+) -> PyResult<f64> {
+    let noise = core(DiscreteNoise::from_coefficients(fs, arw, rrw))?;
+    let form = core(Form::parse(form))?;
+    core(kalman::q_omega_for_bandwidth(bandwidth, &noise, form))
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<FixedGainKalmanCore>()?;
+    m.add_class::<KalmanState>()?;
+    m.add_function(wrap_pyfunction!(kalman_steady_state_gain, m)?)?;
+    m.add_function(wrap_pyfunction!(kalman_riccati_gain, m)?)?;
+    m.add_function(wrap_pyfunction!(kalman_q_omega_for_bandwidth, m)?)
+}
