@@ -185,3 +185,27 @@ def test_bad_apply_input() -> None:
 def test_to_dict() -> None:
     d = paper_filter().to_dict()
     assert d["numtaps"] == 171 and len(d["taps"]) == 171
+
+
+def test_stream_chunks_bit_identical_and_equal_lfilter() -> None:
+    f = paper_filter()
+    rng = np.random.default_rng(6)
+    x = rng.normal(size=(3, 4000))
+    whole, s_whole = fir.stream(f.taps, x)
+    parts, state = [], None
+    for a, b in [(0, 1), (1, 170), (170, 2500), (2500, 4000)]:
+        y, state = fir.stream(f.taps, x[:, a:b], state)
+        parts.append(y)
+    assert np.array_equal(np.concatenate(parts, axis=1), whole)  # bit for bit
+    assert state is not None and np.array_equal(state, s_whole)
+    assert state.shape == (3, 170)
+    assert_allclose(whole, ss.lfilter(f.taps, [1.0], x, axis=1), atol=1e-13)
+    # Time along axis 0 (samples × axes, the usual log layout).
+    y0, st0 = fir.stream(f.taps, x.T, axis=0)
+    assert np.array_equal(y0, whole.T) and st0.shape == (3, 170)
+    with pytest.raises(ValueError, match="state"):
+        fir.stream(f.taps, x, np.zeros((3, 5)))
+    with pytest.raises(ValueError, match="state"):
+        fir.stream(f.taps, x[0], np.full(170, np.nan))
+    one, st1 = fir.stream([2.0], [1.0, 2.0])  # a 1-tap filter has an empty state
+    assert one.tolist() == [2.0, 4.0] and st1.shape == (0,)

@@ -40,6 +40,9 @@ def fir_filter(
 def fir_response(
     taps: NDArray[np.float64], fs: float, freqs: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+def fir_stream(
+    taps: NDArray[np.float64], x: NDArray[np.float64], state: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
 
 # --- spectral ----------------------------------------------------------------------------------
 

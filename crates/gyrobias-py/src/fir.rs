@@ -76,8 +76,45 @@ fn fir_response<'py>(
     Ok((re.into_pyarray(py), im.into_pyarray(py)))
 }
 
+/// Causal filtering of one stream chunk per row: returns (output rows, new state rows).
+#[pyfunction]
+#[pyo3(signature = (taps, x, state))]
+#[allow(clippy::needless_pass_by_value, clippy::type_complexity)]
+fn fir_stream<'py>(
+    py: Python<'py>,
+    taps: PyReadonlyArray1<'py, f64>,
+    x: PyReadonlyArray2<'py, f64>,
+    state: PyReadonlyArray2<'py, f64>,
+) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+    let (rows, n) = (x.shape()[0], x.shape()[1]);
+    let srows = state.shape()[0];
+    if srows != rows {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "state has {srows} rows for {rows} signals"
+        )));
+    }
+    let width = state.shape()[1];
+    let h = taps.as_slice()?;
+    let data = x.as_slice()?;
+    let mut hist = state.as_slice()?.to_vec();
+    let out = core(py.detach(|| -> gyrocore::Result<Vec<f64>> {
+        let mut out = Vec::with_capacity(data.len());
+        for r in 0..rows {
+            let row = &data[r * n..(r + 1) * n];
+            let state = &mut hist[r * width..(r + 1) * width];
+            out.extend(fir::filter_stream(h, row, state)?);
+        }
+        Ok(out)
+    }))?;
+    Ok((
+        out.into_pyarray(py).reshape([rows, n])?,
+        hist.into_pyarray(py).reshape([rows, width])?,
+    ))
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(kaiser_design, m)?)?;
     m.add_function(wrap_pyfunction!(fir_filter, m)?)?;
-    m.add_function(wrap_pyfunction!(fir_response, m)?)
+    m.add_function(wrap_pyfunction!(fir_response, m)?)?;
+    m.add_function(wrap_pyfunction!(fir_stream, m)?)
 }
