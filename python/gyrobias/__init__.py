@@ -9,6 +9,8 @@ unit-aware Python interfaces:
 - :mod:`gyrobias.spectral` — least-squares spectral analysis of unequally spaced data with
   significance tests, Welch PSD and noise density ([TS] §2.2, Pagiatakis 1999).
 - :mod:`gyrobias.thermal` — AR(1) drift fits and temperature-dependent noise models ([TS] §4).
+- :mod:`gyrobias.fractional` — long-memory (1/f) noise: type-II fractional differencing and
+  integration, ARFIMA(0, d, 0) simulation, exact local Whittle estimation of ``d``.
 - :mod:`gyrobias.predict` — bias prediction from a calibration window ([BP]): the fractional
   (1/f) Kalman predictor (O(n·k) generalized Schur, compiled batch GEMM), moving average and
   calibration mean, and [BP]'s batch test.
@@ -19,7 +21,7 @@ unit-aware Python interfaces:
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan, fir, io, kalman, predict, spectral, thermal
+from gyrobias import allan, fir, fractional, io, kalman, predict, spectral, thermal
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
 from gyrobias.fir import KaiserLowpass, kaiser_lowpass
@@ -49,10 +51,11 @@ __all__ = [
     "avar",
     "fir",
     "fit_ar1",
+    "fractional",
     "io",
     "kaiser_lowpass",
-    "lssa",
     "kalman",
+    "lssa",
     "predict",
     "spectral",
     "thermal",

@@ -29,6 +29,23 @@ def allan_factors(
     taus: NDArray[np.float64] | None,
 ) -> NDArray[np.uint64]: ...
 
+# --- fractional --------------------------------------------------------------------------------
+
+def fractional_weights(d: float, n: int) -> NDArray[np.float64]: ...
+def fractional_diff(data: NDArray[np.float64], d: float, method: str) -> NDArray[np.float64]: ...
+def fractional_integrate(
+    data: NDArray[np.float64], d: float, method: str
+) -> NDArray[np.float64]: ...
+def fractional_arfima(
+    n: int, d: float, sigma: float, rows: int, seed: int, kind: str
+) -> NDArray[np.float64]: ...
+def fractional_elw(
+    data: NDArray[np.float64], m: int | None, lower: float, upper: float, level: str
+) -> dict[str, Any]: ...
+def fractional_elw_objective(
+    x: NDArray[np.float64], ds: NDArray[np.float64], m: int | None, level: str
+) -> NDArray[np.float64]: ...
+
 # --- fir ---------------------------------------------------------------------------------------
 
 def kaiser_design(

@@ -7,6 +7,7 @@
 mod allan;
 mod error;
 mod fir;
+mod fractional;
 mod kalman;
 mod predict;
 mod spectral;
@@ -22,6 +23,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     fir::register(m)?;
     spectral::register(m)?;
     thermal::register(m)?;
+    fractional::register(m)?;
     predict::register(m)?;
     kalman::register(m)?;
     Ok(())

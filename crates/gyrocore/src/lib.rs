@@ -7,10 +7,12 @@
 //! | module | science | source |
 //! |---|---|---|
 //! | [`allan`] | overlapping / non-overlapping Allan, modified, Hadamard and total variance, noise identification, EDF and confidence intervals | NIST SP 1065, IEEE 952, \[BP\] eq. 2, \[TS\] eq. 1 |
-//! | [`fractional`] | fractional differencing and integration, ARFIMA(0, d, 0) | SPEC §4, Hosking (1981), [BP] eq. 3 |
 //! | [`fir`] | Kaiser-window FIR low-pass design, causal and zero-phase filtering | \[TS\] eqs. 14–20, Orfanidis §10.2 |
 //! | [`spectral`] | least-squares spectral analysis with significance, Welch PSD | \[TS\] §2.2, Vaníček 1969, Pagiatakis 1999, Welch 1967 |
 //! | [`thermal`] | AR(1) drift fits, temperature interpolation of noise parameters | \[TS\] §4 |
+//! | [`fractional`] | fractional differencing and integration (direct / FFT), ARFIMA(0, d, 0) simulation (type II, Davies–Harte), exact local Whittle estimation of d | SPEC §4, Hosking (1981), \[BP\] eq. 3, Shimotsu & Phillips (2005), Shimotsu (2010) |
+//! | [`optimize`] | Brent's derivative-free 1-D minimisation | Brent (1973) |
+//! | [`random`] | seeded normal deviates (xoshiro256++, polar method) | — |
 //! | [`predict`] | bias prediction: calibration mean, moving average, fractional (1/f) Kalman predictor (literal and generalized-Schur O(n·k)), compiled batch predictor | \[BP\] §IV–V, SPEC §5 |
 //! | [`kalman`] | fixed-gain 2-state [rate, bias] Kalman filter: steady-state gain, discrete fixed-gain form, bandwidth design, streaming | \[NR\] eqs. 4–18, SPEC §6 |
 //! | [`stats`] | chi-square quantiles and the special functions behind them | — |
@@ -23,7 +25,9 @@ pub mod error;
 pub mod fir;
 pub mod fractional;
 pub mod kalman;
+pub mod optimize;
 pub mod predict;
+pub mod random;
 pub mod spectral;
 pub mod stats;
 pub mod thermal;

@@ -48,7 +48,7 @@ def simulate(runs: int, n: int, sigma: float, seed: int, bias: float = 0.0) -> n
     """``runs`` type-II ARFIMA(0, ½, 0) series of ``n`` samples from the core generator."""
     from gyrobias import fractional
 
-    x = fractional.arfima(n, 0.5, sigma, size=runs, seed=seed, kind="type2")
+    x = fractional.arfima(n, 0.5, sigma=sigma, size=runs, seed=seed, kind="type2")
     return np.asarray(x, dtype=float).reshape(runs, n) + bias
 
 

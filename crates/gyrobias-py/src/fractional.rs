@@ -1,0 +1,131 @@
+//! Bindings of `gyrocore::fractional` (differencing, ARFIMA simulation, ELW estimation).
+
+use gyrocore::fractional::{self, Method, arfima, elw};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    PyUntypedArrayMethods,
+};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::error::core;
+
+/// The weights `π_0..π_{n−1}` of `(1 − B)^d`.
+#[pyfunction]
+fn fractional_weights(py: Python<'_>, d: f64, n: usize) -> PyResult<Bound<'_, PyArray1<f64>>> {
+    Ok(core(fractional::weights(d, n))?.into_pyarray(py))
+}
+
+type RowsOp = fn(&[f64], usize, f64, Method) -> gyrocore::Result<Vec<f64>>;
+
+fn rows_op<'py>(
+    py: Python<'py>,
+    data: &PyReadonlyArray2<'py, f64>,
+    d: f64,
+    method: &str,
+    op: RowsOp,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let (rows, n) = (data.shape()[0], data.shape()[1]);
+    let slice = data.as_slice()?;
+    let method = core(Method::parse(method))?;
+    let out = core(py.detach(|| op(slice, n, d, method)))?;
+    out.into_pyarray(py).reshape([rows, n])
+}
+
+/// `Δ^d` along the rows of a C-contiguous (rows × n) float64 array.
+#[pyfunction]
+#[pyo3(signature = (data, d, method))]
+#[allow(clippy::needless_pass_by_value)]
+fn fractional_diff<'py>(
+    py: Python<'py>,
+    data: PyReadonlyArray2<'py, f64>,
+    d: f64,
+    method: &str,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    rows_op(py, &data, d, method, fractional::diff_rows)
+}
+
+/// `Δ^{−d}` along the rows of a C-contiguous (rows × n) float64 array.
+#[pyfunction]
+#[pyo3(signature = (data, d, method))]
+#[allow(clippy::needless_pass_by_value)]
+fn fractional_integrate<'py>(
+    py: Python<'py>,
+    data: PyReadonlyArray2<'py, f64>,
+    d: f64,
+    method: &str,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    rows_op(py, &data, d, method, fractional::integrate_rows)
+}
+
+/// `rows` ARFIMA(0, d, 0) series of length `n` as a (rows × n) array.
+#[pyfunction]
+#[pyo3(signature = (n, d, sigma, rows, seed, kind))]
+fn fractional_arfima<'py>(
+    py: Python<'py>,
+    n: usize,
+    d: f64,
+    sigma: f64,
+    rows: usize,
+    seed: u64,
+    kind: &str,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let kind = core(arfima::Kind::parse(kind))?;
+    let out = core(py.detach(|| arfima::arfima(n, d, sigma, rows, seed, kind)))?;
+    out.into_pyarray(py).reshape([rows, n])
+}
+
+/// ELW estimates for each row: a dict of per-row arrays `d`, `standard_error`, `objective`,
+/// `at_bound` and the scalars `m`, `n`.
+#[pyfunction]
+#[pyo3(signature = (data, m, lower, upper, level))]
+#[allow(clippy::needless_pass_by_value)]
+fn fractional_elw<'py>(
+    py: Python<'py>,
+    data: PyReadonlyArray2<'py, f64>,
+    m: Option<usize>,
+    lower: f64,
+    upper: f64,
+    level: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let n = data.shape()[1];
+    let slice = data.as_slice()?;
+    let level = core(elw::Level::parse(level))?;
+    let est = core(py.detach(|| elw::elw_rows(slice, n, m, (lower, upper), level)))?;
+    let out = PyDict::new(py);
+    let col = |f: fn(&elw::Estimate) -> f64| est.iter().map(f).collect::<Vec<f64>>();
+    out.set_item("d", col(|e| e.d).into_pyarray(py))?;
+    out.set_item("standard_error", col(|e| e.standard_error).into_pyarray(py))?;
+    out.set_item("objective", col(|e| e.objective).into_pyarray(py))?;
+    let at_bound: Vec<bool> = est.iter().map(|e| e.at_bound).collect();
+    out.set_item("at_bound", at_bound.into_pyarray(py))?;
+    out.set_item("m", est[0].m)?;
+    out.set_item("n", est[0].n)?;
+    Ok(out)
+}
+
+/// The ELW objective `R(d)` of one series at each of `ds`.
+#[pyfunction]
+#[pyo3(signature = (x, ds, m, level))]
+#[allow(clippy::needless_pass_by_value)]
+fn fractional_elw_objective<'py>(
+    py: Python<'py>,
+    x: PyReadonlyArray1<'py, f64>,
+    ds: PyReadonlyArray1<'py, f64>,
+    m: Option<usize>,
+    level: &str,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let x = x.as_slice()?;
+    let ds = ds.as_slice()?;
+    let level = core(elw::Level::parse(level))?;
+    Ok(core(py.detach(|| elw::objective(x, ds, m, level)))?.into_pyarray(py))
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(fractional_weights, m)?)?;
+    m.add_function(wrap_pyfunction!(fractional_diff, m)?)?;
+    m.add_function(wrap_pyfunction!(fractional_integrate, m)?)?;
+    m.add_function(wrap_pyfunction!(fractional_arfima, m)?)?;
+    m.add_function(wrap_pyfunction!(fractional_elw, m)?)?;
+    m.add_function(wrap_pyfunction!(fractional_elw_objective, m)?)
+}
