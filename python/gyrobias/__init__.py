@@ -5,6 +5,10 @@ unit-aware Python interfaces:
 
 - :mod:`gyrobias.allan` — overlapping / non-overlapping Allan, modified, Hadamard and total
   deviations with chi-square confidence intervals (NIST SP 1065, IEEE Std 952).
+- :mod:`gyrobias.fir` — Kaiser-window FIR low-pass design, causal and zero-phase filtering ([TS]).
+- :mod:`gyrobias.spectral` — least-squares spectral analysis of unequally spaced data with
+  significance tests, Welch PSD and noise density ([TS] §2.2, Pagiatakis 1999).
+- :mod:`gyrobias.thermal` — AR(1) drift fits and temperature-dependent noise models ([TS] §4).
 - :mod:`gyrobias.fractional` — long-memory (1/f) noise: type-II fractional differencing and
   integration, ARFIMA(0, d, 0) simulation, exact local Whittle estimation of ``d``.
 - :mod:`gyrobias.predict` — bias prediction from a calibration window ([BP]): the fractional
@@ -14,19 +18,20 @@ unit-aware Python interfaces:
   steady-state gain, discrete fixed-gain form, bandwidth design, streaming.
 - :mod:`gyrobias.noise` — IEEE-952 noise coefficients (Q, N, B, K, R) with uncertainties:
   simulation, joint fit and read-off identification, unit conversion, Kalibr/JSON export.
-- :mod:`gyrobias.predict` — bias prediction from a calibration window ([BP]): the fractional
-  (1/f) Kalman predictor (O(n·k) generalized Schur, compiled batch GEMM), moving average and
-  calibration mean, and [BP]'s batch test.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
 """
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan, fractional, io, kalman, noise, predict
+from gyrobias import allan, fir, fractional, io, kalman, noise, predict, spectral, thermal
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
-from gyrobias.predict import FractionalKalmanPredictor, Prediction
+from gyrobias.fir import KaiserLowpass, kaiser_lowpass
 from gyrobias.kalman import FixedGainKalman
+from gyrobias.noise import NoiseCoefficients
+from gyrobias.predict import FractionalKalmanPredictor, Prediction
+from gyrobias.spectral import LSSAResult, lssa
+from gyrobias.thermal import AR1Fit, TemperatureModel, fit_ar1
 
 try:
     __version__ = version("gyrobias")
@@ -34,18 +39,29 @@ except PackageNotFoundError:  # running from a source tree without installation
     __version__ = "0.0.0+unknown"
 
 __all__ = [
+    "AR1Fit",
     "AllanResult",
-    "FractionalKalmanPredictor",
     "FixedGainKalman",
+    "FractionalKalmanPredictor",
     "GyroLinAlgError",
+    "KaiserLowpass",
+    "LSSAResult",
+    "NoiseCoefficients",
     "Prediction",
+    "TemperatureModel",
     "__version__",
     "adev",
     "allan",
     "avar",
+    "fir",
+    "fit_ar1",
     "fractional",
     "io",
+    "kalman",
+    "kaiser_lowpass",
+    "lssa",
     "noise",
     "predict",
-    "kalman",
+    "spectral",
+    "thermal",
 ]

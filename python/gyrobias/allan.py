@@ -176,14 +176,31 @@ class AllanResult:
         name = f" axis {self.axis}" if self.axis else ""
         return f"{self.kind.upper()}{name} (fs = {self.fs:g} Hz, {self.data_type} data)\n{self.table()}"
 
-    def plot(self, ax: Any = None, *, label: str | None = None, **kwargs: Any) -> Any:
+    def plot(self, ax: Any = None, *, label: str | None = None, fit: Any = None, **kwargs: Any) -> Any:
         """Log-log plot of the deviation with confidence bars (needs ``matplotlib``).
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw (a new figure otherwise).
+        label : str, optional
+            Legend entry.
+        fit : NoiseCoefficients or True, optional
+            Overlay a fitted noise model (model curve, per-term asymptotes and the labelled
+            read-off points); ``True`` fits one now with :func:`gyrobias.noise.fit`.
+        **kwargs
+            Passed to :func:`gyrobias.plotting.plot_allan`.
 
         Returns the matplotlib ``Axes``.
         """
         from gyrobias.plotting import plot_allan
 
-        return plot_allan([self], ax=ax, labels=[label] if label else None, **kwargs)
+        if fit is True:
+            from gyrobias.noise import fit as fit_noise
+
+            fit = fit_noise(self)
+        fits = None if fit is None or fit is False else [fit]
+        return plot_allan([self], ax=ax, labels=[label] if label else None, fits=fits, **kwargs)
 
 
 def _analyse(

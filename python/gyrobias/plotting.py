@@ -53,6 +53,7 @@ def plot_allan(
     *,
     title: str | None = None,
     confidence_bars: bool = True,
+    fits: Sequence[Any] | None = None,
     **kwargs: Any,
 ) -> Any:
     """Log-log plot of one or more Allan-family deviations σ(τ) against τ.
@@ -70,6 +71,10 @@ def plot_allan(
         Axes title.
     confidence_bars : bool
         Draw the asymmetric confidence bars ``[ci_low, ci_high]`` of results that have them.
+    fits : sequence of NoiseCoefficients, optional
+        One fitted noise model per result (:func:`gyrobias.noise.fit`): overlays the model
+        curve, each term's asymptote and the labelled read-off points
+        (:meth:`gyrobias.noise.NoiseCoefficients.plot`).
     **kwargs
         Passed to :meth:`~matplotlib.axes.Axes.errorbar` (e.g. ``fmt``, ``color``, ``ms``).
 
@@ -98,6 +103,7 @@ def plot_allan(
 
         _, ax = plt.subplots(figsize=(7.5, 5.0), layout="constrained")
     _draw(ax, items, labels, title, confidence_bars, kwargs)
+    _overlay_fits(ax, items, fits)
     return ax
 
 
@@ -108,6 +114,7 @@ def save_allan_plot(
     *,
     title: str | None = None,
     dpi: int = 150,
+    fits: Sequence[Any] | None = None,
     **kwargs: Any,
 ) -> None:
     """Render :func:`plot_allan` to an image file (format from the suffix: png, pdf, svg, …).
@@ -124,7 +131,17 @@ def save_allan_plot(
     fig = Figure(figsize=(7.5, 5.0), layout="constrained")
     ax = fig.add_subplot()
     _draw(ax, items, labels, title, kwargs.pop("confidence_bars", True), kwargs)
+    _overlay_fits(ax, items, fits)
     fig.savefig(os.fspath(path), dpi=dpi)
+
+
+def _overlay_fits(ax: Any, items: list[AllanResult], fits: Sequence[Any] | None) -> None:
+    if fits is None:
+        return
+    if len(fits) != len(items):
+        raise ValueError(f"fits has {len(fits)} entries for {len(items)} results")
+    for fit, item in zip(fits, items):
+        fit.plot(ax, allan=item, show_data=False)
 
 
 def _draw(

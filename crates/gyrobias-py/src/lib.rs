@@ -6,10 +6,13 @@
 
 mod allan;
 mod error;
+mod fir;
 mod fractional;
-mod predict;
 mod kalman;
 mod noise;
+mod predict;
+mod spectral;
+mod thermal;
 
 use pyo3::prelude::*;
 
@@ -18,6 +21,9 @@ use pyo3::prelude::*;
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     error::register(m)?;
     allan::register(m)?;
+    fir::register(m)?;
+    spectral::register(m)?;
+    thermal::register(m)?;
     fractional::register(m)?;
     predict::register(m)?;
     kalman::register(m)?;

@@ -7,6 +7,9 @@
 //! | module | science | source |
 //! |---|---|---|
 //! | [`allan`] | overlapping / non-overlapping Allan, modified, Hadamard and total variance, noise identification, EDF and confidence intervals | NIST SP 1065, IEEE 952, \[BP\] eq. 2, \[TS\] eq. 1 |
+//! | [`fir`] | Kaiser-window FIR low-pass design, causal and zero-phase filtering | \[TS\] eqs. 14–20, Orfanidis §10.2 |
+//! | [`spectral`] | least-squares spectral analysis with significance, Welch PSD | \[TS\] §2.2, Vaníček 1969, Pagiatakis 1999, Welch 1967 |
+//! | [`thermal`] | AR(1) drift fits, temperature interpolation of noise parameters | \[TS\] §4 |
 //! | [`fractional`] | fractional differencing and integration (direct / FFT), ARFIMA(0, d, 0) simulation (type II, Davies–Harte), exact local Whittle estimation of d | SPEC §4, Hosking (1981), \[BP\] eq. 3, Shimotsu & Phillips (2005), Shimotsu (2010) |
 //! | [`noise`] | IEEE-952 noise terms: simulation with known coefficients, joint weighted fit and read-off identification | IEEE 952 Annex C, SPEC §3 |
 //! | [`optimize`] | Brent's derivative-free 1-D minimisation | Brent (1973) |
@@ -20,13 +23,16 @@
 
 pub mod allan;
 pub mod error;
+pub mod fir;
 pub mod fractional;
+pub mod kalman;
 pub mod optimize;
 pub mod predict;
-pub mod kalman;
 pub mod noise;
 pub mod random;
+pub mod spectral;
 pub mod stats;
+pub mod thermal;
 pub mod validate;
 
 pub use error::{Error, Result};

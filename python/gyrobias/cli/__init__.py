@@ -26,6 +26,7 @@ SUBCOMMANDS: list[str] = [
     "gyrobias.cli.demo",
     "gyrobias.cli.predict",
     "gyrobias.cli.filter",
+    "gyrobias.cli.thermal",
 ]
 
 #: Modules with ``register_experiment(exp_subparsers)`` for the ``gyrobias experiment`` group

@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any, Protocol
 
 from gyrobias import allan, io
+from gyrobias.cli import noise as noise_cli
 
 __all__ = ["ProgressBar", "register", "run"]
 
@@ -62,6 +63,7 @@ def register(subparsers: Any) -> None:
                      help="confidence level of the intervals (default 0.683 ≈ 1σ)")
     ana.add_argument("--no-confidence", action="store_true", help="skip noise identification and confidence intervals")
     out = p.add_argument_group("output")
+    noise_cli.add_fit_arguments(p)
     out.add_argument("--json", type=Path, metavar="FILE", help="write all axes, units, fs and the sampling report as JSON")
     out.add_argument("--plot", type=Path, metavar="FILE", help="save a log-log plot (png, pdf, svg) with confidence bars")
     out.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
@@ -185,6 +187,8 @@ def run(args: argparse.Namespace) -> int:
               f"{f', {100 * r.confidence:.3g} % confidence intervals' if r.confidence else ''}")
         print(r.table())
 
+    noise_cli.run_fit(args, results)
+
     if args.json is not None:
         doc = {
             "gyrobias_version": _version(),
@@ -203,13 +207,15 @@ def run(args: argparse.Namespace) -> int:
             "timing_s": {"read": t_read, "analysis": t_run},
             "axes": [r.to_dict() for r in results],
         }
+        if args.noise_coefficients:
+            doc["noise_coefficients"] = [c.to_dict() for c in args.noise_coefficients]
         args.json.write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
         print(f"\nwrote {args.json}")
     if args.plot is not None:
         from gyrobias.plotting import save_allan_plot
 
         title = f"{args.kind.upper()} of {args.log.name} ({log.fs:.6g} Hz, {_duration(duration)})"
-        save_allan_plot(results, args.plot, title=title)
+        save_allan_plot(results, args.plot, title=title, fits=args.noise_coefficients or None)
         print(f"wrote {args.plot}")
     return 0
 

@@ -4,13 +4,15 @@ The log is simulated with :func:`gyrobias.noise.simulate` (angle random walk, bi
 instability, rate random walk and a turn-on bias, different per axis), analysed with the
 overlapping Allan deviation, and the plot and the log are saved to ``--outdir``. Later parts
 of the library add their own sections: modules listed in :data:`SECTIONS` provide
-``demo_section(rate, fs, outdir)``, called in order with the same simulated log.
+``demo_section(rate, fs, outdir)`` (plus ``true_coefficients=`` when they accept it), called
+in order with the same simulated log.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import inspect
 import time
 from pathlib import Path
 from typing import Any
@@ -21,6 +23,7 @@ __all__ = ["SECTIONS", "TRUE_COEFFICIENTS", "register", "run"]
 
 #: Modules providing ``demo_section(rate, fs, outdir)``; appended to extend the demo.
 SECTIONS: list[str] = [
+    "gyrobias.cli.noise",
     "gyrobias.cli.predict",
     "gyrobias.cli.experiment_kalman",
 ]
@@ -128,5 +131,9 @@ def run(args: argparse.Namespace) -> int:
         print(f"(no plot: {exc})")
 
     for name in SECTIONS:
-        importlib.import_module(name).demo_section(rate, fs, outdir)
+        section = importlib.import_module(name).demo_section
+        if "true_coefficients" in inspect.signature(section).parameters:
+            section(rate, fs, outdir, true_coefficients=TRUE_COEFFICIENTS)
+        else:
+            section(rate, fs, outdir)
     return 0

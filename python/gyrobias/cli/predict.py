@@ -146,7 +146,13 @@ def demo_section(rate: NDArray[np.float64], fs: float, outdir: Path) -> None:
     k = h = int(min(1000, max(2, y.size // 20)))
     print("\n== bias prediction ([BP] §V-C): z axis, sections of "
           f"{k / fs:g} s calibration + {h / fs:g} s prediction")
-    predictor = FractionalKalmanPredictor(d=0.5, q=1.0, r=0.0)
+    # The predictor's model comes from the log itself: Allan analysis → noise coefficients
+    # (N, B) → (r, q) by FractionalKalmanPredictor.from_noise, as a user would do it.
+    from gyrobias import allan, noise
+
+    coefficients = noise.fit(allan.adev(y, fs, confidence=None), terms=("N", "B", "K"))
+    predictor = FractionalKalmanPredictor.from_noise(coefficients, fs, d=0.5)
+    print(f"model from the log's Allan fit: d = 0.5, q = {predictor.q:.3g}, r = {predictor.r:.3g} (deg/s)²")
     ev = evaluate(y, calibration=k, horizon=h, predictor=predictor)
     print(ev.table())
     try:

@@ -1,0 +1,120 @@
+//! Bindings of `gyrocore::fir`.
+
+use gyrocore::fir::{self, Mode, Padding};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    PyUntypedArrayMethods,
+};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::error::core;
+
+/// Kaiser-window low-pass design: dict with the design quantities and `taps`.
+#[pyfunction]
+#[pyo3(signature = (fs, fpass, fstop, apass_db, astop_db))]
+fn kaiser_design(
+    py: Python<'_>,
+    fs: f64,
+    fpass: f64,
+    fstop: f64,
+    apass_db: f64,
+    astop_db: f64,
+) -> PyResult<Bound<'_, PyDict>> {
+    let f = core(fir::kaiser_lowpass(fs, fpass, fstop, apass_db, astop_db))?;
+    let d = PyDict::new(py);
+    d.set_item("cutoff", f.cutoff)?;
+    d.set_item("delta_pass", f.delta_pass)?;
+    d.set_item("delta_stop", f.delta_stop)?;
+    d.set_item("attenuation_db", f.attenuation_db)?;
+    d.set_item("alpha", f.alpha)?;
+    d.set_item("d", f.d)?;
+    d.set_item("taps", f.taps.into_pyarray(py))?;
+    Ok(d)
+}
+
+/// Filters every row of a C-contiguous (rows × n) float64 array with FIR `taps`.
+#[pyfunction]
+#[pyo3(signature = (taps, x, zero_phase, padtype, padlen))]
+#[allow(clippy::needless_pass_by_value)]
+fn fir_filter<'py>(
+    py: Python<'py>,
+    taps: PyReadonlyArray1<'py, f64>,
+    x: PyReadonlyArray2<'py, f64>,
+    zero_phase: bool,
+    padtype: &str,
+    padlen: usize,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let shape = [x.shape()[0], x.shape()[1]];
+    let h = taps.as_slice()?;
+    let data = x.as_slice()?;
+    let mode = if zero_phase {
+        Mode::ZeroPhase {
+            padding: core(Padding::parse(padtype))?,
+            padlen,
+        }
+    } else {
+        Mode::Causal
+    };
+    let out = core(py.detach(|| fir::filter_rows(h, data, shape[0], mode)))?;
+    out.into_pyarray(py).reshape(shape)
+}
+
+/// Complex frequency response of `taps` at `freqs` (Hz): (real, imag).
+#[pyfunction]
+#[pyo3(signature = (taps, fs, freqs))]
+#[allow(clippy::needless_pass_by_value, clippy::type_complexity)]
+fn fir_response<'py>(
+    py: Python<'py>,
+    taps: PyReadonlyArray1<'py, f64>,
+    fs: f64,
+    freqs: PyReadonlyArray1<'py, f64>,
+) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    let h = taps.as_slice()?;
+    let f = freqs.as_slice()?;
+    let (re, im) = core(py.detach(|| fir::frequency_response(h, fs, f)))?;
+    Ok((re.into_pyarray(py), im.into_pyarray(py)))
+}
+
+/// Causal filtering of one stream chunk per row: returns (output rows, new state rows).
+#[pyfunction]
+#[pyo3(signature = (taps, x, state))]
+#[allow(clippy::needless_pass_by_value, clippy::type_complexity)]
+fn fir_stream<'py>(
+    py: Python<'py>,
+    taps: PyReadonlyArray1<'py, f64>,
+    x: PyReadonlyArray2<'py, f64>,
+    state: PyReadonlyArray2<'py, f64>,
+) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+    let (rows, n) = (x.shape()[0], x.shape()[1]);
+    let srows = state.shape()[0];
+    if srows != rows {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "state has {srows} rows for {rows} signals"
+        )));
+    }
+    let width = state.shape()[1];
+    let h = taps.as_slice()?;
+    let data = x.as_slice()?;
+    let mut hist = state.as_slice()?.to_vec();
+    let out = core(py.detach(|| -> gyrocore::Result<Vec<f64>> {
+        let mut out = Vec::with_capacity(data.len());
+        for r in 0..rows {
+            let row = &data[r * n..(r + 1) * n];
+            let state = &mut hist[r * width..(r + 1) * width];
+            out.extend(fir::filter_stream(h, row, state)?);
+        }
+        Ok(out)
+    }))?;
+    Ok((
+        out.into_pyarray(py).reshape([rows, n])?,
+        hist.into_pyarray(py).reshape([rows, width])?,
+    ))
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(kaiser_design, m)?)?;
+    m.add_function(wrap_pyfunction!(fir_filter, m)?)?;
+    m.add_function(wrap_pyfunction!(fir_response, m)?)?;
+    m.add_function(wrap_pyfunction!(fir_stream, m)?)
+}

@@ -1,0 +1,65 @@
+//! Bindings of `gyrocore::thermal`.
+
+use gyrocore::thermal::{self, Method};
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::error::core;
+
+/// AR(1) fit: dict with `c`, `c_std_error`, `sigma_e`, `mean`, `n`, `beta`, `process_std`.
+#[pyfunction]
+#[pyo3(signature = (x, dt, demean))]
+#[allow(clippy::needless_pass_by_value)]
+fn ar1_fit<'py>(
+    py: Python<'py>,
+    x: PyReadonlyArray1<'py, f64>,
+    dt: f64,
+    demean: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let x = x.as_slice()?;
+    let f = core(py.detach(|| thermal::fit_ar1(x, dt, demean)))?;
+    let d = PyDict::new(py);
+    d.set_item("c", f.c)?;
+    d.set_item("c_std_error", f.c_std_error)?;
+    d.set_item("sigma_e", f.sigma_e)?;
+    d.set_item("mean", f.mean)?;
+    d.set_item("n", f.n)?;
+    d.set_item("beta", f.beta)?;
+    d.set_item("process_std", f.process_std)?;
+    Ok(d)
+}
+
+/// Interpolates `values` given at `temperatures` at `at` (`method`: linear, pchip, polynomial).
+#[pyfunction]
+#[pyo3(signature = (temperatures, values, method, degree, at, extrapolate))]
+#[allow(clippy::needless_pass_by_value)]
+fn temperature_interpolate<'py>(
+    py: Python<'py>,
+    temperatures: PyReadonlyArray1<'py, f64>,
+    values: PyReadonlyArray1<'py, f64>,
+    method: &str,
+    degree: usize,
+    at: PyReadonlyArray1<'py, f64>,
+    extrapolate: bool,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let method = match method {
+        "linear" => Method::Linear,
+        "pchip" => Method::Pchip,
+        "polynomial" => Method::Polynomial(degree),
+        other => {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "method must be 'linear', 'pchip' or 'polynomial', got {other:?}"
+            )));
+        }
+    };
+    let x = temperatures.as_slice()?;
+    let y = values.as_slice()?;
+    let at = at.as_slice()?;
+    Ok(core(thermal::interpolate(x, y, method, at, extrapolate))?.into_pyarray(py))
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(ar1_fit, m)?)?;
+    m.add_function(wrap_pyfunction!(temperature_interpolate, m)?)
+}

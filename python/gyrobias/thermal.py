@@ -1,0 +1,548 @@
+"""Temperature-dependent noise models: AR(1) drift fits and interpolation in temperature ([TS] §4).
+
+[TS] log static MEMS gyros and accelerometers at −30, 0, +30 and +60 °C and show that the
+Allan-variance coefficients and the first-order AR drift coefficient depend on temperature.
+This module fits the AR(1) model (:func:`fit_ar1`), analyses one log per temperature
+(:func:`analyse_log`), and interpolates any named parameter in temperature
+(:class:`TemperatureModel`, linear / PCHIP / low-order polynomial, JSON round trip).
+:func:`build_temperature_model` does it all from several temperature-tagged logs.
+
+Conventions
+-----------
+- AR(1): ``b_{k+1} = c·b_k + e``. [TS]'s tables use ``b_{k+1} + C_AR·b_k = e``, i.e.
+  ``C_AR = −c`` (white noise low-passed by its own Kaiser filters gives c = +0.961 / +0.844 /
+  +0.671 at fc = 8/16/24 Hz where [TS] prints ≈ −0.96 / −0.9 / −0.7); :class:`AR1Fit` reports
+  both (``c`` and ``c_ar``).
+- Temperatures in °C; parameters in whatever unit the caller states in ``units``.
+
+References
+----------
+.. [TS] N. El-Diasty, A. El-Rabbany, S. Pagiatakis, "Stochastic characteristics of
+   temperature-dependent MEMS-based inertial sensor error", §4, Tables 1–5.
+.. [IEEE952] IEEE Std 952-1997, Annex C (reading N at τ = 1 s, B from the flicker floor).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from typing import Any, cast
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gyrobias import _core
+from gyrobias._validation import as_float_array, choice, positive_float
+
+__all__ = [
+    "AR1Fit",
+    "TemperatureModel",
+    "ThermalAnalysis",
+    "analyse_log",
+    "analyse_logs",
+    "build_temperature_model",
+    "fit_ar1",
+]
+
+#: Flicker (bias-instability) plateau factor √(2 ln 2/π) of the Allan deviation (IEEE 952).
+FLICKER_FACTOR = math.sqrt(2.0 * math.log(2.0) / math.pi)
+
+_METHODS = ("linear", "pchip", "polynomial")
+
+
+@dataclass(frozen=True)
+class AR1Fit:
+    """Least-squares first-order autoregressive fit ``b_{k+1} = c·b_k + e``.
+
+    Attributes
+    ----------
+    c : float
+        AR coefficient in ``b_{k+1} = c·b_k + e``.
+    c_std_error : float
+        Standard error of ``c``, ``√(s_e²/Σb_k²) ≈ √((1 − c²)/n)``.
+    sigma_e : float
+        Innovation standard deviation ``s_e = √(RSS/(n − 2))`` (unit of the data).
+    mean : float
+        Mean removed before the fit (0 with ``demean=False``).
+    n : int
+        Number of samples.
+    dt : float
+        Sample interval in seconds.
+    beta : float or None
+        Equivalent first-order Gauss–Markov rate ``β = −ln(c)/Δt`` (1/s); ``None`` unless
+        ``0 < c < 1``.
+    process_std : float or None
+        Stationary standard deviation ``s_e/√(1 − c²)``; ``None`` unless ``|c| < 1``.
+    """
+
+    c: float
+    c_std_error: float
+    sigma_e: float
+    mean: float
+    n: int
+    dt: float
+    beta: float | None
+    process_std: float | None
+
+    @property
+    def c_ar(self) -> float:
+        """The coefficient in [TS]'s convention ``b_{k+1} + C_AR·b_k = e``: ``C_AR = −c``."""
+        return -self.c
+
+    @property
+    def correlation_time(self) -> float | None:
+        """Gauss–Markov correlation time ``1/β`` in seconds (``None`` if undefined)."""
+        return None if self.beta is None else 1.0 / self.beta
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain-Python representation, with both sign conventions."""
+        return {
+            "c": self.c,
+            "c_ar": self.c_ar,
+            "c_std_error": self.c_std_error,
+            "sigma_e": self.sigma_e,
+            "mean": self.mean,
+            "n": self.n,
+            "dt": self.dt,
+            "beta": self.beta,
+            "correlation_time": self.correlation_time,
+            "process_std": self.process_std,
+        }
+
+
+def fit_ar1(x: ArrayLike, fs: float = 1.0, *, demean: bool = True) -> AR1Fit:
+    """Fit the first-order AR model ``b_{k+1} = c·b_k + e`` by least squares.
+
+    Parameters
+    ----------
+    x : array_like, 1-D
+        Drift samples (e.g. FIR-filtered gyro rate), regularly sampled.
+    fs : float
+        Sample rate in Hz (``Δt = 1/fs``, used for β and the correlation time).
+    demean : bool
+        Remove the sample mean first (default; a gyro's constant bias would otherwise
+        dominate and give c ≈ 1).
+
+    Returns
+    -------
+    AR1Fit
+
+    Raises
+    ------
+    ValueError
+        NaN/inf, fewer than 3 samples, ``fs ≤ 0``.
+    gyrobias.GyroLinAlgError
+        A constant series (c undefined).
+
+    Notes
+    -----
+    ``ĉ = Σ b_k b_{k+1} / Σ b_k²`` (sums over the n − 1 pairs), ``s_e² = RSS/(n − 2)``,
+    ``se(ĉ) = √(s_e²/Σ b_k²)``; ``β = −ln(ĉ)/Δt`` for 0 < ĉ < 1. [TS]'s ``C_AR = −ĉ`` (SPEC §9).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrobias.thermal import fit_ar1
+    >>> rng = np.random.default_rng(1)
+    >>> b = np.zeros(20_000)
+    >>> for k in range(1, b.size):
+    ...     b[k] = 0.9 * b[k - 1] + rng.normal()
+    >>> f = fit_ar1(b, fs=100.0)
+    >>> round(f.c, 2), round(f.c_ar, 2)
+    (0.9, -0.9)
+    """
+    arr = as_float_array("x", x)
+    fs = positive_float("fs", fs)
+    r = _core.ar1_fit(arr, 1.0 / fs, bool(demean))
+    beta = float(r["beta"])
+    pstd = float(r["process_std"])
+    return AR1Fit(
+        c=float(r["c"]),
+        c_std_error=float(r["c_std_error"]),
+        sigma_e=float(r["sigma_e"]),
+        mean=float(r["mean"]),
+        n=int(r["n"]),
+        dt=1.0 / fs,
+        beta=None if math.isnan(beta) else beta,
+        process_std=None if math.isnan(pstd) else pstd,
+    )
+
+
+@dataclass(frozen=True)
+class TemperatureModel:
+    """Named noise parameters tabulated at distinct temperatures, interpolated in between.
+
+    Parameters
+    ----------
+    temperatures : array_like
+        Calibration temperatures (°C), distinct, any order (stored sorted).
+    parameters : mapping of str to array_like
+        Parameter name → one value per temperature (same order as ``temperatures``), e.g.
+        ``{"arw": [...], "ar1_c": [...]}``. Any coefficients plug in.
+    units : mapping of str to str, optional
+        Unit of each parameter (for display and JSON).
+    method : {"linear", "pchip", "polynomial"}
+        Interpolation: piecewise linear, shape-preserving cubic (PCHIP, no overshoot between
+        calibration points; SciPy's ``PchipInterpolator``), or least-squares polynomial.
+    degree : int
+        Polynomial degree (≤ number of temperatures − 1); ignored otherwise.
+
+    Raises
+    ------
+    ValueError
+        Fewer than 2 temperatures, duplicate temperatures, NaN/inf, a parameter with the wrong
+        number of values, an unknown method or a degree the data cannot support.
+
+    Examples
+    --------
+    >>> from gyrobias.thermal import TemperatureModel
+    >>> m = TemperatureModel([-30, 0, 30, 60], {"arw": [2.23, 1.62, 1.95, 1.95]},
+    ...                      units={"arw": "deg/sqrt(h)"}, method="linear")
+    >>> round(m("arw", 15.0), 3)
+    1.785
+    """
+
+    temperatures: NDArray[np.float64]
+    parameters: Mapping[str, NDArray[np.float64]]
+    units: Mapping[str, str] = field(default_factory=dict)
+    method: str = "pchip"
+    degree: int = 2
+
+    def __post_init__(self) -> None:
+        temps = as_float_array("temperatures", self.temperatures)
+        if not np.all(np.isfinite(temps)):
+            raise ValueError("temperatures contains a non-finite value")
+        if temps.size < 2:
+            raise ValueError(f"temperatures: at least 2 are needed, got {temps.size}")
+        order = np.argsort(temps, kind="stable")
+        st = temps[order]
+        dup = np.flatnonzero(np.diff(st) == 0.0)
+        if dup.size:
+            raise ValueError(f"temperatures must be distinct, {st[dup[0]]} is given twice")
+        choice("method", self.method, _METHODS)
+        if isinstance(self.degree, bool) or not isinstance(self.degree, (int, np.integer)) or self.degree < 0:
+            raise ValueError(f"degree must be a non-negative integer, got {self.degree!r}")
+        if self.method == "polynomial" and self.degree > temps.size - 1:
+            raise ValueError(
+                f"degree {self.degree} needs at least {self.degree + 1} temperatures, got {temps.size}"
+            )
+        if not isinstance(self.parameters, Mapping) or not self.parameters:
+            raise ValueError("parameters must be a non-empty mapping of name -> values")
+        params: dict[str, NDArray[np.float64]] = {}
+        for name, values in self.parameters.items():
+            if not isinstance(name, str):
+                raise TypeError(f"parameter names must be strings, got {name!r}")
+            v = as_float_array(f"parameters[{name!r}]", values)
+            if v.size != temps.size:
+                raise ValueError(f"parameters[{name!r}] has {v.size} values for {temps.size} temperatures")
+            if not np.all(np.isfinite(v)):
+                raise ValueError(f"parameters[{name!r}] contains a non-finite value")
+            params[name] = v[order].copy()
+        object.__setattr__(self, "temperatures", st.copy())
+        object.__setattr__(self, "parameters", params)
+        object.__setattr__(self, "units", dict(self.units))
+        object.__setattr__(self, "degree", int(self.degree))
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Parameter names."""
+        return tuple(self.parameters)
+
+    @property
+    def range(self) -> tuple[float, float]:
+        """Calibrated temperature range (°C)."""
+        return float(self.temperatures[0]), float(self.temperatures[-1])
+
+    def __call__(self, name: str, temperature: ArrayLike, *, extrapolate: bool = False) -> Any:
+        """Parameter ``name`` at ``temperature`` (scalar in → float out, array in → array out).
+
+        Raises ``ValueError`` for a temperature outside the calibrated range unless
+        ``extrapolate=True`` (then the end segment / end cubic / polynomial is continued).
+        """
+        if name not in self.parameters:
+            raise KeyError(f"unknown parameter {name!r}; known: {', '.join(self.names)}")
+        at = np.asarray(temperature, dtype=np.float64)
+        flat = np.ascontiguousarray(at.reshape(-1))
+        if flat.size == 0:
+            raise ValueError("temperature is empty")
+        out = _core.temperature_interpolate(
+            self.temperatures, self.parameters[name], self.method, self.degree, flat, bool(extrapolate)
+        )
+        if at.ndim == 0:
+            return float(out[0])
+        return out.reshape(at.shape)
+
+    def evaluate(self, temperature: float, *, extrapolate: bool = False) -> dict[str, float]:
+        """All parameters at one temperature."""
+        return {n: float(self(n, float(temperature), extrapolate=extrapolate)) for n in self.names}
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain-Python representation (what :meth:`to_json` writes)."""
+        return {
+            "temperatures": self.temperatures.tolist(),
+            "parameters": {k: v.tolist() for k, v in self.parameters.items()},
+            "units": dict(self.units),
+            "method": self.method,
+            "degree": self.degree,
+        }
+
+    def to_json(self, **kwargs: Any) -> str:
+        """JSON text of :meth:`to_dict`."""
+        return json.dumps(self.to_dict(), **kwargs)
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> TemperatureModel:
+        """Inverse of :meth:`to_dict`."""
+        try:
+            return cls(
+                temperatures=np.asarray(data["temperatures"], dtype=np.float64),
+                parameters={k: np.asarray(v, dtype=np.float64) for k, v in data["parameters"].items()},
+                units=dict(data.get("units", {})),
+                method=data.get("method", "pchip"),
+                degree=int(data.get("degree", 2)),
+            )
+        except KeyError as exc:
+            raise ValueError(f"temperature model data lacks the key {exc.args[0]!r}") from exc
+
+    @classmethod
+    def from_json(cls, text: str) -> TemperatureModel:
+        """Inverse of :meth:`to_json`."""
+        return cls.from_dict(json.loads(text))
+
+    @classmethod
+    def from_analyses(
+        cls, analyses: Iterable[ThermalAnalysis], *, method: str = "pchip", degree: int = 2
+    ) -> TemperatureModel:
+        """Model of the scalar parameters of per-temperature :class:`ThermalAnalysis` results."""
+        items = list(analyses)
+        if not items:
+            raise ValueError("analyses is empty")
+        names = list(items[0].parameters())
+        params = {n: np.array([a.parameters()[n] for a in items]) for n in names}
+        return cls(
+            np.array([a.temperature for a in items]), params, units=items[0].parameter_units(), method=method, degree=degree
+        )
+
+    def table(self) -> str:
+        """Text table, one row per calibration temperature."""
+        names = self.names
+        head = f"{'T [°C]':>8} " + " ".join(f"{n:>16}" for n in names)
+        unit_row = f"{'':>8} " + " ".join(f"{self.units.get(n, ''):>16}" for n in names)
+        rows = [head, unit_row]
+        for i, t in enumerate(self.temperatures):
+            rows.append(f"{t:8.2f} " + " ".join(f"{self.parameters[n][i]:16.6g}" for n in names))
+        return "\n".join(rows)
+
+
+@dataclass(frozen=True)
+class ThermalAnalysis:
+    """Noise analysis of one static log at one temperature ([TS] Tables 1–5 in one row).
+
+    Attributes
+    ----------
+    temperature : float
+        °C.
+    fs : float
+        Sample rate in Hz.
+    n : int
+        Samples.
+    arw : float
+        White-noise coefficient N read off the Allan deviation at τ ≈ 1 s,
+        ``N = σ(τ)·√τ`` (IEEE 952), in unit·√s (e.g. deg/√s = (deg/s)/√Hz).
+    bias_instability : float
+        ``min σ(τ) / 0.664282`` over octave τ (IEEE 952 flicker floor), in the unit of the data.
+    noise_density : float
+        One-sided PSD white-noise density (unit/√Hz) of the raw log (:func:`noise_density`).
+    ar1 : AR1Fit
+        AR(1) fit of the (FIR-filtered) log.
+    filter_cutoff : float or None
+        Cut-off (Hz) of the Kaiser prefilter, ``None`` if the log was not filtered.
+    unit : str or None
+        Unit of the samples.
+    """
+
+    temperature: float
+    fs: float
+    n: int
+    arw: float
+    bias_instability: float
+    noise_density: float
+    ar1: AR1Fit
+    filter_cutoff: float | None
+    unit: str | None = None
+
+    def parameters(self) -> dict[str, float]:
+        """Scalar parameters for a :class:`TemperatureModel`."""
+        p = {
+            "arw": self.arw,
+            "bias_instability": self.bias_instability,
+            "noise_density": self.noise_density,
+            "ar1_c": self.ar1.c,
+            "ar1_c_std_error": self.ar1.c_std_error,
+            "ar1_sigma_e": self.ar1.sigma_e,
+        }
+        return p
+
+    def parameter_units(self) -> dict[str, str]:
+        """Units of :meth:`parameters`."""
+        u = self.unit or "unit"
+        return {
+            "arw": f"{u}·√s",
+            "bias_instability": u,
+            "noise_density": f"{u}/√Hz",
+            "ar1_c": "1",
+            "ar1_c_std_error": "1",
+            "ar1_sigma_e": u,
+        }
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain-Python representation."""
+        return {
+            "temperature": self.temperature,
+            "fs": self.fs,
+            "n": self.n,
+            "arw": self.arw,
+            "bias_instability": self.bias_instability,
+            "noise_density": self.noise_density,
+            "ar1": self.ar1.to_dict(),
+            "filter_cutoff": self.filter_cutoff,
+            "unit": self.unit,
+        }
+
+
+def analyse_log(
+    x: ArrayLike,
+    fs: float,
+    temperature: float,
+    *,
+    prefilter: bool = True,
+    zero_phase: bool = False,
+    fpass: float | None = None,
+    fstop: float | None = None,
+    apass_db: float = 0.0001,
+    astop_db: float = 100.0,
+    units: str | None = None,
+) -> ThermalAnalysis:
+    """Analyse one static log recorded at ``temperature``.
+
+    Parameters
+    ----------
+    x : array_like, 1-D
+        Rate samples (e.g. deg/s) of one axis.
+    fs : float
+        Sample rate in Hz.
+    temperature : float
+        °C.
+    prefilter : bool
+        Low-pass the log with a Kaiser FIR before the AR(1) fit, as [TS] §4.3.
+    zero_phase : bool
+        Filter forward–backward instead of causally. Default ``False``: the causal convolution
+        of [TS] eq. 20 (its first ``N − 1`` output samples, the start-up transient, are dropped
+        before the fit), which reproduces the SPEC §9 check (white noise → c = 0.961 / 0.846 /
+        0.670 at fc = 8/16/24 Hz); forward–backward filtering squares the magnitude response
+        and gives a slightly larger c (0.964 / 0.851 / 0.677).
+    fpass, fstop : float, optional
+        Filter band edges in Hz; default ``0.14·fs`` and ``0.18·fs`` ([TS] Fig. 12: 14/18 Hz at
+        100 Hz, cut-off 16 Hz).
+    apass_db, astop_db : float
+        Filter attenuations in dB (Skaloud's 0.0001 and 100 dB).
+    units : str, optional
+        Unit of ``x``.
+
+    Notes
+    -----
+    ARW from the overlapping Allan deviation at τ = m/fs with ``m = round(fs)`` (τ ≈ 1 s),
+    ``N = σ(τ)√τ``; bias instability ``min_τ σ(τ)/0.664282`` over octave τ; noise density from
+    the Welch PSD of the raw log; AR(1) on the filtered log (mean removed).
+    """
+    from gyrobias import allan, fir, spectral
+
+    arr = as_float_array("x", x)
+    fs = positive_float("fs", fs)
+    if isinstance(temperature, bool) or not isinstance(temperature, (int, float, np.integer, np.floating)):
+        raise TypeError(f"temperature must be a real number, got {type(temperature).__name__}")
+    if not math.isfinite(float(temperature)):
+        raise ValueError(f"temperature must be finite, got {temperature!r}")
+    m = max(1, int(round(fs)))
+    tau = m / fs
+    one = cast("allan.AllanResult", allan.adev(arr, fs, taus=[tau], confidence=None))
+    oct_ = cast("allan.AllanResult", allan.adev(arr, fs, taus="octave", confidence=None))
+    arw = float(one.adev[0]) * math.sqrt(tau)
+    bias = float(np.min(oct_.adev)) / FLICKER_FACTOR
+    nd = spectral.noise_density(arr, fs, units=units).density
+    cutoff: float | None = None
+    data = arr
+    if prefilter:
+        design = fir.kaiser_lowpass(
+            fs,
+            0.14 * fs if fpass is None else fpass,
+            0.18 * fs if fstop is None else fstop,
+            apass_db=apass_db,
+            astop_db=astop_db,
+        )
+        cutoff = design.cutoff
+        data = design.apply(arr, zero_phase=bool(zero_phase))
+        if not zero_phase:
+            if arr.size <= design.numtaps + 2:
+                raise ValueError(f"x is too short for the {design.numtaps}-tap prefilter: {arr.size} samples")
+            data = data[design.numtaps - 1 :]
+    return ThermalAnalysis(
+        temperature=float(temperature),
+        fs=fs,
+        n=int(arr.size),
+        arw=arw,
+        bias_instability=bias,
+        noise_density=nd,
+        ar1=fit_ar1(data, fs),
+        filter_cutoff=cutoff,
+        unit=units,
+    )
+
+
+def analyse_logs(
+    logs: Mapping[float, ArrayLike] | Iterable[tuple[float, ArrayLike]],
+    fs: float,
+    **kwargs: Any,
+) -> tuple[ThermalAnalysis, ...]:
+    """:func:`analyse_log` for each ``temperature → samples`` pair, sorted by temperature.
+
+    Raises ``ValueError`` if two logs carry the same temperature.
+    """
+    pairs = list(logs.items()) if isinstance(logs, Mapping) else list(logs)
+    if not pairs:
+        raise ValueError("logs is empty")
+    temps = [float(t) for t, _ in pairs]
+    if len(set(temps)) != len(temps):
+        dup = next(t for t in temps if temps.count(t) > 1)
+        raise ValueError(f"temperatures must be distinct, {dup} is given twice")
+    out = [analyse_log(x, fs, t, **kwargs) for t, x in pairs]
+    return tuple(sorted(out, key=lambda a: a.temperature))
+
+
+def build_temperature_model(
+    logs: Mapping[float, ArrayLike] | Iterable[tuple[float, ArrayLike]],
+    fs: float,
+    *,
+    method: str = "pchip",
+    degree: int = 2,
+    **kwargs: Any,
+) -> TemperatureModel:
+    """Analyse several temperature-tagged logs and interpolate their parameters in temperature.
+
+    ``logs`` maps temperature (°C) → rate samples (or is a sequence of such pairs); ``kwargs``
+    go to :func:`analyse_log` (``prefilter``, ``fpass``, ``fstop``, ``units``, …). The model's
+    parameters are those of :meth:`ThermalAnalysis.parameters`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrobias.thermal import build_temperature_model
+    >>> rng = np.random.default_rng(0)
+    >>> logs = {t: rng.normal(0.0, 0.01 * (1 + t / 100), 20_000) for t in (-30.0, 0.0, 30.0, 60.0)}
+    >>> m = build_temperature_model(logs, fs=100.0, units="deg/s")
+    >>> bool(m("arw", -30.0) < m("arw", 60.0))
+    True
+    """
+    return TemperatureModel.from_analyses(analyse_logs(logs, fs, **kwargs), method=method, degree=degree)
