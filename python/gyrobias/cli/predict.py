@@ -13,6 +13,7 @@ the moving average (MA) and the calibration mean (CM), and the Table I statistic
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -48,43 +49,17 @@ def register(subparsers: Any) -> None:
     p.set_defaults(func=run)
 
 
-def _read_log(path: Path, column: str | None) -> NDArray[np.float64]:
-    """One channel of a log (.npy, or delimited text with a header line). Kept small and
-    private so it can be replaced by :func:`gyrobias.io.load`."""
-    if not path.exists():
-        raise FileNotFoundError(f"log file not found: {path}")
-    if path.suffix == ".npy":
-        arr = np.load(path, allow_pickle=False)
-        if arr.ndim == 1:
-            return np.asarray(arr, dtype=float)
-        idx = int(column) if column is not None else 0
-        return np.asarray(arr[:, idx], dtype=float)
-    with path.open() as fh:
-        header = fh.readline()
-    delim = "," if "," in header else ("\t" if "\t" in header else None)
-    names = [h.strip().lower() for h in header.strip().split(delim)]
-    has_header = any(not _is_number(n) for n in names)
-    data = np.loadtxt(path, delimiter=delim, skiprows=1 if has_header else 0, ndmin=2)
-    if column is None:
-        idx = 0
-    elif column.isdigit():
-        idx = int(column)
-    elif has_header and column.lower() in names:
-        idx = names.index(column.lower())
-    else:
-        raise ValueError(f"column {column!r} not found in {path} (header: {', '.join(names)})")
-    if idx >= data.shape[1]:
-        raise ValueError(f"column index {idx} out of range: {path} has {data.shape[1]} columns")
-    return np.ascontiguousarray(data[:, idx])
+def _read_log(path: Path, column: str | None, fs: float) -> NDArray[np.float64]:
+    """One channel of a log via :func:`gyrobias.io.load` (sampling problems are reported)."""
+    from gyrobias import io
 
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
-
+    spec: list[str | int] | None = None
+    if column is not None:
+        spec = [int(column) if column.isdigit() else column]
+    log = io.load(path, columns=spec, fs=fs)
+    for w in log.warnings:
+        print(f"gyrobias: warning: {w}", file=sys.stderr)
+    return np.ascontiguousarray(log.data[:, 0])
 
 def plot_window(
     section: NDArray[np.float64], calibration: int, fs: float, predictor: Any, path: Path, title: str = ""
@@ -123,7 +98,7 @@ def run(args: argparse.Namespace) -> int:
     from gyrobias.predict import FractionalKalmanPredictor, evaluate
 
     fs = positive_float("--fs", args.fs)
-    y = _read_log(args.log, args.column)
+    y = _read_log(args.log, args.column, fs)
     predictor = FractionalKalmanPredictor(d=args.d, q=args.q, r=args.r, mean=args.mean)
     ev = evaluate(y, calibration=args.calibration, horizon=args.horizon, predictor=predictor)
     print(f"{args.log}: {y.size} samples at {fs:g} Hz")

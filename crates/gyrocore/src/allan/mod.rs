@@ -632,7 +632,11 @@ pub fn resolve_factors(
     if ms.is_empty() {
         // Smallest record with one term at m = 1: 3 angle samples (4 for Hadamard's third
         // difference); a rate series gives one angle sample more than it has.
-        let angle_needed = if estimator == Estimator::Hadamard { 4 } else { 3 };
+        let angle_needed = if estimator == Estimator::Hadamard {
+            4
+        } else {
+            3
+        };
         let needed = match data_type {
             DataType::Rate => angle_needed - 1,
             DataType::Angle => angle_needed,
