@@ -15,7 +15,6 @@ from gyrobias.cli import main
 from gyrobias.cli.allan import ProgressBar
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
-REPO = Path(__file__).resolve().parents[1]
 
 
 def _csv(path: Path, n: int = 4000, fs: float = 100.0, *, ns: bool = False, gap_at: int | None = None) -> Path:
@@ -227,7 +226,8 @@ def test_progress_bar_redraws_in_place_on_a_terminal() -> None:
 
 
 def test_python_dash_m(tmp_path: Path) -> None:
-    env = {"PYTHONPATH": str(REPO / "python"), "PATH": "/usr/bin:/bin"}
+    # Run the gyrobias that this test imported (installed, or the source tree in development).
+    env = {"PYTHONPATH": str(Path(gyrobias.__file__).parent.parent), "PATH": "/usr/bin:/bin"}
     proc = subprocess.run([sys.executable, "-m", "gyrobias", "allan", str(tmp_path / "none.csv")],
                           capture_output=True, text=True, env=env, check=False)
     assert proc.returncode == 2
