@@ -310,83 +310,122 @@ impl<'a> Column<'a> {
         }
     }
 
-    /// Mean with lane-parallel block sums combined by compensated addition (accurate to a few
-    /// ulp for any length, at memory speed).
-    fn mean(&self) -> f64 {
-        let total = if let Some(s) = self.as_slice() {
-            validate::neumaier_sum(s.chunks(MEAN_BLOCK).map(lane_sum))
-        } else {
-            // Same blocking as the contiguous path, so a column gives bit-identical results
-            // whether it arrives strided or contiguous.
-            let mut buf = vec![0.0_f64; MEAN_BLOCK];
-            let mut it = self.iter();
-            validate::neumaier_sum(std::iter::from_fn(|| {
-                let mut k = 0;
-                for (slot, v) in buf.iter_mut().zip(&mut it) {
-                    *slot = v;
-                    k += 1;
-                }
-                (k > 0).then(|| lane_sum(&buf[..k]))
-            }))
-        };
-        total / self.len() as f64
+    /// Sample `i` (no bounds beyond the slice's own).
+    #[inline]
+    fn get(&self, i: usize) -> f64 {
+        self.data[self.offset + i * self.stride]
     }
 }
 
-const MEAN_BLOCK: usize = 4096;
+/// Block length of the parallel integration. Fixed (not derived from the thread count), so
+/// results are identical however many threads run.
+const INTEGRATION_BLOCK: usize = 1 << 16;
 
-/// Plain sum in 8 independent lanes (vectorisable, error ~√(len/8)·eps).
-fn lane_sum(b: &[f64]) -> f64 {
+/// Sum of `f(i)` for `i in a..b` in 8 independent lanes (vectorisable; error ~√(len/8)·eps).
+#[inline]
+fn lane_sum(a: usize, b: usize, f: impl Fn(usize) -> f64) -> f64 {
     let mut lanes = [0.0_f64; 8];
-    let whole = b.len() - b.len() % 8;
-    for c in b[..whole].chunks_exact(8) {
-        for l in 0..8 {
-            lanes[l] += c[l];
+    let mut i = a;
+    while i + 8 <= b {
+        for (l, lane) in lanes.iter_mut().enumerate() {
+            *lane += f(i + l);
+        }
+        i += 8;
+    }
+    let mut tail = 0.0;
+    while i < b {
+        tail += f(i);
+        i += 1;
+    }
+    lanes.iter().sum::<f64>() + tail
+}
+
+/// Integrated mean-removed rate, `x_0 = 0`, `x_k = t0·Σ_{i<k}(Ω_i − Ω̄)`, in three parallel
+/// passes over fixed blocks: (1) block sums for the mean and the finiteness check, (2) block
+/// sums of the centred rate, whose compensated prefix sums give each block's starting angle,
+/// (3) the running sum inside each block, written in parallel.
+fn integrate_rate(column: Column<'_>, t0: f64) -> Result<Vec<f64>> {
+    let n = column.len();
+    let blocks: Vec<(usize, usize)> = (0..n)
+        .step_by(INTEGRATION_BLOCK)
+        .map(|a| (a, (a + INTEGRATION_BLOCK).min(n)))
+        .collect();
+    let sums: Vec<f64> = blocks
+        .par_iter()
+        .map(|&(a, b)| lane_sum(a, b, |i| column.get(i)))
+        .collect();
+    for (&(a, b), s) in blocks.iter().zip(&sums) {
+        // NaN/inf propagate into the block sum (finite data can only overflow it, which the
+        // scan then rules out).
+        if !s.is_finite() {
+            if let Some(k) = (a..b).find(|&i| !column.get(i).is_finite()) {
+                return Err(Error::NonFinite {
+                    name: "data",
+                    index: k,
+                });
+            }
         }
     }
-    lanes.iter().sum::<f64>() + b[whole..].iter().sum::<f64>()
+    let mean = validate::neumaier_sum(sums.iter().copied()) / n as f64;
+    if !mean.is_finite() {
+        return Err(Error::invalid(
+            "data",
+            "values too large: their sum overflows float64",
+        ));
+    }
+    let centred: Vec<f64> = blocks
+        .par_iter()
+        .map(|&(a, b)| lane_sum(a, b, |i| column.get(i) - mean))
+        .collect();
+    // Compensated prefix sums: the starting (unscaled) angle of every block.
+    let mut starts = Vec::with_capacity(blocks.len());
+    let (mut sum, mut comp) = (0.0_f64, 0.0_f64);
+    for &c in &centred {
+        starts.push(sum + comp);
+        let t = sum + c;
+        if sum.abs() >= c.abs() {
+            comp += (sum - t) + c;
+        } else {
+            comp += (c - t) + sum;
+        }
+        sum = t;
+    }
+    let mut x = vec![0.0; n + 1];
+    x[1..]
+        .par_chunks_mut(INTEGRATION_BLOCK)
+        .zip(blocks.par_iter().zip(starts.par_iter()))
+        .for_each(|(out, (&(a, _), &start))| {
+            let mut acc = start;
+            for (k, slot) in out.iter_mut().enumerate() {
+                acc += column.get(a + k) - mean;
+                *slot = acc * t0;
+            }
+        });
+    Ok(x)
 }
 
 /// The angle series the estimators work on (SPEC §2): integrated mean-removed rate with `x_0 = 0`,
 /// or the angle input itself (borrowed when contiguous).
 pub fn angle_series(column: Column<'_>, t0: f64, data_type: DataType) -> Result<Cow<'_, [f64]>> {
     validate::positive("fs", 1.0 / t0)?;
-    if let Some(index) = column.first_non_finite() {
-        return Err(Error::NonFinite {
-            name: "data",
-            index,
-        });
-    }
     match data_type {
-        DataType::Angle => Ok(match column.as_slice() {
-            Some(s) => Cow::Borrowed(s),
-            None => Cow::Owned(column.iter().collect()),
-        }),
+        DataType::Angle => {
+            if let Some(index) = column.first_non_finite() {
+                return Err(Error::NonFinite {
+                    name: "data",
+                    index,
+                });
+            }
+            Ok(match column.as_slice() {
+                Some(s) => Cow::Borrowed(s),
+                None => Cow::Owned(column.iter().collect()),
+            })
+        }
         DataType::Rate => {
-            let n = column.len();
-            if n == 0 {
+            if column.is_empty() {
                 return Ok(Cow::Owned(vec![0.0]));
             }
-            let mean = column.mean();
-            let mut x = vec![0.0; n + 1];
-            let mut acc = 0.0_f64;
-            let mut integrate = |out: &mut f64, v: f64| {
-                acc += v - mean;
-                *out = acc * t0;
-            };
-            match column.as_slice() {
-                Some(s) => {
-                    for (out, &v) in x[1..].iter_mut().zip(s) {
-                        integrate(out, v);
-                    }
-                }
-                None => {
-                    for (out, v) in x[1..].iter_mut().zip(column.iter()) {
-                        integrate(out, v);
-                    }
-                }
-            }
-            Ok(Cow::Owned(x))
+            Ok(Cow::Owned(integrate_rate(column, t0)?))
         }
     }
 }
