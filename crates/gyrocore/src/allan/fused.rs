@@ -127,27 +127,48 @@ pub(crate) fn difference_sums(x: &[f64], ms: &[usize], diff: Difference) -> Vec<
     let terms: Vec<usize> = ms.iter().map(|&m| x.len() - span * m).collect();
     let longest = terms.iter().copied().max().unwrap_or(0);
     let chunk_starts: Vec<usize> = (0..longest).step_by(CHUNK).collect();
-    let partials: Vec<Vec<f64>> = chunk_starts
+    // Short records have few chunks: then the τ are also dealt round-robin into groups so that
+    // every thread has work. Each τ's sum over a chunk is the same whichever group computes
+    // it, so the grouping (which depends on the thread count) never changes a result.
+    let want = 4 * rayon::current_num_threads();
+    let groups = want
+        .div_ceil(chunk_starts.len().max(1))
+        .clamp(1, ms.len().max(1));
+    let items: Vec<(usize, usize)> = chunk_starts
+        .iter()
+        .flat_map(|&c0| (0..groups).map(move |g| (c0, g)))
+        .collect();
+    let partials: Vec<(usize, usize, Vec<f64>)> = items
         .par_iter()
-        .map(|&c0| {
+        .map(|&(c0, g)| {
             let c1 = (c0 + CHUNK).min(longest);
-            let mut sums = vec![0.0_f64; ms.len()];
+            let sel: Vec<usize> = (g..ms.len()).step_by(groups).collect();
+            let sub_ms: Vec<usize> = sel.iter().map(|&j| ms[j]).collect();
+            let sub_terms: Vec<usize> = sel.iter().map(|&j| terms[j]).collect();
+            let mut sums = vec![0.0_f64; sel.len()];
             // Runtime CPU dispatch (AVX2 where available): the lane loops vectorise 4-wide
             // instead of SSE2's 2-wide. The lane layout fixes the order of every addition and
             // nothing is fused, so the result is bit-identical on every CPU.
             pulp::Arch::new().dispatch(ChunkSums {
                 x,
-                ms,
-                terms: &terms,
+                ms: &sub_ms,
+                terms: &sub_terms,
                 range: (c0, c1),
                 diff,
                 sums: &mut sums,
             });
-            sums
+            (c0, g, sums)
         })
         .collect();
-    // Fixed-order compensated combination of the chunk sums.
-    (0..ms.len())
-        .map(|j| crate::validate::neumaier_sum(partials.iter().map(|p| p[j])))
+    // Chunk sums per τ, in chunk order, combined with compensated addition.
+    let mut per_tau: Vec<Vec<f64>> = vec![Vec::with_capacity(chunk_starts.len()); ms.len()];
+    for (_, g, sums) in &partials {
+        for (i, s) in sums.iter().enumerate() {
+            per_tau[g + i * groups].push(*s);
+        }
+    }
+    per_tau
+        .iter()
+        .map(|chunks| crate::validate::neumaier_sum(chunks.iter().copied()))
         .collect()
 }
