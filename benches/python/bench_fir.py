@@ -8,22 +8,18 @@ Run: ``PYTHONPATH=python python benches/python/bench_fir.py``
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 
 import numpy as np
 import scipy.signal as ss
 
 from gyrobias import fir
+from _timing import best_of
+
 
 
 def best(fn: Callable[[], object], repeats: int = 5) -> float:
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
+    return best_of(fn, repeats)
 
 
 def main() -> None:

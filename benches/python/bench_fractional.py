@@ -14,22 +14,18 @@ Run: ``PYTHONPATH=python python benches/python/bench_fractional.py`` (best of a 
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 
 import numpy as np
 from scipy.signal import fftconvolve
 
 from gyrobias import fractional as fr
+from _timing import best_of
+
 
 
 def best(fn: Callable[[], object], repeats: int = 3) -> float:
-    times = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return min(times)
+    return best_of(fn, repeats)
 
 
 def main() -> int:

@@ -9,24 +9,20 @@ Run: ``PYTHONPATH=python python benches/python/bench_noise.py``
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 
 import gyrobias
+from _timing import best_of
 
 FS = 100.0
 N = 8 * 3600 * 100
 TRUE = {"arw": 0.2 / 60.0, "bias_instability": 3.0 / 3600.0, "rrw": 10.0 / 216000.0}
 
 
+
 def best(fn, repeats: int = 3) -> float:
-    times = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return min(times)
+    return best_of(fn, repeats)
 
 
 def baseline() -> np.ndarray:

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import resource
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -21,15 +20,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 from tests.reference_predict import arfima_type2, literal_filter  # noqa: E402
 
 from gyrobias.predict import FractionalKalmanPredictor, evaluate  # noqa: E402
+from _timing import best_of
 
 
-def best(f, repeats=3):
-    times = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        f()
-        times.append(time.perf_counter() - t)
-    return min(times)
+
+def best(fn, repeats: int = 3) -> float:
+    return best_of(fn, repeats)
 
 
 def maxrss_mb():

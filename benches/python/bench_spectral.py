@@ -10,7 +10,6 @@ Run: ``PYTHONPATH=python python benches/python/bench_spectral.py``
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 
 import numpy as np
@@ -18,15 +17,12 @@ import scipy.signal as ss
 from astropy.timeseries import LombScargle
 
 from gyrobias import spectral
+from _timing import best_of
+
 
 
 def best(fn: Callable[[], object], repeats: int = 3) -> float:
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
+    return best_of(fn, repeats)
 
 
 def main() -> None:
