@@ -16,21 +16,12 @@ import argparse
 import json
 import subprocess
 import sys
-import time
-from collections.abc import Callable
 
 import numpy as np
 
 import gyrobias
+from _timing import best_of
 
-
-def best_of(fn: Callable[[], object], repeats: int) -> float:
-    best = float("inf")
-    for _ in range(repeats):
-        t = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t)
-    return best
 
 
 def allantools_with_ci(rate: np.ndarray, fs: float) -> None:
