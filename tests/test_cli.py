@@ -259,3 +259,24 @@ def test_tab_delimiter_spellings(tmp_path: Path, capsys: pytest.CaptureFixture[s
     path.write_text("t\tg\n" + "".join(f"{i / 10}\t{(-1) ** i}\n" for i in range(200)))
     assert main(["allan", str(path), "--delimiter", spelling, "--no-confidence"]) == 0
     assert "estimated from the time column 't'" in capsys.readouterr().out
+
+
+def test_allan_fit_kalibr_and_per_axis_fit_plots(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    import yaml
+
+    rate = gyrobias.noise.simulate(200_000, 100.0, arw=0.3 / 60, bias_instability=5 / 3600, axes=2, seed=4)
+    np.save(tmp_path / "g.npy", rate)
+    png, imu, js = tmp_path / "fit.png", tmp_path / "imu.yaml", tmp_path / "a.json"
+    code = main(["allan", str(tmp_path / "g.npy"), "--fs", "100", "--units", "deg/s", "--fit",
+                 "--kalibr", str(imu), "--plot", str(png), "--json", str(js)])
+    assert code == 0
+    out = capsys.readouterr().out
+    assert "angle random walk" in out and "deg/√h" in out
+    # Several axes: the combined plot plus one fitted-model plot per axis.
+    for path in (png, tmp_path / "fit_col0.png", tmp_path / "fit_col1.png"):
+        assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 10_000
+    doc = yaml.safe_load(imu.read_text())
+    # N = 0.3 deg/√h = 0.3/60·π/180 rad/s/√Hz ≈ 8.7e-5; the fit recovers it within a few %.
+    assert doc["gyroscope_noise_density"] == pytest.approx(0.3 / 60 * np.pi / 180, rel=0.05)
+    assert doc["update_rate"] == 100
+    assert len(json.loads(js.read_text())["noise_coefficients"]) == 2

@@ -215,8 +215,19 @@ def run(args: argparse.Namespace) -> int:
         from gyrobias.plotting import save_allan_plot
 
         title = f"{args.kind.upper()} of {args.log.name} ({log.fs:.6g} Hz, {_duration(duration)})"
-        save_allan_plot(results, args.plot, title=title, fits=args.noise_coefficients or None)
-        print(f"wrote {args.plot}")
+        fits = args.noise_coefficients or None
+        if fits is not None and len(results) > 1:
+            # One figure per axis for the fitted models (overlaying several models, their
+            # asymptotes and read-off labels on one axes is unreadable), plus the combined plot.
+            save_allan_plot(results, args.plot, title=title)
+            print(f"wrote {args.plot}")
+            for r, fit in zip(results, fits):
+                path = args.plot.with_name(f"{args.plot.stem}_{r.axis}{args.plot.suffix}")
+                save_allan_plot([r], path, title=f"{title}, axis {r.axis}", fits=[fit])
+                print(f"wrote {path}")
+        else:
+            save_allan_plot(results, args.plot, title=title, fits=fits)
+            print(f"wrote {args.plot}")
     return 0
 
 
