@@ -471,22 +471,6 @@ fn sum_squares(count: usize, f: impl Fn(usize) -> f64) -> f64 {
     total + comp
 }
 
-/// Σ over the overlapping second differences at lag m.
-fn sum_second_differences(x: &[f64], m: usize, terms: usize) -> f64 {
-    let a = &x[..terms];
-    let b = &x[m..m + terms];
-    let c = &x[2 * m..2 * m + terms];
-    sum_squares(terms, |k| c[k] - 2.0 * b[k] + a[k])
-}
-
-fn sum_third_differences(x: &[f64], m: usize, terms: usize) -> f64 {
-    let a = &x[..terms];
-    let b = &x[m..m + terms];
-    let c = &x[2 * m..2 * m + terms];
-    let d = &x[3 * m..3 * m + terms];
-    sum_squares(terms, |k| d[k] - 3.0 * c[k] + 3.0 * b[k] - a[k])
-}
-
 /// Modified Allan sum: the inner m-sums of second differences are carried as a running sum,
 /// re-seeded exactly every `BLOCK` steps so rounding cannot drift over long records.
 fn sum_modified(x: &[f64], m: usize, terms: usize) -> f64 {
@@ -558,8 +542,10 @@ pub fn variance(x: &[f64], t0: f64, m: usize, estimator: Estimator) -> Result<(f
     let terms = estimator.n_terms(x.len(), m);
     let tau = m as f64 * t0;
     let var = match estimator {
+        // Same kernel as the many-τ path, so one τ and a τ list give identical numbers.
         Estimator::Overlapping => {
-            sum_second_differences(x, m, terms) / (2.0 * tau * tau * terms as f64)
+            fused::difference_sums(x, &[m], fused::Difference::Second)[0]
+                / (2.0 * tau * tau * terms as f64)
         }
         Estimator::NonOverlapping => {
             let s = sum_squares(terms, |i| {
@@ -572,7 +558,8 @@ pub fn variance(x: &[f64], t0: f64, m: usize, estimator: Estimator) -> Result<(f
             sum_modified(x, m, terms) / (2.0 * (m * m) as f64 * tau * tau * terms as f64)
         }
         Estimator::Hadamard => {
-            sum_third_differences(x, m, terms) / (6.0 * tau * tau * terms as f64)
+            fused::difference_sums(x, &[m], fused::Difference::Third)[0]
+                / (6.0 * tau * tau * terms as f64)
         }
         Estimator::Total => sum_total(x, m) / (2.0 * tau * tau * terms as f64),
     };
