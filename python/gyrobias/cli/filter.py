@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gyrobias import io as gio
 from gyrobias.kalman import (
     FixedGainKalman,
     arw_from_deg_per_sqrt_hour,
@@ -32,7 +33,7 @@ _RRW_UNITS = {"u/s^1.5": 1.0, "deg/h^1.5": rrw_from_deg_per_hour_1p5(1.0)}
 
 def register(subparsers: Any) -> argparse.ArgumentParser:
     """Add the ``filter`` subcommand to an argparse subparsers object."""
-    p = subparsers.add_parser(
+    p: argparse.ArgumentParser = subparsers.add_parser(
         "filter",
         help="denoise a gyro log with the fixed-gain [rate, bias] Kalman filter ([NR])",
         description=__doc__,
@@ -61,51 +62,9 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
 
 
 def load_rates(path: Path, columns: str | None = None) -> tuple[NDArray[np.float64], list[str]]:
-    """Read the (samples × channels) rates and channel names of a log.
-
-    Uses :func:`gyrobias.io.load` where available (header names, time columns, sampling
-    checks); otherwise a small reader for ``.npy`` and comma/tab/whitespace text whose
-    leading non-numeric lines (headers) and ``#`` comments are skipped.
-    """
-    try:
-        from gyrobias import io as gio  # type: ignore[attr-defined, unused-ignore]
-    except ImportError:
-        gio = None
-    if gio is not None and hasattr(gio, "load"):
-        log = gio.load(path, columns=columns)
-        return np.asarray(log.data, dtype=np.float64), list(log.columns)
-    if not path.exists():
-        raise FileNotFoundError(f"log file not found: {path}")
-    if path.suffix == ".npy":
-        data = np.asarray(np.load(path, allow_pickle=False), dtype=np.float64)
-    else:
-        with path.open() as fh:
-            lines = [ln for ln in fh if ln.strip() and not ln.lstrip().startswith("#")]
-        last = lines[-1] if lines else ""
-        delimiter = "," if "," in last else ("\t" if "\t" in last else None)
-        skip = 0
-        for ln in lines:
-            try:
-                [float(v) for v in ln.split(delimiter)]
-                break
-            except ValueError:
-                skip += 1
-        if skip == len(lines):
-            raise ValueError(f"log file {path} has no numeric rows")
-        data = np.loadtxt(lines[skip:], delimiter=delimiter, ndmin=2)
-    if data.ndim == 1:
-        data = data[:, None]
-    names = [f"col{i}" for i in range(data.shape[1])]
-    if columns:
-        try:
-            idx = [int(c.strip().removeprefix("col")) for c in columns.split(",")]
-        except ValueError:
-            raise ValueError(f"--columns must be comma-separated indices, got {columns!r}") from None
-        if any(i < 0 or i >= data.shape[1] for i in idx):
-            raise ValueError(f"--columns {columns} out of range for {data.shape[1]} columns")
-        data = data[:, idx]
-        names = [names[i] for i in idx]
-    return data, names
+    """Read the (samples × channels) rates and channel names of a log with :func:`gyrobias.io.load`."""
+    log = gio.load(path, columns=columns)
+    return np.asarray(log.data, dtype=np.float64), list(log.columns)
 
 
 def run(args: argparse.Namespace) -> int:
