@@ -251,3 +251,25 @@ def test_bad_cells_still_name_line_and_column_with_arrow(tmp_path: Path) -> None
     big.write_text("t,g\n" + rows + "500.0,x\n")
     with pytest.raises(ValueError, match=r"big.csv: 'x' \(not a number\) in column 'g' at line 50002"):
         load(big)
+
+
+# --------------------------------------------------------------------------- corrupt files
+
+
+@pytest.mark.parametrize(
+    ("name", "make"),
+    [
+        ("cut.csv.gz", lambda good: good[: len(good) // 2]),
+        ("junk.csv.gz", lambda good: b"hello, not gzip at all"),
+        ("junk.csv.xz", lambda good: b"\xfd7zXZ\x00garbage"),
+        ("junk.csv.bz2", lambda good: b"BZh91AY&SYgarbage"),
+    ],
+)
+def test_corrupt_compressed_files_name_the_file(tmp_path: Path, name: str, make: object) -> None:
+    import gzip
+
+    text = "t,g\n" + "".join(f"{i / 100},{i}\n" for i in range(2000))
+    path = tmp_path / name
+    path.write_bytes(make(gzip.compress(text.encode())))  # type: ignore[operator]
+    with pytest.raises(ValueError, match=f"{name}: cannot read the file"):
+        load(path)

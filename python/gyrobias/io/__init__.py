@@ -34,6 +34,7 @@ import gzip
 import lzma
 import os
 import re
+import zlib
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -450,9 +451,14 @@ def load(
         table, names, t_raw, t_name = _read_npy(p, columns, time_column, store)
         fmt = "npy"
     else:
-        table, names, t_raw, t_name, line_of = _read_text(
-            p, columns, time_column, time_unit, delimiter, int(skip_rows), comments, store, progress
-        )
+        try:
+            table, names, t_raw, t_name, line_of = _read_text(
+                p, columns, time_column, time_unit, delimiter, int(skip_rows), comments, store, progress
+            )
+        except PermissionError:
+            raise
+        except (OSError, EOFError, lzma.LZMAError, zlib.error) as exc:  # corrupt/truncated .gz/.bz2/.xz
+            raise ValueError(f"{p.name}: cannot read the file ({' '.join(str(exc).split())})") from None
         fmt = "text"
     unit_tuple = _resolve_units(units, names, file_units, p.name)
 
