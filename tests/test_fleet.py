@@ -275,10 +275,18 @@ def test_summary_decides_whether_the_spread_is_real() -> None:
     assert s_same["mean_uncertainty"].iloc[0] == pytest.approx(0.01)
     # Monte Carlo: with no real spread the verdict "real" is rarer than alpha.
     false_real = 0
-    for _ in range(300):
+    for _ in range(2000):
         x = 1.0 + rng.normal(0.0, 0.01, 30)
-        false_real += bool(fleet.summary(_table(x, u))["spread_real"].iloc[0])
-    assert false_real / 300 <= fleet.SPREAD_ALPHA + 0.01
+        false_real += fleet._spread(x, u, fleet.SPREAD_ALPHA, fleet.SPREAD_MIN_RATIO)["spread_real"]
+    # At n = 30 the p < 1 % condition is the binding one: the rate is alpha (binomial s.d. 0.2 %).
+    assert false_real / 2000 < fleet.SPREAD_ALPHA + 0.005
+    # ... and a real spread of twice the uncertainties is found nearly always.
+    found = sum(
+        fleet._spread(1.0 + rng.normal(0.0, 0.02, 30) + rng.normal(0.0, 0.01, 30), u, fleet.SPREAD_ALPHA,
+                      fleet.SPREAD_MIN_RATIO)["spread_real"]
+        for _ in range(500)
+    )
+    assert found / 500 > 0.95
 
 
 # ------------------------------------------------------------------------ command line

@@ -542,6 +542,33 @@ def _chi2_sf(x: float, dof: int) -> float:
     return 0.5 * math.erfc(zval / math.sqrt(2.0))
 
 
+def _spread(x: NDArray[np.float64], u: NDArray[np.float64], alpha: float, min_ratio: float) -> dict[str, Any]:
+    """The statistics of one term over the units that have it (see :func:`summary`)."""
+    med = float(np.median(x))
+    spread = _MAD_TO_SD * float(np.median(np.abs(x - med)))
+    good = np.isfinite(u) & (u > 0.0)
+    mean_u = float(np.sqrt(np.mean(u[good] ** 2))) if good.any() else math.nan
+    dof = int(good.sum()) - 1
+    chi2 = p = ratio = math.nan
+    if dof >= 1:
+        w = 1.0 / u[good] ** 2
+        xm = float(np.sum(w * x[good]) / np.sum(w))
+        chi2 = float(np.sum(w * (x[good] - xm) ** 2))
+        p = _chi2_sf(chi2, dof)
+        ratio = math.sqrt(chi2 / dof)
+    return {
+        "median": med,
+        "spread": spread,
+        "mean_uncertainty": mean_u,
+        "intrinsic_spread": math.sqrt(max(spread * spread - mean_u * mean_u, 0.0)) if math.isfinite(mean_u) else math.nan,
+        "chi2": chi2,
+        "dof": dof if dof >= 1 else None,
+        "birge_ratio": ratio,
+        "p_value": p,
+        "spread_real": None if dof < 1 else bool(p < alpha and ratio >= min_ratio),
+    }
+
+
 def summary(table: DataFrame, *, alpha: float = SPREAD_ALPHA, min_ratio: float = SPREAD_MIN_RATIO) -> DataFrame:
     """Per axis and term: median, spread, mean uncertainty, and whether the spread is real.
 
@@ -584,20 +611,7 @@ def summary(table: DataFrame, *, alpha: float = SPREAD_ALPHA, min_ratio: float =
             have = np.isfinite(values)
             if not have.any():
                 continue
-            x, u = values[have], unc[have]
-            med = float(np.median(x))
-            spread = _MAD_TO_SD * float(np.median(np.abs(x - med)))
-            good = np.isfinite(u) & (u > 0.0)
-            mean_u = float(np.sqrt(np.mean(u[good] ** 2))) if good.any() else math.nan
-            chi2 = math.nan
-            dof = int(good.sum()) - 1
-            p = math.nan
-            if dof >= 1:
-                w = 1.0 / u[good] ** 2
-                xm = float(np.sum(w * x[good]) / np.sum(w))
-                chi2 = float(np.sum(w * (x[good] - xm) ** 2))
-                p = _chi2_sf(chi2, dof)
-            ratio = math.sqrt(chi2 / dof) if dof >= 1 else math.nan
+            stats = _spread(values[have], unc[have], alpha, min_ratio)
             units = group[f"{t}_unit"].dropna()
             flagged = group["out_of_family_terms"].dropna().map(lambda text, t=t: t in str(text).split(","))
             out.append(
@@ -606,17 +620,7 @@ def summary(table: DataFrame, *, alpha: float = SPREAD_ALPHA, min_ratio: float =
                     "term": t,
                     "unit": None if units.empty else str(units.iloc[0]),
                     "n": int(have.sum()),
-                    "median": med,
-                    "spread": spread,
-                    "mean_uncertainty": mean_u,
-                    "intrinsic_spread": math.sqrt(max(spread * spread - mean_u * mean_u, 0.0))
-                    if math.isfinite(mean_u)
-                    else math.nan,
-                    "chi2": chi2,
-                    "dof": dof if dof >= 1 else None,
-                    "birge_ratio": ratio,
-                    "p_value": p,
-                    "spread_real": None if dof < 1 else bool(p < alpha and ratio >= min_ratio),
+                    **stats,
                     "n_out_of_family": int(flagged.sum()),
                 }
             )
