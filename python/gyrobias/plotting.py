@@ -128,9 +128,23 @@ def save_allan_plot(
 
     if labels is not None and len(labels) != len(items):
         raise ValueError(f"labels has {len(labels)} entries for {len(items)} results")
+    bars = kwargs.pop("confidence_bars", True)
+    units = list(dict.fromkeys(r.unit for r in items))
+    if len(units) > 1:  # e.g. a 6-axis IMU: one panel per unit (gyro rad/s, accel m/s²)
+        fig = Figure(figsize=(7.0 * len(units), 5.0), layout="constrained")
+        if title:
+            fig.suptitle(title)
+        for k, unit in enumerate(units):
+            pick = [i for i, r in enumerate(items) if r.unit == unit]
+            ax = fig.add_subplot(1, len(units), k + 1)
+            _draw(ax, [items[i] for i in pick], None if labels is None else [labels[i] for i in pick],
+                  _sensor_title(unit), bars, dict(kwargs))
+            _overlay_fits(ax, [items[i] for i in pick], None if fits is None else [fits[i] for i in pick])
+        fig.savefig(os.fspath(path), dpi=dpi)
+        return
     fig = Figure(figsize=(7.5, 5.0), layout="constrained")
     ax = fig.add_subplot()
-    _draw(ax, items, labels, title, kwargs.pop("confidence_bars", True), kwargs)
+    _draw(ax, items, labels, title, bars, kwargs)
     _overlay_fits(ax, items, fits)
     fig.savefig(os.fspath(path), dpi=dpi)
 
@@ -197,6 +211,17 @@ def _draw(
             ax.legend(title=legend_title)
         elif legend_title:
             ax.text(0.98, 0.98, legend_title, transform=ax.transAxes, ha="right", va="top", fontsize=9)
+
+
+def _sensor_title(unit: str | None) -> str:
+    """Panel title of a unit's results: ``"gyroscope [rad/s]"``, ``"accelerometer [m/s^2]"``."""
+    from gyrobias.units import sensor_kind
+
+    try:
+        kind = sensor_kind(unit or "")
+    except ValueError:
+        return f"[{unit}]" if unit else "no unit"
+    return f"{'gyroscope' if kind == 'gyro' else 'accelerometer'} [{unit}]"
 
 
 # --- fleets (gyrobias.fleet) ---------------------------------------------------------------------
