@@ -20,9 +20,9 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _timing import best_of
 
 import gyrobias
-from _timing import best_of
 
 
 def write_csv(path: Path, rows: int) -> None:
@@ -52,7 +52,9 @@ def write_bag(path: Path, n: int) -> None:
             t = 1_700_000_000_000_000_000 + i * 5_000_000
             msg = types["sensor_msgs/msg/Imu"](
                 header=types["std_msgs/msg/Header"](
-                    seq=i, stamp=types["builtin_interfaces/msg/Time"](sec=t // 10**9, nanosec=t % 10**9), frame_id="imu"
+                    seq=i,
+                    stamp=types["builtin_interfaces/msg/Time"](sec=t // 10**9, nanosec=t % 10**9),
+                    frame_id="imu",
                 ),
                 orientation=types["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0),
                 orientation_covariance=np.zeros(9),
@@ -85,7 +87,9 @@ def main() -> None:
         t = time.perf_counter()
         write_csv(csv, rows)
         size = csv.stat().st_size
-        print(f"CSV: {rows:.3g} rows × 4 columns, {size / 1e6:.0f} MB (written in {time.perf_counter() - t:.1f} s)")
+        print(
+            f"CSV: {rows:.3g} rows × 4 columns, {size / 1e6:.0f} MB (written in {time.perf_counter() - t:.1f} s)"
+        )
 
         ours = best_of(lambda: gyrobias.io.load(csv), repeats)
         base = best_of(lambda: np.loadtxt(csv, delimiter=",", skiprows=1), 1)
@@ -101,8 +105,10 @@ def main() -> None:
         mem = peak_rss_mb(code.format(str(csv), False))
         spilled = peak_rss_mb(code.format(str(csv), True))
         data_mb = rows * 3 * 8 / 1e6
-        print(f"  peak RSS in memory {mem:7.0f} MB; spill=True {spilled:7.0f} MB (data {data_mb:.0f} MB; a memmap's "
-              "pages are file-backed, so the kernel can drop them)")
+        print(
+            f"  peak RSS in memory {mem:7.0f} MB; spill=True {spilled:7.0f} MB (data {data_mb:.0f} MB; a memmap's "
+            "pages are file-backed, so the kernel can drop them)"
+        )
 
         try:
             import rosbags  # noqa: F401
@@ -115,10 +121,17 @@ def main() -> None:
         from gyrobias.io import _bag
 
         fast = best_of(lambda: gyrobias.io.load(bag), repeats)
-        slow = best_of(lambda: _bag.read_bag(bag, None, "header", None, lambda m: np.empty((m, 6)), fast=False), 1)
+        slow = best_of(
+            lambda: _bag.read_bag(
+                bag, None, "header", None, lambda m: np.empty((m, 6)), fast=False
+            ),
+            1,
+        )
         print(f"ROS1 bag: {n} sensor_msgs/Imu messages, {bag.stat().st_size / 1e6:.0f} MB")
         print(f"  gyrobias.io.load   {fast:7.2f} s  ({1e6 * fast / n:.2f} µs per message)")
-        print(f"  rosbags deserialize{slow:7.2f} s  ({1e6 * slow / n:.2f} µs per message); ratio {slow / fast:.1f}x")
+        print(
+            f"  rosbags deserialize{slow:7.2f} s  ({1e6 * slow / n:.2f} µs per message); ratio {slow / fast:.1f}x"
+        )
 
 
 if __name__ == "__main__":

@@ -72,36 +72,75 @@ def add_read_arguments(
         "(sqlite3 or MCAP) and .mcap/.db3 files; see gyrobias.io.load",
     )
     src.add_argument(
-        "--columns", "--column", dest="columns", metavar="A,B,…",
-        help=column_help or "channels by name or 0-based index (default: all but time; for bags "
+        "--columns",
+        "--column",
+        dest="columns",
+        metavar="A,B,…",
+        help=column_help
+        or "channels by name or 0-based index (default: all but time; for bags "
         "gyro_x … accel_z, or 'gyro' / 'accel')",
     )
-    src.add_argument("--fs", type=float, metavar="HZ", required=fs_required,
-                     help="sample rate" + ("" if fs_required else " (default: from the timestamps)"))
-    src.add_argument("--time-column", metavar="NAME",
-                     help="column of timestamps (default: a header column named t/time/timestamp)")
+    src.add_argument(
+        "--fs",
+        type=float,
+        metavar="HZ",
+        required=fs_required,
+        help="sample rate" + ("" if fs_required else " (default: from the timestamps)"),
+    )
+    src.add_argument(
+        "--time-column",
+        metavar="NAME",
+        help="column of timestamps (default: a header column named t/time/timestamp)",
+    )
     src.add_argument("--no-time-column", action="store_true", help="the log has no time column")
-    src.add_argument("--time-unit", choices=("auto", "s", "ms", "us", "ns"), default="auto",
-                     help="unit of the timestamps (default auto: ns if the median step ≥ 1000, else s)")
-    src.add_argument("--delimiter", metavar="SEP",
-                     help="field separator: , ; tab (or \\t) or whitespace (default: detected)")
-    src.add_argument("--skip-rows", type=int, default=0, metavar="N", help="lines to skip before the header")
+    src.add_argument(
+        "--time-unit",
+        choices=("auto", "s", "ms", "us", "ns"),
+        default="auto",
+        help="unit of the timestamps (default auto: ns if the median step ≥ 1000, else s)",
+    )
+    src.add_argument(
+        "--delimiter",
+        metavar="SEP",
+        help="field separator: , ; tab (or \\t) or whitespace (default: detected)",
+    )
+    src.add_argument(
+        "--skip-rows", type=int, default=0, metavar="N", help="lines to skip before the header"
+    )
     if units:
         src.add_argument(
-            "--units", metavar="UNIT",
+            "--units",
+            metavar="UNIT",
             help="unit of the samples: one for all channels (deg/s), one per channel "
             "(deg/s,deg/s,deg/s,g,g,g) or per name (gx=deg/s,ax=m/s^2); bags are rad/s and m/s^2",
         )
-    src.add_argument("--topic", metavar="TOPIC", help="bag topic (default: the only sensor_msgs/Imu topic)")
-    src.add_argument("--stamp", choices=("header", "receive"), default="header",
-                     help="bag timestamps: header.stamp (default) or the receive time")
-    src.add_argument("--repair", metavar="sort,dedup", default="",
-                     help="sort out-of-order samples by timestamp and/or drop exact duplicates (reported)")
-    src.add_argument("--fill-gaps", action="store_true",
-                     help="insert NaN rows for samples missing in gaps of the timestamps")
-    src.add_argument("--spill", choices=("auto", "always", "never"), default="auto",
-                     help="keep the samples in a memory-mapped temporary file (auto: when larger than "
-                     "a quarter of the memory)")
+    src.add_argument(
+        "--topic", metavar="TOPIC", help="bag topic (default: the only sensor_msgs/Imu topic)"
+    )
+    src.add_argument(
+        "--stamp",
+        choices=("header", "receive"),
+        default="header",
+        help="bag timestamps: header.stamp (default) or the receive time",
+    )
+    src.add_argument(
+        "--repair",
+        metavar="sort,dedup",
+        default="",
+        help="sort out-of-order samples by timestamp and/or drop exact duplicates (reported)",
+    )
+    src.add_argument(
+        "--fill-gaps",
+        action="store_true",
+        help="insert NaN rows for samples missing in gaps of the timestamps",
+    )
+    src.add_argument(
+        "--spill",
+        choices=("auto", "always", "never"),
+        default="auto",
+        help="keep the samples in a memory-mapped temporary file (auto: when larger than "
+        "a quarter of the memory)",
+    )
     parser.set_defaults(read_units=units)
     add_progress_argument(parser)
     return src
@@ -112,7 +151,9 @@ def add_progress_argument(parser: argparse.ArgumentParser) -> None:
     if any("--progress" in a.option_strings for a in parser._actions):
         return
     parser.add_argument(
-        "--progress", action=argparse.BooleanOptionalAction, default=None,
+        "--progress",
+        action=argparse.BooleanOptionalAction,
+        default=None,
         help="progress bars on stderr (default: for long work when stderr is a terminal)",
     )
 
@@ -198,7 +239,9 @@ def _wants_progress(args: argparse.Namespace, path: Path) -> bool:
     if not sys.stderr.isatty():
         return False
     try:
-        size = path.stat().st_size if path.is_file() else sum(f.stat().st_size for f in path.iterdir())
+        size = (
+            path.stat().st_size if path.is_file() else sum(f.stat().st_size for f in path.iterdir())
+        )
     except OSError:
         return False
     return size > PROGRESS_MIN_BYTES

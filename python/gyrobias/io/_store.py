@@ -87,7 +87,9 @@ class Sink:
         self._blocks: list[NDArray[np.float64]] = []
         self._file = None
         if spill:
-            self._file = tempfile.TemporaryFile(prefix="gyrobias-", suffix=".f64", dir=store.directory)
+            self._file = tempfile.TemporaryFile(
+                prefix="gyrobias-", suffix=".f64", dir=store.directory
+            )
             store.spilled = True
 
     def append(self, block: NDArray[np.float64]) -> None:
