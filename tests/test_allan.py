@@ -289,8 +289,11 @@ def test_input_conversions_and_no_mutation() -> None:
         ({"taus": [0.01, 0.01]}, ValueError, "taus.*duplicate"),
         ({"taus": "weekly"}, ValueError, "taus must be one of"),
         ({"data_type": "phase"}, ValueError, "data_type must be one of"),
-        ({"confidence": 1.5}, ValueError, "confidence must lie strictly between 0 and 1"),
-        ({"per_decade": 0}, ValueError, "per_decade"),
+        ({"confidence": 1.5}, ValueError, "confidence: must lie strictly between 0 and 1"),
+        ({"confidence": "0.9"}, TypeError, "confidence"),
+        ({"per_decade": 0, "taus": "log"}, ValueError, "per_decade"),
+        ({"per_decade": -1}, ValueError, "per_decade"),
+        ({"units": "furlong"}, ValueError, "units"),
     ],
 )
 def test_bad_input(kwargs: dict[str, object], exc: type[Exception], match: str) -> None:

@@ -40,6 +40,35 @@ def as_float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> NDAr
     return np.ascontiguousarray(arr, dtype=np.float64)
 
 
+_SIZE_LIMIT = 2**63
+
+
+def real(name: str, value: Any) -> float:
+    """``value`` as a Python float if it is a real number (not a bool), else ``TypeError``.
+
+    Only the type is checked: finiteness and ranges are the core's preconditions, whose
+    messages name ``name`` too.
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
+    return float(value)
+
+
+def integer(name: str, value: Any) -> int:
+    """``value`` as a Python int if it is an integer from 0 to 2**63 − 1, else an error naming it.
+
+    Counts and sizes cross into the core as unsigned 64-bit integers; anything the core cannot
+    represent is refused here (``TypeError`` for non-integers and bools, ``ValueError`` for
+    negative or too large values). Ranges beyond that (``n >= 2``, …) are the core's checks.
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
+    v = int(value)
+    if not 0 <= v < _SIZE_LIMIT:
+        raise ValueError(f"{name} must be an integer from 0 to 2**63 - 1, got {v}")
+    return v
+
+
 def positive_float(name: str, value: Any) -> float:
     """``value`` as a finite positive float, else ``ValueError``/``TypeError`` naming ``name``."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):

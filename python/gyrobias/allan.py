@@ -34,7 +34,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice, positive_float
+from gyrobias._validation import as_float_array, choice, integer, positive_float, real
+from gyrobias.units import checked_units
 
 __all__ = [
     "NOISE_NAMES",
@@ -219,13 +220,9 @@ def _analyse(
     arr = as_float_array("data", data, ndims=(1, 2))
     fs = positive_float("fs", fs)
     choice("data_type", data_type, ("rate", "angle"))
-    if isinstance(per_decade, bool) or not isinstance(per_decade, (int, np.integer)) or per_decade < 1:
-        raise ValueError(f"per_decade must be an integer >= 1, got {per_decade!r}")
-    if confidence is not None:
-        c = float(confidence)
-        if not 0.0 < c < 1.0:
-            raise ValueError(f"confidence must lie strictly between 0 and 1 (or be None), got {confidence!r}")
-        confidence = c
+    units = checked_units("units", units)
+    per_decade = integer("per_decade", per_decade)  # >= 1: the core's check
+    confidence = None if confidence is None else real("confidence", confidence)  # (0, 1): the core's
     if kind == "adev":
         estimator = "overlapping" if overlapping else "non-overlapping"
     else:

@@ -35,6 +35,7 @@ References
 
 from __future__ import annotations
 
+import math
 import secrets
 from dataclasses import asdict, dataclass
 from typing import Any, Literal
@@ -43,7 +44,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice, positive_float
+from gyrobias._validation import as_float_array, choice, integer, positive_float, real
 
 __all__ = [
     "ElwResult",
@@ -58,22 +59,6 @@ __all__ = [
 Method = Literal["auto", "direct", "fft"]
 _METHODS = ("auto", "direct", "fft")
 _ANY_NDIM = tuple(range(1, 33))
-
-
-def _real(name: str, value: Any) -> float:
-    """``value`` as a Python float (finiteness is checked by the core, naming ``name``)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
-    return float(value)
-
-
-def _count(name: str, value: Any, minimum: int) -> int:
-    """``value`` as an int ``>= minimum``, else ``TypeError``/``ValueError`` naming ``name``."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
-    if value < minimum:
-        raise ValueError(f"{name} must be >= {minimum}, got {value}")
-    return int(value)
 
 
 def _rows(name: str, x: ArrayLike, axis: int) -> tuple[NDArray[np.float64], tuple[int, ...]]:
@@ -117,13 +102,13 @@ def weights(d: float, n: int) -> NDArray[np.float64]:
     >>> weights(-0.5, 3)
     array([1.   , 0.5  , 0.375])
     """
-    return _core.fractional.weights(_real("d", d), _count("n", n, 0))
+    return _core.fractional.weights(real("d", d), integer("n", n))
 
 
 def _apply(
     name: str, x: ArrayLike, d: float, axis: int, method: str, op: Any
 ) -> NDArray[np.float64]:
-    d = _real("d", d)
+    d = real("d", d)
     method = choice("method", method, _METHODS)
     rows, shape = _rows(name, x, axis)
     out = op(rows, d, method).reshape(shape)
@@ -253,23 +238,25 @@ def arfima(
     >>> x.shape
     (2000,)
     """
-    n = _count("n", n, 0)
-    d = _real("d", d)
+    n = integer("n", n)
+    d = real("d", d)
     sigma = positive_float("sigma", sigma)
     kind_name = choice("kind", kind, ("type2", "stationary"))
     if size is None:
         batch: tuple[int, ...] = ()
     elif isinstance(size, tuple):
-        batch = tuple(_count("size", s, 1) for s in size)
+        batch = tuple(integer("size", s) for s in size)
     else:
-        batch = (_count("size", size, 1),)
+        batch = (integer("size", size),)
     if seed is None:
         seed = secrets.randbits(64)
     elif isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
         raise TypeError(f"seed must be an integer or None, got {type(seed).__name__}")
     elif not 0 <= seed < 2**64:
         raise ValueError(f"seed must be in [0, 2**64), got {seed}")
-    rows = int(np.prod(batch, dtype=np.int64)) if batch else 1
+    rows = math.prod(batch)
+    if rows >= 2**63:
+        raise MemoryError(f"size {size!r} asks for {rows} series")
     out = _core.fractional.arfima(n, d, sigma, rows, int(seed), kind_name)
     return out.reshape(*batch, n)
 
@@ -331,13 +318,13 @@ class ElwResult:
 
 def _elw_settings(m: Any, bounds: Any, level: Any) -> tuple[int | None, float, float, str]:
     if m is not None:
-        m = _count("m", m, 1)
+        m = integer("m", m)
     try:
         lower, upper = bounds
     except (TypeError, ValueError):
         raise TypeError(f"bounds must be a pair (lower, upper), got {bounds!r}") from None
     level = choice("level", level, ("shimotsu", "none"))
-    return m, _real("bounds", lower), _real("bounds", upper), level
+    return m, real("bounds", lower), real("bounds", upper), level
 
 
 def elw(

@@ -202,6 +202,39 @@ def parse_unit(text: str) -> Unit:
     return unit
 
 
+def checked_units(name: str, value: object) -> str | None:
+    """``value`` if it is ``None`` or a unit :func:`parse_unit` accepts, else an error naming ``name``.
+
+    The one unit check of every public function that takes ``units``: a unit that labels a
+    result or a plot must be one gyrobias can convert.
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is neither ``None`` nor a string.
+    ValueError
+        If the string is not a unit (the message lists the valid symbols).
+
+    Examples
+    --------
+    >>> checked_units("units", "deg/s")
+    'deg/s'
+    >>> checked_units("units", "furlong")
+    Traceback (most recent call last):
+    ...
+    ValueError: units: unknown unit 'furlong'; ...
+    """
+    if value is None:
+        return None
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be a unit string or None, got {type(value).__name__}")
+    try:
+        parse_unit(value)
+    except ValueError as exc:
+        raise ValueError(f"{name}: {exc}") from None
+    return value
+
+
 def conversion_factor(from_unit: str, to_unit: str) -> float:
     """Factor f with ``value[to_unit] = f · value[from_unit]``.
 

@@ -1,9 +1,10 @@
 //! Mapping of [`gyrocore::Error`] to Python exceptions.
 //!
 //! Invalid arguments, non-finite or too-short data and shape mismatches become `ValueError`;
-//! a numerically singular problem becomes `gyrobias.GyroLinAlgError`, a `ValueError` subclass.
+//! a numerically singular problem becomes `gyrobias.GyroLinAlgError`, a `ValueError` subclass;
+//! a size that cannot be allocated becomes `MemoryError` (checked before allocating).
 
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 
 pyo3::create_exception!(
@@ -21,6 +22,7 @@ pub(crate) fn core<T>(result: gyrocore::Result<T>) -> PyResult<T> {
 fn to_pyerr(err: gyrocore::Error) -> PyErr {
     match err {
         gyrocore::Error::Singular { .. } => GyroLinAlgError::new_err(err.to_string()),
+        gyrocore::Error::Allocation { .. } => PyMemoryError::new_err(err.to_string()),
         other => PyValueError::new_err(other.to_string()),
     }
 }

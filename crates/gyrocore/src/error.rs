@@ -41,6 +41,15 @@ pub enum Error {
         /// What does not fit.
         reason: String,
     },
+    /// A size request (derived from the argument `name`) that this machine cannot allocate:
+    /// checked before allocating, so it is an error instead of an abort.
+    #[error("{name} asks for {bytes} bytes of memory, more than can be allocated")]
+    Allocation {
+        /// Argument name.
+        name: &'static str,
+        /// Bytes requested (exact even when beyond the address space).
+        bytes: u128,
+    },
     /// A matrix that must be positive definite is not (numerically), or a problem is too
     /// ill-conditioned to give a trustworthy answer.
     #[error("numerically singular or ill-conditioned problem: {reason}")]

@@ -44,6 +44,32 @@ pub fn non_negative(name: &'static str, value: f64) -> Result<()> {
     }
 }
 
+/// Fails with [`Error::Allocation`] (naming the argument `name` the size comes from) unless
+/// `count` values of type `T` can be allocated now.
+///
+/// The check reserves the memory and releases it at once: large requests are `mmap`ed without
+/// touching a page, so this costs two system calls, and callers keep allocating with
+/// `vec![0.0; n]` (calloc's lazily zeroed pages). Call it before every allocation whose size
+/// comes from a parameter rather than from data that already exists.
+pub fn allocatable<T>(name: &'static str, count: usize) -> Result<()> {
+    let bytes = count as u128 * std::mem::size_of::<T>() as u128;
+    let too_large = Error::Allocation { name, bytes };
+    if bytes > isize::MAX as u128 {
+        return Err(too_large);
+    }
+    let mut probe: Vec<T> = Vec::new();
+    probe.try_reserve_exact(count).map_err(|_| too_large)
+}
+
+/// `a·b` element count for the argument `name`, or [`Error::Allocation`] when the product
+/// overflows `usize` (then it cannot be allocated either).
+pub fn product(name: &'static str, a: usize, b: usize) -> Result<usize> {
+    a.checked_mul(b).ok_or(Error::Allocation {
+        name,
+        bytes: (a as u128).saturating_mul(b as u128).saturating_mul(8),
+    })
+}
+
 /// Fails unless `data.len() >= needed`.
 pub fn min_len(name: &'static str, data_len: usize, needed: usize) -> Result<()> {
     if data_len >= needed {
@@ -76,6 +102,23 @@ pub fn neumaier_sum(values: impl IntoIterator<Item = f64>) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn impossible_sizes_are_errors_not_aborts() {
+        assert!(allocatable::<f64>("n", 1000).is_ok());
+        for count in [usize::MAX, 1 << 61, 1 << 50] {
+            match allocatable::<f64>("n", count) {
+                Err(Error::Allocation { name: "n", bytes }) => {
+                    assert_eq!(bytes, count as u128 * 8);
+                }
+                other => panic!("expected an allocation error, got {other:?}"),
+            }
+        }
+        assert!(matches!(
+            product("size", usize::MAX, 2),
+            Err(Error::Allocation { name: "size", .. })
+        ));
+    }
 
     #[test]
     fn finite_reports_first_bad_index() {

@@ -172,15 +172,28 @@ pub fn averaging_factors(spec: &TauSpec, max_m: usize) -> Result<Vec<usize>> {
             if *per_decade == 0 {
                 return Err(Error::invalid("per_decade", "must be >= 1"));
             }
-            let decades = (max_m as f64).log10();
-            let count = (decades * *per_decade as f64).floor() as usize;
-            let mut v: Vec<usize> = (0..=count)
-                .map(|i| {
-                    let m = 10f64.powf(i as f64 / *per_decade as f64).round() as usize;
-                    m.clamp(1, max_m)
-                })
-                .collect();
-            v.dedup();
+            // m_i = round(10^(i/p)) for i = 0..=p·log10(max_m), deduplicated. Only distinct
+            // m (at most max_m of them) are visited: after each new m the index jumps to just
+            // below the first i that can round to a larger one, so a huge `per_decade` costs
+            // no more than `taus="all"` (instead of p·log10(max_m) steps and as much memory).
+            let p = *per_decade as f64;
+            if p > 5.0 * max_m as f64 {
+                // Grid steps 10^(1/p) − 1 ≈ ln 10/p < 1/(2·max_m): every m is hit.
+                return Ok((1..=max_m).collect());
+            }
+            let count = ((max_m as f64).log10() * p).floor();
+            let at = |i: f64| (10f64.powf(i / p).round() as usize).clamp(1, max_m);
+            let mut v = Vec::new();
+            let mut i = 0.0_f64;
+            while i <= count {
+                let m = at(i);
+                if v.last() != Some(&m) {
+                    v.push(m);
+                }
+                // 10^(i/p) ≥ m + ½ needs i ≥ p·log10(m + ½); step back one for rounding.
+                let next = ((m as f64 + 0.5).log10() * p).ceil() - 1.0;
+                i = next.max(i + 1.0);
+            }
             v
         }
         TauSpec::All => (1..=max_m).collect(),
@@ -858,6 +871,30 @@ mod tests {
             averaging_factors(&TauSpec::Decade, 500).unwrap(),
             vec![1, 2, 4, 10, 20, 40, 100, 200, 400]
         );
+        // Reference: every index of the log grid, deduplicated.
+        for (p, max_m) in [
+            (1, 1000),
+            (3, 5000),
+            (10, 1000),
+            (37, 123_457),
+            (1000, 2000),
+        ] {
+            let mut want: Vec<usize> = (0..=((max_m as f64).log10() * p as f64).floor() as usize)
+                .map(|i| (10f64.powf(i as f64 / p as f64).round() as usize).clamp(1, max_m))
+                .collect();
+            want.dedup();
+            let got = averaging_factors(&TauSpec::Log { per_decade: p }, max_m).unwrap();
+            assert_eq!(got, want, "per_decade {p}, max_m {max_m}");
+        }
+        // A huge density is every m, computed in O(max_m) (it used to allocate p·log10 m).
+        let every = averaging_factors(
+            &TauSpec::Log {
+                per_decade: 1 << 40,
+            },
+            5000,
+        )
+        .unwrap();
+        assert_eq!(every, (1..=5000).collect::<Vec<_>>());
         let log = averaging_factors(&TauSpec::Log { per_decade: 10 }, 1000).unwrap();
         assert_eq!(log.first(), Some(&1));
         assert_eq!(log.last(), Some(&1000));

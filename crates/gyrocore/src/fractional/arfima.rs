@@ -76,9 +76,9 @@ pub fn arfima(
         return Err(Error::invalid("d", format!("must be finite, got {d}")));
     }
     crate::validate::positive("sigma", sigma)?;
-    let total = n
-        .checked_mul(rows)
-        .ok_or_else(|| Error::invalid("size", "n × size overflows"))?;
+    let total = crate::validate::product("n", n, rows)?;
+    // Innovations, output and the transform buffers of about twice the length.
+    crate::validate::allocatable::<f64>("n", crate::validate::product("n", total, 4)?)?;
     match kind {
         Kind::TypeII => {
             let mut w = vec![0.0; total];

@@ -43,6 +43,7 @@ pub fn weights(d: f64, n: usize) -> Result<Vec<f64>> {
     if !d.is_finite() {
         return Err(Error::invalid("d", format!("must be finite, got {d}")));
     }
+    validate::allocatable::<f64>("n", n)?;
     let mut w = Vec::with_capacity(n);
     let mut current = 1.0_f64;
     for l in 0..n {
@@ -50,6 +51,18 @@ pub fn weights(d: f64, n: usize) -> Result<Vec<f64>> {
             current *= (l as f64 - 1.0 - d) / l as f64;
             if current == 0.0 {
                 current = 0.0; // +0, not −0, past the last lag of an integer order
+            }
+            if !current.is_finite() {
+                // |π_l| grows like |d|^l / l!: large orders overflow float64 within a few
+                // hundred lags, and every result would be inf or NaN.
+                return Err(Error::invalid(
+                    "d",
+                    format!(
+                        "|d| = {} is too large for {n} lags: the weight of lag {l} of (1 − B)^d \
+                         overflows float64",
+                        d.abs()
+                    ),
+                ));
             }
         }
         w.push(current);
@@ -131,13 +144,20 @@ fn apply_rows_into(
     if data.len() == n {
         // One series: overlap the kernel's and the data's transforms instead.
         CausalConvolution::new_applied(kernel, method, data, out);
-        return Ok(());
+    } else {
+        let conv = CausalConvolution::new(kernel, n, method);
+        out.par_chunks_mut(n).zip(data.par_chunks(n)).for_each_init(
+            || conv.scratch(),
+            |scratch, (o, x)| conv.apply_into(x, o, scratch),
+        );
     }
-    let conv = CausalConvolution::new(kernel, n, method);
-    out.par_chunks_mut(n).zip(data.par_chunks(n)).for_each_init(
-        || conv.scratch(),
-        |scratch, (o, x)| conv.apply_into(x, o, scratch),
-    );
+    // Finite data and finite weights can still sum beyond float64 (large data, large |d|).
+    if validate::finite("out", out).is_err() {
+        return Err(Error::invalid(
+            "d",
+            format!("the result of order {d} on this {name} overflows float64"),
+        ));
+    }
     Ok(())
 }
 
@@ -157,6 +177,19 @@ pub(crate) fn check_rows(name: &'static str, data: &[f64], n: usize) -> Result<(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn huge_orders_are_errors_naming_d() {
+        let x: Vec<f64> = (0..1000).map(|i| (i as f64 * 0.37).sin()).collect();
+        for d in [1e6, -1e6, 5e3 + 0.5] {
+            match diff(&x, d) {
+                Err(Error::InvalidParameter { name: "d", .. }) => {}
+                other => panic!("d = {d}: expected an error naming d, got {other:?}"),
+            }
+        }
+        // Large integer orders with few lags are exact and fine.
+        assert_eq!(diff(&[1.0, 2.0, 4.0], 1e6).unwrap().len(), 3);
+    }
 
     fn naive(x: &[f64], d: f64) -> Vec<f64> {
         let w = weights(d, x.len()).unwrap();

@@ -229,10 +229,9 @@ pub fn simulate(n: usize, fs: f64, spec: &NoiseSpec, axes: usize, seed: u64) -> 
     if axes == 0 {
         return Err(Error::invalid("axes", "must be >= 1"));
     }
-    let total = n
-        .checked_mul(axes)
-        .filter(|&t| t <= (1usize << 40))
-        .ok_or_else(|| Error::invalid("n", format!("{n} samples × {axes} axes is too large")))?;
+    let total = validate::product("n", n, axes)?;
+    // One column per axis and the interleaved output.
+    validate::allocatable::<f64>("n", validate::product("n", total, 2)?)?;
     let t0 = 1.0 / fs;
     let columns: Vec<Vec<f64>> = (0..axes)
         .into_par_iter()

@@ -93,7 +93,9 @@ impl Compiled {
     pub fn new(model: &Model, k: usize, horizon: usize, n_threads: usize) -> Result<Self> {
         validate::min_len("calibration_length", k, 2)?;
         check_window(&[0.0, 0.0], horizon)?;
-        let n = k + horizon;
+        let n = k.saturating_add(horizon);
+        // L (n × k) plus the weights W (h × k).
+        validate::allocatable::<f64>("horizon", validate::product("horizon", 2 * n, k)?)?;
         let mut l = Mat::<f64>::zeros(n, k);
         let cond: Conditional = schur::condition(model, None, k, horizon, |i, col| {
             for (m, v) in col.iter().enumerate() {

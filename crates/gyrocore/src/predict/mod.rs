@@ -147,7 +147,9 @@ pub(crate) fn check_window(calibration: &[f64], horizon: usize) -> Result<()> {
     if horizon < 1 {
         return Err(Error::invalid("horizon", "must be at least 1 sample"));
     }
-    Ok(())
+    // Every predictor keeps a few state vectors of the joint (calibration + horizon) length.
+    let joint = calibration.len().saturating_add(horizon);
+    validate::allocatable::<f64>("horizon", validate::product("horizon", joint, 8)?)
 }
 
 /// Posterior of the mean state from `u·u = 1ᵀC⁻¹1`, `u·v = 1ᵀC⁻¹y` and the sample mean:
@@ -242,6 +244,7 @@ pub fn fractional_kalman_rows(
 ) -> Result<BatchPrediction> {
     let rows = batch::check_rows("calibration", data, k)?;
     check_window(&data[..k], horizon)?;
+    validate::allocatable::<f64>("horizon", validate::product("horizon", rows, horizon)?)?;
     validate::finite("calibration", data)?;
     if algorithm == Algorithm::Schur
         && rows >= COMPILE_MIN_ROWS
@@ -279,6 +282,7 @@ pub fn fractional_kalman_rows(
 pub fn calibration_mean(data: &[f64], k: usize, horizon: usize) -> Result<Vec<f64>> {
     let rows = batch::check_rows("calibration", data, k)?;
     check_window(&data[..k], horizon)?;
+    validate::allocatable::<f64>("horizon", validate::product("horizon", rows, horizon)?)?;
     validate::finite("calibration", data)?;
     let mut out = vec![0.0; rows * horizon];
     out.par_chunks_mut(horizon)
@@ -295,6 +299,7 @@ pub fn calibration_mean(data: &[f64], k: usize, horizon: usize) -> Result<Vec<f6
 pub fn moving_average(data: &[f64], k: usize, horizon: usize) -> Result<Vec<f64>> {
     let rows = batch::check_rows("calibration", data, k)?;
     check_window(&data[..k], horizon)?;
+    validate::allocatable::<f64>("horizon", validate::product("horizon", rows, horizon)?)?;
     validate::finite("calibration", data)?;
     let mut out = vec![0.0; rows * horizon];
     out.par_chunks_mut(horizon)
