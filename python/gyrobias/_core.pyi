@@ -88,6 +88,22 @@ def noise_model(
     taus: NDArray[np.float64],
 ) -> tuple[NDArray[np.float64], list[NDArray[np.float64]]]: ...
 
+def noise_overbound(
+    design: NDArray[np.float64], bound: NDArray[np.float64], floor: NDArray[np.float64] | None = None
+) -> dict[str, Any]: ...
+def noise_conservative(
+    taus: NDArray[np.float64],
+    variance: NDArray[np.float64],
+    m: NDArray[np.uint64],
+    n_terms: NDArray[np.uint64],
+    overlapping: bool,
+    edf: NDArray[np.float64] | None,
+    reference: list[float] | tuple[float, float, float, float, float],
+    terms: list[str],
+    tau_range: tuple[float, float] | None,
+    confidence: float,
+) -> dict[str, Any]: ...
+
 # --- fir ---------------------------------------------------------------------------------------
 
 def kaiser_design(
