@@ -18,6 +18,10 @@ MODULES = [
     "gyrobias.spectral",
     "gyrobias.thermal",
     "gyrobias.plotting",
+    "gyrobias.datasheet",
+    "gyrobias.exports",
+    "gyrobias.conservative",
+    "gyrobias.report",
 ]
 
 

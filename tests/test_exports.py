@@ -8,11 +8,10 @@ import math
 import re
 from pathlib import Path
 
+import gyrobias
 import numpy as np
 import pytest
 import yaml
-
-import gyrobias
 from gyrobias import exports
 from gyrobias.noise import NoiseCoefficients
 
@@ -58,7 +57,7 @@ def load_yaml(text: str) -> dict:
 
 def parse_matlab(text: str) -> dict[str, dict[str, float]]:
     out: dict[str, dict[str, float]] = {}
-    for var, body in re.findall(r"(\w+) = (?:gyro|accel)params\((.*?)\);", text, flags=re.S):
+    for var, body in re.findall(r"(\w+) = (?:gyro|accel)params\((.*?)\);", text, flags=re.DOTALL):
         out[var] = {k: float(v) for k, v in re.findall(r"'(\w+)',\s*([-+0-9.eE]+)", body)}
     rate = re.search(r"'SampleRate',\s*([0-9.eE+]+)", text)
     if rate:

@@ -111,8 +111,10 @@ class ConservativeCoefficients:
         shown = self.coefficients.to("ieee") if self.coefficients.data_unit else self.coefficients
         best = self.best.to("ieee") if self.best.data_unit else self.best
         lines = [
-            f"Conservative coefficients ({100 * self.confidence:.3g} % one-sided upper bound overbounded at "
-            f"{self.taus.size} τ from {self.taus[0]:.3g} to {self.taus[-1]:.3g} s; Lethander & Taylor 2023)"
+            (
+                f"Conservative coefficients ({100 * self.confidence:.3g} % one-sided upper bound overbounded "
+                f"at {self.taus.size} τ from {self.taus[0]:.3g} to {self.taus[-1]:.3g} s; Lethander & Taylor 2023)"
+            )
         ]
         for s in _SYMBOLS:
             t, b, f = shown[s], best[s], self.inflation[s]

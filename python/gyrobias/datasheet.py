@@ -175,14 +175,14 @@ def _split_value(name: str, value: Any, units: str | Mapping[str, str] | None, s
                     f"for {name}: {_EXAMPLES[sensor][symbol]}"
                 )
             unit = units[name]
-        elif isinstance(units, str):
-            system = choice("units", units, ("ieee", "si"))
-            unit = CUSTOMARY[sensor][system][symbol]
-        else:
+        elif units is None:
             raise ValueError(
                 f"{name}: a bare number needs its unit: write it as a string ('{number:g} <unit>') or pass "
                 f"units= (a mapping or 'ieee'/'si'); valid units for {name}: {_EXAMPLES[sensor][symbol]}"
             )
+        else:
+            system = choice("units", units, ("ieee", "si"))
+            unit = CUSTOMARY[sensor][system][symbol]
     if not math.isfinite(number) or number < 0.0:
         raise ValueError(f"{name} must be finite and >= 0, got {value!r}")
     unit = re.sub(r"\bdps\b", "deg/s", unit.strip())

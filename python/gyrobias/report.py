@@ -367,17 +367,21 @@ def build_report(
     from gyrobias import __version__
 
     name = title or Path(log.path).name
-    now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    now = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
     body = [
         f"<header><h1>Noise report: {_e(name)}</h1>",
-        f'<p class="meta">gyrobias {_e(__version__)} · {now} · overlapping Allan deviation, IEEE-952 '
-        f"{_e(method)} fit, conservative set at {100 * conservative_confidence:.3g} %</p></header>",
+        (
+            f'<p class="meta">gyrobias {_e(__version__)} · {now} · overlapping Allan deviation, IEEE-952 '
+            f"{_e(method)} fit, conservative set at {100 * conservative_confidence:.3g} %</p></header>"
+        ),
         _log_section(log, str(log.path)),
         *(_channel_section(ch, i) for i, ch in enumerate(channels)),
         _exports_section(channels, rate),
-        "<footer><p>Model σ²(τ) = 3Q²/τ² + N²/τ + (0.664282·B)² + K²τ/3 + R²τ²/2 (IEEE Std 952, Annex C). "
-        "N and K are two-sided densities (Kalibr's convention); a datasheet's one-sided noise density "
-        "is √2·N. Uncertainties are standard (1σ). Confidence intervals: NIST SP 1065 §5.</p></footer>",
+        (
+            "<footer><p>Model σ²(τ) = 3Q²/τ² + N²/τ + (0.664282·B)² + K²τ/3 + R²τ²/2 (IEEE Std 952, Annex C). "
+            "N and K are two-sided densities (Kalibr's convention); a datasheet's one-sided noise density "
+            "is √2·N. Uncertainties are standard (1σ). Confidence intervals: NIST SP 1065 §5.</p></footer>"
+        ),
     ]
     return (
         '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'

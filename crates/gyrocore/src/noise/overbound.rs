@@ -35,6 +35,11 @@ use super::model::{Term, model_variance};
 use crate::stats::chi2_ppf;
 use crate::{Error, Result};
 
+/// Pivot and optimality tolerance of the simplex method (the scaled tableau is O(1)).
+const TOL: f64 = 1e-11;
+/// Smallest model/bound ratio after the final rescaling.
+const MARGIN: f64 = 1.0 + 16.0 * f64::EPSILON;
+
 /// Result of [`overbound`]: the tightest non-negative combination of the design's columns that
 /// lies on or above the bound at every row.
 #[derive(Debug, Clone, PartialEq)]
@@ -185,7 +190,6 @@ pub fn overbound_above(
         }
         let mut basis: Vec<usize> = (n..width).collect();
         let cost = |k: usize| if k < n { 1.0 } else { 0.0 };
-        const TOL: f64 = 1e-11;
         let max_pivots = 50 * width + 100;
         let mut reduced = vec![0.0_f64; width];
         loop {
@@ -259,14 +263,13 @@ pub fn overbound_above(
     };
     let mut ratio = ratios(&coefficients);
     let min = ratio.iter().copied().fold(f64::INFINITY, f64::min);
-    if !(min > 1.0 - 1e-6) {
+    if min.is_nan() || min <= 1.0 - 1e-6 {
         return Err(Error::Singular {
             reason: format!("overbound: the simplex solution violates a bound (ratio {min})"),
         });
     }
     // Remove the rounding of the pivots with a margin of a few ulps, so that the constraints
     // hold exactly however a caller sums `A c` (the objective moves by ~1e-15 relative).
-    const MARGIN: f64 = 1.0 + 16.0 * f64::EPSILON;
     if min < MARGIN {
         let f = MARGIN / min;
         for c in &mut coefficients {
