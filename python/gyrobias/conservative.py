@@ -202,7 +202,7 @@ def conservative(
         allowed = [choice("terms", str(t), _SYMBOLS) for t in ([terms] if isinstance(terms, str) else terms)]
     lo, hi = coefficients.tau_range
     tau_range = (float(lo), float(hi)) if np.isfinite(lo) and np.isfinite(hi) and hi > lo else None
-    raw = _core.noise_conservative(
+    raw = _core.noise.conservative(
         np.ascontiguousarray(allan.taus, dtype=np.float64),
         np.ascontiguousarray(allan.avar, dtype=np.float64),
         np.ascontiguousarray(allan.m, dtype=np.uint64),

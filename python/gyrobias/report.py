@@ -160,7 +160,10 @@ def _log_section(log: GyroLog, title: str) -> str:
         ("sample rate", f"{log.fs:.9g} Hz ({s.fs_source or 'given'})"),
         ("duration", _duration(log.n_samples / log.fs)),
         ("time column", log.time_column or "none"),
+        ("units", ", ".join(f"{c}: {u or '?'}" for c, u in zip(log.columns, log.units or (None,) * len(log.columns)))),
     ]
+    if getattr(log, "topic", None):
+        rows.append(("topic", str(log.topic)))
     if s.time_unit is not None:
         rows += [
             ("timestamps read as", s.time_unit),
@@ -331,8 +334,9 @@ def build_report(
     log : GyroLog
         A loaded log (:func:`gyrobias.io.load`) with a sample rate.
     units : str or sequence of str, optional
-        Unit of every channel, or one per channel (``"deg/s"``, ``"rad/s"``, ``"m/s^2"``, ``"g"``).
-        Without units the coefficients stay in data units and no estimator file is written.
+        Unit of every channel, or one per channel (``"deg/s"``, ``"rad/s"``, ``"m/s^2"``, ``"g"``);
+        default: the log's own units (``GyroLog.units``). Without units the coefficients stay
+        in data units and no estimator file is written.
     confidence : float or None
         Level of the Allan confidence intervals (two-sided; default 0.683 ≈ 1σ).
     method : {"joint", "ieee"}
@@ -357,8 +361,10 @@ def build_report(
     if log.fs is None:
         raise ValueError("log: no sample rate (give fs= to gyrobias.io.load, or --fs on the command line)")
     k = len(log.columns)
-    if units is None or isinstance(units, str):
-        per_channel: list[str | None] = [units] * k
+    if units is None:
+        per_channel: list[str | None] = list(log.units) if log.units else [None] * k
+    elif isinstance(units, str):
+        per_channel = [units] * k
     else:
         per_channel = list(units)
         if len(per_channel) != k:
