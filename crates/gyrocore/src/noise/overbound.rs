@@ -428,25 +428,27 @@ pub fn conservative(
 mod tests {
     use super::*;
 
+    /// Next `k`-combination of `0..total` in lexicographic order; false after the last.
+    fn next(pick: &mut [usize], total: usize) -> bool {
+        let k = pick.len();
+        for i in (0..k).rev() {
+            if pick[i] < total - (k - i) {
+                pick[i] += 1;
+                for j in i + 1..k {
+                    pick[j] = pick[j - 1] + 1;
+                }
+                return true;
+            }
+        }
+        false
+    }
+
     /// Brute force: the LP optimum is at a vertex where `cols` of the `rows + cols` constraints
     /// (rows of `A c ≥ b` or `c_j ≥ 0`) are tight; enumerate them all.
     fn brute_force(design: &[f64], rows: usize, cols: usize, bound: &[f64], floor: &[f64]) -> f64 {
         let total = rows + cols;
         let mut best = f64::INFINITY;
         let mut pick = vec![0usize; cols];
-        fn next(pick: &mut [usize], total: usize) -> bool {
-            let k = pick.len();
-            for i in (0..k).rev() {
-                if pick[i] < total - (k - i) {
-                    pick[i] += 1;
-                    for j in i + 1..k {
-                        pick[j] = pick[j - 1] + 1;
-                    }
-                    return true;
-                }
-            }
-            false
-        }
         for (i, p) in pick.iter_mut().enumerate() {
             *p = i;
         }
