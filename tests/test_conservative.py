@@ -18,14 +18,18 @@ FLICKER = math.sqrt(2 * math.log(2) / math.pi)
 
 def basis(taus: np.ndarray) -> np.ndarray:
     """The five-term model's basis g_j(τ) (NumPy, independent of the core)."""
-    return np.column_stack([3 / taus**2, 1 / taus, np.full_like(taus, FLICKER**2), taus / 3, taus**2 / 2])
+    return np.column_stack(
+        [3 / taus**2, 1 / taus, np.full_like(taus, FLICKER**2), taus / 3, taus**2 / 2]
+    )
 
 
 def linprog_reference(design: np.ndarray, bound: np.ndarray, floor: np.ndarray) -> float:
     """min Σ (A c)_i/b_i s.t. A c ≥ b, c ≥ floor with SciPy's HiGHS; returns the mean ratio."""
     a = design / bound[:, None]
     bounds = [(f, None) for f in floor]
-    res = optimize.linprog(a.sum(axis=0), A_ub=-a, b_ub=-np.ones(len(bound)), bounds=bounds, method="highs")
+    res = optimize.linprog(
+        a.sum(axis=0), A_ub=-a, b_ub=-np.ones(len(bound)), bounds=bounds, method="highs"
+    )
     assert res.status == 0
     return float(res.fun) / len(bound)
 
@@ -53,7 +57,9 @@ def test_lp_matches_scipy_linprog() -> None:
     st.lists(st.floats(0.3, 3.0), min_size=4, max_size=25),
     st.sets(st.integers(0, 4), min_size=1, max_size=5),
 )
-def test_overbound_is_feasible_and_tighter_than_scaling(scales: list[float], cols: set[int]) -> None:
+def test_overbound_is_feasible_and_tighter_than_scaling(
+    scales: list[float], cols: set[int]
+) -> None:
     taus = np.geomspace(0.01, 1000.0, len(scales))
     design = np.ascontiguousarray(basis(taus)[:, sorted(cols)])
     bound = design.sum(axis=1) * np.asarray(scales)
@@ -79,7 +85,9 @@ def test_bad_lp_input_names_the_argument() -> None:
 
 
 def _log(seed: int, n: int = 100_000) -> gyrobias.NoiseCoefficients:
-    rate = gyrobias.noise.simulate(n, 100.0, arw=0.2 / 60, bias_instability=3 / 3600, rrw=30 / 216000, seed=seed)
+    rate = gyrobias.noise.simulate(
+        n, 100.0, arw=0.2 / 60, bias_instability=3 / 3600, rrw=30 / 216000, seed=seed
+    )
     r = gyrobias.allan.adev(rate, 100.0, units="deg/s")
     return gyrobias.noise.fit(r, terms=("N", "B", "K"))
 

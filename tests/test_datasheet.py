@@ -16,7 +16,9 @@ FLICKER = math.sqrt(2 * math.log(2) / math.pi)
 def test_adis16470_noise_density_is_its_arw() -> None:
     # ADIS16470 datasheet: rate noise density 0.008 °/s/√Hz and ARW 0.34 °/√h — the same
     # noise, one-sided density vs IEEE coefficient: N = nd/√2, ×60 for deg/√h.
-    ds = gyrobias.noise.from_datasheet(noise_density="0.008 deg/s/sqrt(Hz)", bias_instability="8 deg/h")
+    ds = gyrobias.noise.from_datasheet(
+        noise_density="0.008 deg/s/sqrt(Hz)", bias_instability="8 deg/h"
+    )
     assert ds.gyro is not None and ds.accel is None
     g = ds.gyro.to("ieee")
     assert g.N.value == pytest.approx(0.008 / math.sqrt(2) * 60, rel=1e-12)
@@ -44,7 +46,9 @@ def test_conventions_can_be_switched() -> None:
 
 def test_accelerometer_and_units_forms() -> None:
     ds = gyrobias.noise.from_datasheet(
-        vrw=0.05, accel_bias_instability=0.05, units={"vrw": "m/s/sqrt(h)", "accel_bias_instability": "mg"}
+        vrw=0.05,
+        accel_bias_instability=0.05,
+        units={"vrw": "m/s/sqrt(h)", "accel_bias_instability": "mg"},
     )
     assert ds.accel is not None and ds.gyro is None
     assert ds.accel.N.value == pytest.approx(0.05 / 60)
@@ -52,7 +56,9 @@ def test_accelerometer_and_units_forms() -> None:
     dens = gyrobias.noise.from_datasheet(accel_noise_density="60 ug/√Hz")
     assert dens.accel is not None
     assert dens.accel.N.value == pytest.approx(60e-6 * 9.80665 / math.sqrt(2))
-    ieee = gyrobias.noise.from_datasheet(arw=0.2, bias_instability=3.0, rrw=10.0, units="ieee", gyro_unit="deg/s")
+    ieee = gyrobias.noise.from_datasheet(
+        arw=0.2, bias_instability=3.0, rrw=10.0, units="ieee", gyro_unit="deg/s"
+    )
     assert ieee.gyro is not None
     assert ieee.gyro.to("ieee").K.value == pytest.approx(10.0)
     dps = gyrobias.noise.from_datasheet(noise_density="0.015 dps/√Hz", gyro_unit="deg/s")
@@ -108,7 +114,13 @@ def test_value_round_trips_through_any_unit(name: str, data: st.DataObject, valu
     )
     coeffs = ds.gyro if ds.gyro is not None else ds.accel
     assert coeffs is not None
-    symbol = {"arw": "N", "vrw": "N", "bias_instability": "B", "rrw": "K", "accel_random_walk": "K"}[name]
+    symbol = {
+        "arw": "N",
+        "vrw": "N",
+        "bias_instability": "B",
+        "rrw": "K",
+        "accel_random_walk": "K",
+    }[name]
     term = coeffs[symbol]
     # Independent path: the generic unit conversion of gyrobias.units.
     assert term.value == pytest.approx(value * conversion_factor(unit, term.unit or ""), rel=1e-12)
@@ -116,7 +128,9 @@ def test_value_round_trips_through_any_unit(name: str, data: st.DataObject, valu
 
 
 def test_summary_and_discrete() -> None:
-    ds = gyrobias.noise.from_datasheet(arw="0.6 deg/√h", rrw="6 deg/h^1.5", vrw="0.06 m/s/√h", rate=100)
+    ds = gyrobias.noise.from_datasheet(
+        arw="0.6 deg/√h", rrw="6 deg/h^1.5", vrw="0.06 m/s/√h", rate=100
+    )
     text = ds.summary()
     assert "Conventions" in text and "ARW" in text
     d = ds.discrete()

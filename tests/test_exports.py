@@ -78,7 +78,12 @@ def check_all(texts: dict[str, str], e: dict[str, float], rate: float) -> None:
     assert k["update_rate"] == pytest.approx(rate) and k["rostopic"] == "/imu0"
 
     o = load_yaml(texts["openvins"])["imu0"]
-    for key in ("gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density", "accelerometer_random_walk"):
+    for key in (
+        "gyroscope_noise_density",
+        "gyroscope_random_walk",
+        "accelerometer_noise_density",
+        "accelerometer_random_walk",
+    ):
         assert o[key] == k[key]
     assert o["model"] == "kalibr" and o["update_rate"] == pytest.approx(rate)
     assert np.array_equal(o["T_i_b"], np.eye(4)) and np.array_equal(o["Tg"], np.zeros((3, 3)))
@@ -115,7 +120,9 @@ def check_all(texts: dict[str, str], e: dict[str, float], rate: float) -> None:
     assert j["estimator_values"]["gyro"]["N"]["value"] == pytest.approx(e["gN"], rel=1e-12)
     assert j["estimator_values"]["accel"]["K"]["unit"] == "m/s³/√Hz"
     assert j["rate_hz"] == pytest.approx(rate)
-    assert j["discrete"]["gyro"][0]["white"]["value"] == pytest.approx(e["gN"] * math.sqrt(rate), rel=1e-12)
+    assert j["discrete"]["gyro"][0]["white"]["value"] == pytest.approx(
+        e["gN"] * math.sqrt(rate), rel=1e-12
+    )
 
 
 def test_datasheet_user_gets_all_seven_in_one_call(tmp_path: Path) -> None:
@@ -131,11 +138,15 @@ def test_datasheet_user_gets_all_seven_in_one_call(tmp_path: Path) -> None:
 
 def simulated_axes(seed: int) -> tuple[list[NoiseCoefficients], list[NoiseCoefficients]]:
     fs = 100.0
-    gyro_rate = gyrobias.noise.simulate(400_000, fs, arw=0.3 / 60, rrw=60 / 216000, axes=2, seed=seed)
+    gyro_rate = gyrobias.noise.simulate(
+        400_000, fs, arw=0.3 / 60, rrw=60 / 216000, axes=2, seed=seed
+    )
     acc = gyrobias.noise.simulate(400_000, fs, arw=0.05 / 60, rrw=3e-4, axes=2, seed=seed + 1)
     g = gyrobias.allan.adev(gyro_rate, fs, units="deg/s", axis_names=["x", "y"], confidence=None)
     a = gyrobias.allan.adev(acc, fs, units="m/s^2", axis_names=["x", "y"], confidence=None)
-    return list(gyrobias.noise.fit(g, terms=("N", "K"))), list(gyrobias.noise.fit(a, terms=("N", "K")))
+    return list(gyrobias.noise.fit(g, terms=("N", "K"))), list(
+        gyrobias.noise.fit(a, terms=("N", "K"))
+    )
 
 
 def test_log_user_gets_all_seven_with_the_largest_axis() -> None:
@@ -158,14 +169,22 @@ def test_log_user_gets_all_seven_with_the_largest_axis() -> None:
     assert load_yaml(texts["vins"])["gyr_n"] == pytest.approx(e["gN"] * 10.0, rel=REL)
     assert json.loads(texts["json"])["gyro"][1]["axis"] == "y"
     # The method on NoiseCoefficients writes the same file as the function.
-    assert gyro[0].export("orbslam3", accel=accel[0]) == exports.export([gyro[0]], "orbslam3", accel=[accel[0]])
+    assert gyro[0].export("orbslam3", accel=accel[0]) == exports.export(
+        [gyro[0]], "orbslam3", accel=[accel[0]]
+    )
 
 
 def test_kalibr_export_agrees_with_write_kalibr(tmp_path: Path) -> None:
     gyro, accel = simulated_axes(9)
     ours = load_yaml(exports.export(gyro, "kalibr", accel=accel))
     theirs = load_yaml(gyrobias.noise.write_kalibr(tmp_path / "k.yaml", gyro=gyro, accel=accel))
-    for key in ("gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density", "accelerometer_random_walk", "update_rate"):
+    for key in (
+        "gyroscope_noise_density",
+        "gyroscope_random_walk",
+        "accelerometer_noise_density",
+        "accelerometer_random_walk",
+        "update_rate",
+    ):
         assert ours[key] == pytest.approx(theirs[key], rel=REL)
 
 
@@ -182,7 +201,9 @@ def test_gyro_only_writes_accel_keys_as_comments() -> None:
 
 def test_missing_required_term_and_rate_are_named() -> None:
     ds = gyrobias.noise.from_datasheet(arw="0.3 deg/√h")
-    with pytest.raises(ValueError, match=r"gyro K \(random walk K\): required by the kalibr format"):
+    with pytest.raises(
+        ValueError, match=r"gyro K \(random walk K\): required by the kalibr format"
+    ):
         ds.export("kalibr", rate=100)
     full = gyrobias.noise.from_datasheet(arw="0.3 deg/√h", rrw="1 deg/h^1.5")
     with pytest.raises(ValueError, match="rate: the openvins format needs the IMU rate"):
@@ -194,7 +215,9 @@ def test_missing_required_term_and_rate_are_named() -> None:
         full.export("kalibr", rate=0.0)
     with pytest.raises(ValueError, match="accel: coefficients of data in 'rad/s' are gyro"):
         exports.export(None, "json", accel=full.gyro)
-    r = gyrobias.allan.adev(gyrobias.noise.simulate(5000, 100.0, arw=0.01, seed=1), 100.0, confidence=None)
+    r = gyrobias.allan.adev(
+        gyrobias.noise.simulate(5000, 100.0, arw=0.01, seed=1), 100.0, confidence=None
+    )
     with pytest.raises(ValueError, match="data unit is unknown"):
         exports.export(gyrobias.noise.fit(r), "json")
 
@@ -217,7 +240,9 @@ def test_discrete_matches_simulation() -> None:
     arw, rrw = 0.01, 2e-4  # deg/√s, deg/s^1.5
     white = gyrobias.noise.simulate(n, fs, arw=arw, seed=3)
     walk = gyrobias.noise.simulate(n, fs, rrw=rrw, seed=4)
-    ds = gyrobias.noise.from_datasheet(arw=f"{arw} deg/√s", rrw=f"{rrw} deg/s^1.5", gyro_unit="deg/s")
+    ds = gyrobias.noise.from_datasheet(
+        arw=f"{arw} deg/√s", rrw=f"{rrw} deg/s^1.5", gyro_unit="deg/s"
+    )
     assert ds.gyro is not None
     d = ds.gyro.discrete(fs)
     assert d.white.unit == "deg/s" and d.white.value is not None and d.bias_walk.value is not None

@@ -34,7 +34,9 @@ class Collector(HTMLParser):
 
 def demo_log(tmp_path: Path) -> Path:
     """A gyro log like the demo's (.npy, deg/s, no time column) and a 6-axis CSV with time."""
-    rate = gyrobias.noise.simulate(120_000, 100.0, arw=0.3 / 60, bias_instability=5 / 3600, rrw=300 / 216000, axes=2, seed=4)
+    rate = gyrobias.noise.simulate(
+        120_000, 100.0, arw=0.3 / 60, bias_instability=5 / 3600, rrw=300 / 216000, axes=2, seed=4
+    )
     np.save(tmp_path / "demo_log.npy", rate)
     return tmp_path / "demo_log.npy"
 
@@ -58,7 +60,11 @@ def test_report_is_self_contained_and_complete(tmp_path: Path) -> None:
         for key in ("src", "href"):
             value = attrs.get(key)
             assert value is None or value.startswith("data:"), (tag, key, value)
-    assert "@import" not in html and "url(" not in html and "http://" not in html.replace("http://www.w3.org", "")
+    assert (
+        "@import" not in html
+        and "url(" not in html
+        and "http://" not in html.replace("http://www.w3.org", "")
+    )
     # One embedded SVG plot per channel, each a valid SVG document.
     images = [a["src"] for t, a in page.tags if t == "img"]
     assert len(images) == 2
@@ -66,8 +72,18 @@ def test_report_is_self_contained_and_complete(tmp_path: Path) -> None:
         assert src is not None and src.startswith("data:image/svg+xml;base64,")
         svg = base64.b64decode(src.split(",", 1)[1]).decode()
         assert svg.startswith("<svg") and svg.rstrip().endswith("</svg>")
-    assert tags.count("table") >= 1 + 2 * 2  # log summary, coefficients and conservative per channel
-    for needle in ("Log and timestamps", "angle random walk", "Conservative set", "inflation", "χ²/ν", "@page", "A4"):
+    assert (
+        tags.count("table") >= 1 + 2 * 2
+    )  # log summary, coefficients and conservative per channel
+    for needle in (
+        "Log and timestamps",
+        "angle random walk",
+        "Conservative set",
+        "inflation",
+        "χ²/ν",
+        "@page",
+        "A4",
+    ):
         assert needle in html, needle
     # Every export, best fit and conservative, as copyable text.
     codes = [a.get("id") for t, a in page.tags if t == "code" and a.get("id")]
@@ -77,7 +93,9 @@ def test_report_is_self_contained_and_complete(tmp_path: Path) -> None:
 
 
 def test_report_without_units_and_with_failures(tmp_path: Path) -> None:
-    rate = np.column_stack([gyrobias.noise.simulate(20_000, 50.0, arw=0.01, seed=1), np.zeros(20_000)])
+    rate = np.column_stack(
+        [gyrobias.noise.simulate(20_000, 50.0, arw=0.01, seed=1), np.zeros(20_000)]
+    )
     path = tmp_path / "log.csv"
     t = np.arange(20_000) / 50.0
     np.savetxt(path, np.column_stack([t, rate]), delimiter=",", header="time,gx,flat", comments="")
@@ -90,22 +108,52 @@ def test_report_without_units_and_with_failures(tmp_path: Path) -> None:
 
 
 def _chromium() -> str | None:
-    return shutil.which("chromium") or shutil.which("chromium-browser") or shutil.which("google-chrome")
+    return (
+        shutil.which("chromium")
+        or shutil.which("chromium-browser")
+        or shutil.which("google-chrome")
+    )
 
 
-@pytest.mark.skipif(_chromium() is None, reason="needs Chromium (.ci/run installs the Debian package)")
+@pytest.mark.skipif(
+    _chromium() is None, reason="needs Chromium (.ci/run installs the Debian package)"
+)
 def test_report_renders_in_headless_chromium(tmp_path: Path) -> None:
     import matplotlib.image
 
     html_path = tmp_path / "report.html"
-    assert main(["report", str(demo_log(tmp_path)), "--fs", "100", "--units", "deg/s", "-o", str(html_path)]) == 0
+    assert (
+        main(
+            [
+                "report",
+                str(demo_log(tmp_path)),
+                "--fs",
+                "100",
+                "--units",
+                "deg/s",
+                "-o",
+                str(html_path),
+            ]
+        )
+        == 0
+    )
     shot = tmp_path / "shot.png"
     browser = _chromium()
     assert browser is not None
     subprocess.run(
-        [browser, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars", "--window-size=1000,1800",
-         f"--screenshot={shot}", html_path.as_uri()],
-        check=True, capture_output=True, timeout=120,
+        [
+            browser,
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--hide-scrollbars",
+            "--window-size=1000,1800",
+            f"--screenshot={shot}",
+            html_path.as_uri(),
+        ],
+        check=True,
+        capture_output=True,
+        timeout=120,
     )
     image = matplotlib.image.imread(shot)[..., :3]
     assert image.shape[0] == 1800 and image.shape[1] == 1000
@@ -130,11 +178,27 @@ def test_allan_export_cli(tmp_path: Path, capsys: pytest.CaptureFixture[str]) ->
     path = demo_log(tmp_path)
     vins = tmp_path / "vins.yaml"
     alld = tmp_path / "all"
-    code = main(["allan", str(path), "--fs", "100", "--units", "deg/s", "--export", f"vins={vins}",
-                 "--export", f"all={alld}", "--export-rate", "200"])
+    code = main(
+        [
+            "allan",
+            str(path),
+            "--fs",
+            "100",
+            "--units",
+            "deg/s",
+            "--export",
+            f"vins={vins}",
+            "--export",
+            f"all={alld}",
+            "--export-rate",
+            "200",
+        ]
+    )
     assert code == 0
     assert "gyr_n" in vins.read_text() and "200 Hz" in vins.read_text()
-    assert sorted(p.name for p in alld.iterdir()) == sorted(gyrobias.exports.DEFAULT_FILENAMES.values())
+    assert sorted(p.name for p in alld.iterdir()) == sorted(
+        gyrobias.exports.DEFAULT_FILENAMES.values()
+    )
     assert json.loads((alld / "noise.json").read_text())["rate_hz"] == 200.0
     with pytest.raises(SystemExit, match="--export format 'rovio' is unknown"):
         main(["allan", str(path), "--fs", "100", "--units", "deg/s", "--export", "rovio=x.yaml"])

@@ -26,8 +26,20 @@ unit-aware Python interfaces:
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan, fir, fractional, io, kalman, noise, predict, spectral, thermal
-from gyrobias import conservative, datasheet, exports  # estimator parameters (issue 13)
+from gyrobias import (
+    allan,
+    conservative,
+    datasheet,
+    exports,
+    fir,
+    fractional,
+    io,
+    kalman,
+    noise,
+    predict,
+    spectral,
+    thermal,
+)
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
 from gyrobias.fir import KaiserLowpass, kaiser_lowpass

@@ -98,7 +98,8 @@ class ConservativeCoefficients:
                 "tightest in the mean model/bound ratio"
             ),
             "inflation": {
-                k: (None if v is None else (None if math.isinf(v) else v)) for k, v in self.inflation.items()
+                k: (None if v is None else (None if math.isinf(v) else v))
+                for k, v in self.inflation.items()
             },
             "taus_s": self.taus.tolist(),
             "upper_bound_adev": self.upper_bound.tolist(),
@@ -184,14 +185,18 @@ def conservative(
     from gyrobias.noise import NoiseCoefficients, Term
 
     if not isinstance(coefficients, NoiseCoefficients):
-        raise TypeError(f"coefficients must be NoiseCoefficients, got {type(coefficients).__name__}")
+        raise TypeError(
+            f"coefficients must be NoiseCoefficients, got {type(coefficients).__name__}"
+        )
     allan = coefficients.allan
     if allan is None:
         raise ValueError(
             "coefficients: a conservative set needs the measured Allan curve; these coefficients "
             f"({coefficients.method}) carry none — fit them with gyrobias.noise.fit(allan_result)"
         )
-    if isinstance(confidence, bool) or not isinstance(confidence, (int, float, np.integer, np.floating)):
+    if isinstance(confidence, bool) or not isinstance(
+        confidence, (int, float, np.integer, np.floating)
+    ):
         raise TypeError(f"confidence must be a real number, got {type(confidence).__name__}")
     reference = coefficients._squared_base()
     if terms is None:
@@ -199,7 +204,10 @@ def conservative(
         if not allowed:
             raise ValueError("coefficients: no term is present to inflate (pass terms=)")
     else:
-        allowed = [choice("terms", str(t), _SYMBOLS) for t in ([terms] if isinstance(terms, str) else terms)]
+        allowed = [
+            choice("terms", str(t), _SYMBOLS)
+            for t in ([terms] if isinstance(terms, str) else terms)
+        ]
     lo, hi = coefficients.tau_range
     tau_range = (float(lo), float(hi)) if np.isfinite(lo) and np.isfinite(hi) and hi > lo else None
     raw = _core.noise.conservative(
@@ -216,6 +224,7 @@ def conservative(
     )
     squared = tuple(float(v) for v in raw["squared"])
     base = coefficients.to("base") if coefficients.data_unit is not None else coefficients
+    lo_used, hi_used = (float(v) for v in raw["tau_range"])
     built: dict[str, Term] = {}
     for s, c in zip(_SYMBOLS, squared):
         t = base[s]
@@ -225,7 +234,7 @@ def conservative(
             value=math.sqrt(c) if c > 0.0 else None,
             uncertainty=None,
             unit=t.unit,
-            tau_range=tuple(raw["tau_range"]) if c > 0.0 else None,
+            tau_range=(lo_used, hi_used) if c > 0.0 else None,
             marker=None,
             missing=None if c > 0.0 else "not needed to overbound the curve",
         )
@@ -237,7 +246,7 @@ def conservative(
         K=built["K"],
         R=built["R"],
         method="conservative",
-        tau_range=(float(raw["tau_range"][0]), float(raw["tau_range"][1])),
+        tau_range=(lo_used, hi_used),
         chi2=None,
         dof=None,
         squared=squared,  # type: ignore[arg-type]

@@ -119,7 +119,14 @@ class Datasheet:
         """Write one estimator file (see :func:`gyrobias.exports.export`)."""
         from gyrobias.exports import export
 
-        return export(self.gyro, fmt, path, accel=self.accel, rate=rate if rate is not None else self.rate, rostopic=rostopic)
+        return export(
+            self.gyro,
+            fmt,
+            path,
+            accel=self.accel,
+            rate=rate if rate is not None else self.rate,
+            rostopic=rostopic,
+        )
 
     def export_all(
         self,
@@ -131,7 +138,13 @@ class Datasheet:
         """Every format at once (see :func:`gyrobias.exports.export_all`)."""
         from gyrobias.exports import export_all
 
-        return export_all(self.gyro, directory, accel=self.accel, rate=rate if rate is not None else self.rate, rostopic=rostopic)
+        return export_all(
+            self.gyro,
+            directory,
+            accel=self.accel,
+            rate=rate if rate is not None else self.rate,
+            rostopic=rostopic,
+        )
 
     def discrete(self, rate: float | None = None) -> dict[str, DiscreteNoise]:
         """Per-sample parameters of each sensor at ``rate`` (see :func:`gyrobias.exports.discrete`)."""
@@ -140,7 +153,11 @@ class Datasheet:
         use = rate if rate is not None else self.rate
         if use is None:
             raise ValueError("rate: give the filter rate in Hz (the datasheet set has none)")
-        return {k: discrete(c, use) for k, c in (("gyro", self.gyro), ("accel", self.accel)) if c is not None}
+        return {
+            k: discrete(c, use)
+            for k, c in (("gyro", self.gyro), ("accel", self.accel))
+            if c is not None
+        }
 
     def summary(self) -> str:
         """Coefficients in IEEE units and the conventions applied."""
@@ -152,7 +169,9 @@ class Datasheet:
         return self.summary()
 
 
-def _split_value(name: str, value: Any, units: str | Mapping[str, str] | None, sensor: str, symbol: str) -> tuple[float, str]:
+def _split_value(
+    name: str, value: Any, units: str | Mapping[str, str] | None, sensor: str, symbol: str
+) -> tuple[float, str]:
     """(number, unit text) of one argument."""
     if isinstance(value, str):
         m = _NUMBER.match(value)
@@ -162,10 +181,14 @@ def _split_value(name: str, value: Any, units: str | Mapping[str, str] | None, s
                 f"'0.3 deg/sqrt(h)'; valid units for {name}: {_EXAMPLES[sensor][symbol]}"
             )
         if isinstance(units, Mapping) and name in units:
-            raise ValueError(f"{name}: the unit is given twice (in {value!r} and in units=); give it once")
+            raise ValueError(
+                f"{name}: the unit is given twice (in {value!r} and in units=); give it once"
+            )
         number, unit = float(m.group(1)), m.group(2)
     elif isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise TypeError(f"{name} must be a string with a unit or a number with units=, got {type(value).__name__}")
+        raise TypeError(
+            f"{name} must be a string with a unit or a number with units=, got {type(value).__name__}"
+        )
     else:
         number = float(value)
         if isinstance(units, Mapping):
@@ -272,15 +295,22 @@ def from_datasheet(
     from gyrobias.noise import TERM_NAMES, NoiseCoefficients, Term
 
     density = choice("density", density, ("one-sided", "two-sided"))
-    bias_instability_is = choice("bias_instability_is", bias_instability_is, ("allan_minimum", "coefficient"))
+    bias_instability_is = choice(
+        "bias_instability_is", bias_instability_is, ("allan_minimum", "coefficient")
+    )
     data_units = {"gyro": gyro_unit, "accel": accel_unit}
-    for label, unit, kind in (("gyro_unit", gyro_unit, "gyro"), ("accel_unit", accel_unit, "accel")):
+    for label, unit, kind in (
+        ("gyro_unit", gyro_unit, "gyro"),
+        ("accel_unit", accel_unit, "accel"),
+    ):
         try:
             found = sensor_kind(unit)
         except ValueError as exc:
             raise ValueError(f"{label}: {exc}") from None
         if found != kind:
-            raise ValueError(f"{label}: {unit!r} is not {'an angular rate' if kind == 'gyro' else 'an acceleration'}")
+            raise ValueError(
+                f"{label}: {unit!r} is not {'an angular rate' if kind == 'gyro' else 'an acceleration'}"
+            )
     if rate is not None:
         rate = positive_float("rate", rate)
     if isinstance(units, Mapping):
@@ -306,7 +336,9 @@ def from_datasheet(
         if given[a] is not None and given[b] is not None:
             raise ValueError(f"{a} and {b} describe the same term (N): give one of them")
     if all(v is None for v in given.values()):
-        raise ValueError("from_datasheet needs at least one value (arw=, bias_instability=, vrw=, …)")
+        raise ValueError(
+            "from_datasheet needs at least one value (arw=, bias_instability=, vrw=, …)"
+        )
     values: dict[str, dict[str, float]] = {"gyro": {}, "accel": {}}
     notes: list[str] = []
     for name, value in given.items():
@@ -318,7 +350,9 @@ def from_datasheet(
         try:
             parsed = parse_unit(unit)
         except ValueError as exc:
-            raise ValueError(f"{name}: {exc}; valid units for {name}: {_EXAMPLES[sensor][symbol]}") from None
+            raise ValueError(
+                f"{name}: {exc}; valid units for {name}: {_EXAMPLES[sensor][symbol]}"
+            ) from None
         want = parse_unit(target)
         if parsed.dims != want.dims:
             raise ValueError(
@@ -334,7 +368,9 @@ def from_datasheet(
                     f"{name} = {number:g} {unit} read as a one-sided density: IEEE {symbol} = value/√2"
                 )
             else:
-                notes.append(f"{name} = {number:g} {unit} read as a two-sided density: IEEE {symbol} = value")
+                notes.append(
+                    f"{name} = {number:g} {unit} read as a two-sided density: IEEE {symbol} = value"
+                )
         elif symbol == "B":
             if bias_instability_is == "allan_minimum":
                 v /= _FLICKER

@@ -132,7 +132,9 @@ def _group(name: str, value: Any, kind: str) -> list[NoiseCoefficients]:
     items = [value] if isinstance(value, NoiseCoefficients) else list(value)
     for c in items:
         if not isinstance(c, NoiseCoefficients):
-            raise TypeError(f"{name} must be NoiseCoefficients or a sequence of them, got {type(c).__name__}")
+            raise TypeError(
+                f"{name} must be NoiseCoefficients or a sequence of them, got {type(c).__name__}"
+            )
         if c.data_unit is None or c.sensor is None:
             raise ValueError(
                 f"{name}: the data unit is unknown; estimator files need SI units (pass units= to the "
@@ -150,7 +152,11 @@ def _split(gyro: Any, accel: Any) -> tuple[list[NoiseCoefficients], list[NoiseCo
     from gyrobias.noise import NoiseCoefficients
 
     first = [gyro] if isinstance(gyro, NoiseCoefficients) else list(gyro or [])
-    if accel is None and first and all(isinstance(c, NoiseCoefficients) and c.sensor == "accel" for c in first):
+    if (
+        accel is None
+        and first
+        and all(isinstance(c, NoiseCoefficients) and c.sensor == "accel" for c in first)
+    ):
         return [], _group("accel", first, "accel")
     g = _group("gyro", first or None, "gyro")
     a = _group("accel", accel, "accel")
@@ -181,7 +187,9 @@ def _value(group: list[NoiseCoefficients], symbol: str, kind: str, fmt: str | No
     return max(values) if values else None
 
 
-def _rate(rate: float | None, groups: Sequence[NoiseCoefficients], fmt: str, required: bool) -> float | None:
+def _rate(
+    rate: float | None, groups: Sequence[NoiseCoefficients], fmt: str, required: bool
+) -> float | None:
     if rate is not None:
         return positive_float("rate", rate)
     finite = [c.fs for c in groups if math.isfinite(c.fs) and c.fs > 0.0]
@@ -224,7 +232,9 @@ def _densities(
     }
 
 
-def _header(fmt: str, g: list[NoiseCoefficients], a: list[NoiseCoefficients], comment: str = "#") -> list[str]:
+def _header(
+    fmt: str, g: list[NoiseCoefficients], a: list[NoiseCoefficients], comment: str = "#"
+) -> list[str]:
     sources = sorted({c.method for c in g + a})
     return [
         f"{comment} {fmt} IMU noise parameters written by gyrobias (from: {', '.join(sources)} coefficients)",
@@ -232,23 +242,61 @@ def _header(fmt: str, g: list[NoiseCoefficients], a: list[NoiseCoefficients], co
     ]
 
 
-def _kalibr_like(g: list[NoiseCoefficients], a: list[NoiseCoefficients], fmt: str, indent: str) -> list[str]:
+def _kalibr_like(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], fmt: str, indent: str
+) -> list[str]:
     v = _densities(g, a, fmt)
     lines = []
     miss_a = _NOT_MEASURED if not a else ""
     miss_g = _NOT_MEASURED_GYRO if not g else ""
-    lines.append(_yaml_pair("accelerometer_noise_density", v["aN"], f"m/s^2/sqrt(Hz), continuous{_axes_note(a)}", miss_a, indent))
-    lines.append(_yaml_pair("accelerometer_random_walk", v["aK"], f"m/s^3/sqrt(Hz), continuous{_axes_note(a)}", miss_a, indent))
-    lines.append(_yaml_pair("gyroscope_noise_density", v["gN"], f"rad/s/sqrt(Hz), continuous{_axes_note(g)}", miss_g, indent))
-    lines.append(_yaml_pair("gyroscope_random_walk", v["gK"], f"rad/s^2/sqrt(Hz), continuous{_axes_note(g)}", miss_g, indent))
+    lines.append(
+        _yaml_pair(
+            "accelerometer_noise_density",
+            v["aN"],
+            f"m/s^2/sqrt(Hz), continuous{_axes_note(a)}",
+            miss_a,
+            indent,
+        )
+    )
+    lines.append(
+        _yaml_pair(
+            "accelerometer_random_walk",
+            v["aK"],
+            f"m/s^3/sqrt(Hz), continuous{_axes_note(a)}",
+            miss_a,
+            indent,
+        )
+    )
+    lines.append(
+        _yaml_pair(
+            "gyroscope_noise_density",
+            v["gN"],
+            f"rad/s/sqrt(Hz), continuous{_axes_note(g)}",
+            miss_g,
+            indent,
+        )
+    )
+    lines.append(
+        _yaml_pair(
+            "gyroscope_random_walk",
+            v["gK"],
+            f"rad/s^2/sqrt(Hz), continuous{_axes_note(g)}",
+            miss_g,
+            indent,
+        )
+    )
     return lines
 
 
-def _render_kalibr(g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str) -> str:
+def _render_kalibr(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str
+) -> str:
     f = _rate(rate, g + a, "kalibr", True)
     assert f is not None
     lines = _header("Kalibr imu.yaml", g, a)
-    lines.append("# Kalibr discretises with update_rate: sigma_d = sigma*sqrt(rate), sigma_bd = sigma_b/sqrt(rate).")
+    lines.append(
+        "# Kalibr discretises with update_rate: sigma_d = sigma*sqrt(rate), sigma_bd = sigma_b/sqrt(rate)."
+    )
     lines += _kalibr_like(g, a, "kalibr", "")
     lines.append(f"rostopic: {rostopic}")
     lines.append(f"update_rate: {f:.6g}  # Hz")
@@ -263,12 +311,16 @@ def _identity(n: int, indent: str, zero: bool = False) -> list[str]:
     return rows
 
 
-def _render_openvins(g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str) -> str:
+def _render_openvins(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str
+) -> str:
     f = _rate(rate, g + a, "openvins", True)
     assert f is not None
     lines = ["%YAML:1.0", *_header("OpenVINS kalibr_imu_chain.yaml", g, a)]
     lines.append("# Continuous-time densities (OpenVINS discretises them with the IMU period).")
-    lines.append("# Intrinsics below are identity/zero: replace them with a calibration if you have one.")
+    lines.append(
+        "# Intrinsics below are identity/zero: replace them with a calibration if you have one."
+    )
     lines.append("imu0:")
     lines.append("  T_i_b:")
     lines += _identity(4, "    ")
@@ -285,31 +337,55 @@ def _render_openvins(g: list[NoiseCoefficients], a: list[NoiseCoefficients], rat
     return "\n".join(lines) + "\n"
 
 
-def _render_vins(g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str) -> str:
+def _render_vins(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str
+) -> str:
     f = _rate(rate, g + a, "vins", True)
     assert f is not None
     v = _densities(g, a, "vins")
     root = math.sqrt(f)
     lines = ["%YAML:1.0", *_header("VINS-Mono/VINS-Fusion", g, a)]
     lines.append(f"# Discrete-time values at the IMU rate {f:.6g} Hz (VINS-Mono issue #280):")
-    lines.append("#   *_n = N*sqrt(rate) (per-sample noise std), *_w = K/sqrt(rate) (per-step bias random-walk std).")
-    lines.append("# Merge these keys into your VINS config (g_norm and the extrinsics are not noise parameters).")
+    lines.append(
+        "#   *_n = N*sqrt(rate) (per-sample noise std), *_w = K/sqrt(rate) (per-step bias random-walk std)."
+    )
+    lines.append(
+        "# Merge these keys into your VINS config (g_norm and the extrinsics are not noise parameters)."
+    )
     miss_a = _NOT_MEASURED if not a else ""
     miss_g = _NOT_MEASURED_GYRO if not g else ""
-    lines.append(_yaml_pair("acc_n", None if v["aN"] is None else v["aN"] * root, "m/s^2, discrete", miss_a))
-    lines.append(_yaml_pair("gyr_n", None if v["gN"] is None else v["gN"] * root, "rad/s, discrete", miss_g))
-    lines.append(_yaml_pair("acc_w", None if v["aK"] is None else v["aK"] / root, "m/s^2 per step, discrete", miss_a))
-    lines.append(_yaml_pair("gyr_w", None if v["gK"] is None else v["gK"] / root, "rad/s per step, discrete", miss_g))
+    lines.append(
+        _yaml_pair("acc_n", None if v["aN"] is None else v["aN"] * root, "m/s^2, discrete", miss_a)
+    )
+    lines.append(
+        _yaml_pair("gyr_n", None if v["gN"] is None else v["gN"] * root, "rad/s, discrete", miss_g)
+    )
+    lines.append(
+        _yaml_pair(
+            "acc_w", None if v["aK"] is None else v["aK"] / root, "m/s^2 per step, discrete", miss_a
+        )
+    )
+    lines.append(
+        _yaml_pair(
+            "gyr_w", None if v["gK"] is None else v["gK"] / root, "rad/s per step, discrete", miss_g
+        )
+    )
     return "\n".join(lines) + "\n"
 
 
-def _render_orbslam3(g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str) -> str:
+def _render_orbslam3(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str
+) -> str:
     f = _rate(rate, g + a, "orbslam3", True)
     assert f is not None
     v = _densities(g, a, "orbslam3")
     lines = ["%YAML:1.0", *_header("ORB-SLAM3", g, a)]
-    lines.append("# Continuous-time densities (ORB-SLAM3 discretises them with sqrt(IMU.Frequency)).")
-    lines.append("# Merge these keys into your ORB-SLAM3 settings file (IMU.T_b_c1 is not a noise parameter).")
+    lines.append(
+        "# Continuous-time densities (ORB-SLAM3 discretises them with sqrt(IMU.Frequency))."
+    )
+    lines.append(
+        "# Merge these keys into your ORB-SLAM3 settings file (IMU.T_b_c1 is not a noise parameter)."
+    )
     miss_a = _NOT_MEASURED if not a else ""
     miss_g = _NOT_MEASURED_GYRO if not g else ""
     lines.append(_yaml_pair("IMU.NoiseGyro", v["gN"], "rad/s/sqrt(Hz)", miss_g))
@@ -320,11 +396,17 @@ def _render_orbslam3(g: list[NoiseCoefficients], a: list[NoiseCoefficients], rat
     return "\n".join(lines) + "\n"
 
 
-def _render_liosam(g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str) -> str:
+def _render_liosam(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str
+) -> str:
     v = _densities(g, a, "liosam")
     lines = _header("LIO-SAM params.yaml", g, a)
-    lines.append("# Continuous-time densities (GTSAM preintegration covariances; bias sigmas scaled by sqrt(dt)).")
-    lines.append("# Merge into config/params.yaml (imuGravity, imuRPYWeight and extrinsics are not noise parameters).")
+    lines.append(
+        "# Continuous-time densities (GTSAM preintegration covariances; bias sigmas scaled by sqrt(dt))."
+    )
+    lines.append(
+        "# Merge into config/params.yaml (imuGravity, imuRPYWeight and extrinsics are not noise parameters)."
+    )
     miss_a = _NOT_MEASURED if not a else ""
     miss_g = _NOT_MEASURED_GYRO if not g else ""
     lines.append("lio_sam:")
@@ -344,14 +426,21 @@ def _gauss_markov(group: list[NoiseCoefficients]) -> list[Any]:
     return []
 
 
-def _render_matlab(g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str) -> str:
+def _render_matlab(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str
+) -> str:
     f = _rate(rate, g + a, "matlab", False)
     lines = _header("MATLAB imuSensor", g, a, comment="%")
-    lines.append("% NoiseDensity = N, BiasInstability = B, RandomWalk = K (MathWorks' Allan-variance example).")
+    lines.append(
+        "% NoiseDensity = N, BiasInstability = B, RandomWalk = K (MathWorks' Allan-variance example)."
+    )
     args = ["'accel-gyro'"]
     if f is not None:
         args.append(f"'SampleRate', {f:.10g}")
-    for kind, group, name, ctor in (("gyro", g, "gyro", "gyroparams"), ("accel", a, "accel", "accelparams")):
+    for kind, group, name, ctor in (
+        ("gyro", g, "gyro", "gyroparams"),
+        ("accel", a, "accel", "accelparams"),
+    ):
         if not group:
             lines.append(f"% {ctor}: no {kind} coefficients given (ideal {kind})")
             continue
@@ -375,11 +464,15 @@ def _render_matlab(g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate:
                 f" phi = exp(-dt/tau_c) = {phi:.9f}"
             )
             props.append(f"'BiasInstability', {_fmt(drive)}")
-            props.append(f"'BiasInstabilityCoefficients', struct('Numerator', 1, 'Denominator', [1 {-phi:.12g}])")
+            props.append(
+                f"'BiasInstabilityCoefficients', struct('Numerator', 1, 'Denominator', [1 {-phi:.12g}])"
+            )
         lines.append(f"{name} = {ctor}( ...")
         lines.append("    " + ", ...\n    ".join(props) + ");")
         unit = _SI[kind]["rate"]
-        lines.append(f"% units: NoiseDensity ({unit})/sqrt(Hz), BiasInstability {unit}, RandomWalk ({unit})*sqrt(Hz)")
+        lines.append(
+            f"% units: NoiseDensity ({unit})/sqrt(Hz), BiasInstability {unit}, RandomWalk ({unit})*sqrt(Hz)"
+        )
         args.append(f"'{'Gyroscope' if kind == 'gyro' else 'Accelerometer'}', {name}")
     lines.append(f"imu = imuSensor({', '.join(args)});")
     return "\n".join(lines) + "\n"
@@ -396,7 +489,9 @@ def _clean(value: Any) -> Any:
     return value
 
 
-def _render_json(g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str) -> str:
+def _render_json(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str
+) -> str:
     f = _rate(rate, g + a, "json", False)
     doc: dict[str, Any] = {
         "generator": "gyrobias",
@@ -420,11 +515,19 @@ def _render_json(g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: f
             si[symbol] = {"value": value, "unit": _SI[kind][symbol]}
         doc["estimator_values"][kind] = si
         if f is not None:
-            doc.setdefault("discrete", {})[kind] = [d.to_dict() for d in (discrete(c, f) for c in group)]
+            doc.setdefault("discrete", {})[kind] = [
+                d.to_dict() for d in (discrete(c, f) for c in group)
+            ]
         gm = []
         for c in group:
             for t in tuple(getattr(c, "gauss_markov", ()) or ()):
-                gm.append({"axis": c.axis, "sigma": t.sigma.to_dict(), "correlation_time": t.correlation_time.to_dict()})
+                gm.append(
+                    {
+                        "axis": c.axis,
+                        "sigma": t.sigma.to_dict(),
+                        "correlation_time": t.correlation_time.to_dict(),
+                    }
+                )
         if gm:
             doc.setdefault("gauss_markov", {})[kind] = gm
     return json.dumps(_clean(doc), indent=2, allow_nan=False) + "\n"
@@ -579,7 +682,9 @@ class DiscreteNoise:
             "rate_hz": self.rate,
             "white": self.white.to_dict(),
             "bias_walk": self.bias_walk.to_dict(),
-            "gauss_markov": [{"phi": p.to_dict(), "driving_sigma": d.to_dict()} for p, d in self.gauss_markov],
+            "gauss_markov": [
+                {"phi": p.to_dict(), "driving_sigma": d.to_dict()} for p, d in self.gauss_markov
+            ],
         }
 
 
@@ -626,10 +731,14 @@ def discrete(coefficients: NoiseCoefficients, rate: float) -> DiscreteNoise:
     from gyrobias.noise import NoiseCoefficients
 
     if not isinstance(coefficients, NoiseCoefficients):
-        raise TypeError(f"coefficients must be NoiseCoefficients, got {type(coefficients).__name__}")
+        raise TypeError(
+            f"coefficients must be NoiseCoefficients, got {type(coefficients).__name__}"
+        )
     rate = positive_float("rate", rate)
     if coefficients.data_unit is None:
-        raise ValueError("coefficients: the data unit is unknown (pass units= to the Allan analysis)")
+        raise ValueError(
+            "coefficients: the data unit is unknown (pass units= to the Allan analysis)"
+        )
     base = coefficients.to("base")
     unit = coefficients.data_unit
     dt = 1.0 / rate
@@ -640,13 +749,19 @@ def discrete(coefficients: NoiseCoefficients, rate: float) -> DiscreteNoise:
         return DiscreteValue(
             name=name,
             value=None if t.value is None else t.value * factor,
-            uncertainty=None if t.uncertainty is None or t.value is None else t.uncertainty * factor,
+            uncertainty=None
+            if t.uncertainty is None or t.value is None
+            else t.uncertainty * factor,
             unit=unit,
             formula=formula,
         )
 
-    white = scaled("N", root, "white rate noise per sample", "sigma_white = N/sqrt(dt) = N*sqrt(rate)")
-    walk = scaled("K", 1.0 / root, "bias random-walk step", "sigma_walk = K*sqrt(dt) = K/sqrt(rate)")
+    white = scaled(
+        "N", root, "white rate noise per sample", "sigma_white = N/sqrt(dt) = N*sqrt(rate)"
+    )
+    walk = scaled(
+        "K", 1.0 / root, "bias random-walk step", "sigma_walk = K*sqrt(dt) = K/sqrt(rate)"
+    )
     gm_out = []
     for t in tuple(getattr(coefficients, "gauss_markov", ()) or ()):
         tau = t.correlation_time.to("s")
@@ -668,4 +783,6 @@ def discrete(coefficients: NoiseCoefficients, rate: float) -> DiscreteNoise:
                 ),
             )
         )
-    return DiscreteNoise(rate=rate, white=white, bias_walk=walk, gauss_markov=tuple(gm_out), axis=coefficients.axis)
+    return DiscreteNoise(
+        rate=rate, white=white, bias_walk=walk, gauss_markov=tuple(gm_out), axis=coefficients.axis
+    )

@@ -61,7 +61,9 @@ def _analyse(
         unit = units[j]
         errors: list[str] = []
         try:
-            r = allan.adev(log.data[:, j], log.fs, confidence=confidence, units=unit, axis_names=[name])
+            r = allan.adev(
+                log.data[:, j], log.fs, confidence=confidence, units=unit, axis_names=[name]
+            )
         except ValueError as exc:
             out.append(ChannelReport(name, unit, None, errors=(f"Allan analysis failed: {exc}",)))
             continue
@@ -160,7 +162,13 @@ def _log_section(log: GyroLog, title: str) -> str:
         ("sample rate", f"{log.fs:.9g} Hz ({s.fs_source or 'given'})"),
         ("duration", _duration(log.n_samples / log.fs)),
         ("time column", log.time_column or "none"),
-        ("units", ", ".join(f"{c}: {u or '?'}" for c, u in zip(log.columns, log.units or (None,) * len(log.columns)))),
+        (
+            "units",
+            ", ".join(
+                f"{c}: {u or '?'}"
+                for c, u in zip(log.columns, log.units or (None,) * len(log.columns))
+            ),
+        ),
     ]
     if getattr(log, "topic", None):
         rows.append(("topic", str(log.topic)))
@@ -169,13 +177,18 @@ def _log_section(log: GyroLog, title: str) -> str:
             ("timestamps read as", s.time_unit),
             ("median interval", f"{_num(s.median_interval)} s"),
             ("jitter", f"{100 * (s.jitter or 0.0):.3g} %"),
-            ("gaps", f"{s.n_gaps} (longest {_num(s.longest_gap)} s, {s.missing_samples} samples missing)"),
+            (
+                "gaps",
+                f"{s.n_gaps} (longest {_num(s.longest_gap)} s, {s.missing_samples} samples missing)",
+            ),
             ("repeated timestamps", str(s.n_duplicates)),
         ]
     body = "".join(f"<tr><th>{_e(k)}</th><td>{_e(v)}</td></tr>" for k, v in rows)
     parts = ['<section id="log"><h2>Log and timestamps</h2>', f"<table>{body}</table>"]
     if s.warnings:
-        parts.append('<ul class="warnings">' + "".join(f"<li>{_e(w)}</li>" for w in s.warnings) + "</ul>")
+        parts.append(
+            '<ul class="warnings">' + "".join(f"<li>{_e(w)}</li>" for w in s.warnings) + "</ul>"
+        )
     else:
         parts.append('<p class="ok">Sampling: no irregularities found.</p>')
     parts.append("</section>")
@@ -187,7 +200,9 @@ def _coefficient_table(c: NoiseCoefficients) -> str:
     rows = []
     for t in shown.terms:
         if t.value is None:
-            rows.append(f"<tr><td>{t.symbol}</td><td>{_e(t.name)}</td><td colspan=3>missing: {_e(t.missing)}</td></tr>")
+            rows.append(
+                f"<tr><td>{t.symbol}</td><td>{_e(t.name)}</td><td colspan=3>missing: {_e(t.missing)}</td></tr>"
+            )
             continue
         unc = t.uncertainty
         note = ""
@@ -206,7 +221,9 @@ def _fit_quality(c: NoiseCoefficients) -> tuple[str, list[str]]:
     """One line on goodness of fit and the fit's warnings."""
     warnings: list[str] = []
     diagnostics = getattr(c, "diagnostics", None)
-    parts = [f"{c.method} fit over τ {c.tau_range[0]:.3g}–{c.tau_range[1]:.3g} s, EDF from {c.edf_source}"]
+    parts = [
+        f"{c.method} fit over τ {c.tau_range[0]:.3g}–{c.tau_range[1]:.3g} s, EDF from {c.edf_source}"
+    ]
     if c.chi2 is not None and c.dof:
         parts.append(f"weighted χ²/ν = {c.chi2 / c.dof:.3g} (ν = {c.dof})")
     if diagnostics is not None:
@@ -252,12 +269,18 @@ def _channel_section(ch: ChannelReport, index: int) -> str:
 
     sensor = ch.fit.sensor if ch.fit is not None and ch.fit.sensor else "channel"
     unit = f", {ch.unit}" if ch.unit else ""
-    parts = [f'<section class="channel" id="ch{index}"><h2>{_e(ch.name)} ({_e(sensor)}{_e(unit)})</h2>']
+    parts = [
+        f'<section class="channel" id="ch{index}"><h2>{_e(ch.name)} ({_e(sensor)}{_e(unit)})</h2>'
+    ]
     if ch.allan is not None and not np.any(np.asarray(ch.allan.avar) > 0.0):
-        parts.append('<p class="error">No plot: the Allan deviation is zero at every τ (constant data).</p>')
+        parts.append(
+            '<p class="error">No plot: the Allan deviation is zero at every τ (constant data).</p>'
+        )
     elif ch.allan is not None:
         try:
-            svg = allan_report_svg(ch.allan, ch.fit, ch.conservative, title=f"Allan deviation of {ch.name}")
+            svg = allan_report_svg(
+                ch.allan, ch.fit, ch.conservative, title=f"Allan deviation of {ch.name}"
+            )
             parts.append(
                 f"<figure>{_svg_img(svg, f'Allan deviation of {ch.name}')}<figcaption>Overlapping Allan "
                 "deviation with its confidence intervals (bars), the fitted noise model (solid) and the "
@@ -270,7 +293,9 @@ def _channel_section(ch: ChannelReport, index: int) -> str:
         parts.append(f"<h3>Noise coefficients (IEEE 952)</h3><p>{_e(quality)}</p>")
         parts.append(_coefficient_table(ch.fit))
         if warnings:
-            parts.append('<ul class="warnings">' + "".join(f"<li>{_e(w)}</li>" for w in warnings) + "</ul>")
+            parts.append(
+                '<ul class="warnings">' + "".join(f"<li>{_e(w)}</li>" for w in warnings) + "</ul>"
+            )
     if ch.conservative is not None:
         parts.append("<h3>Conservative set</h3>" + _conservative_table(ch.conservative))
     for err in ch.errors:
@@ -281,7 +306,11 @@ def _channel_section(ch: ChannelReport, index: int) -> str:
 
 def _exports_section(channels: list[ChannelReport], rate: float | None) -> str:
     best = [c.fit for c in channels if c.fit is not None and c.fit.sensor is not None]
-    cons = [c.conservative.coefficients for c in channels if c.conservative is not None and c.conservative.coefficients.sensor]
+    cons = [
+        c.conservative.coefficients
+        for c in channels
+        if c.conservative is not None and c.conservative.coefficients.sensor
+    ]
     parts = ['<section id="exports"><h2>Estimator parameters</h2>']
     if not best:
         parts.append(
@@ -359,7 +388,9 @@ def build_report(
         A log without a sample rate, or ``units`` with the wrong number of entries.
     """
     if log.fs is None:
-        raise ValueError("log: no sample rate (give fs= to gyrobias.io.load, or --fs on the command line)")
+        raise ValueError(
+            "log: no sample rate (give fs= to gyrobias.io.load, or --fs on the command line)"
+        )
     k = len(log.columns)
     if units is None:
         per_channel: list[str | None] = list(log.units) if log.units else [None] * k

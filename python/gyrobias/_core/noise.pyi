@@ -101,7 +101,9 @@ class Conservative(TypedDict):
     tau_range: tuple[float, float]
 
 def overbound(
-    design: NDArray[np.float64], bound: NDArray[np.float64], floor: NDArray[np.float64] | None = None
+    design: NDArray[np.float64],
+    bound: NDArray[np.float64],
+    floor: NDArray[np.float64] | None = None,
 ) -> Overbound: ...
 def conservative(
     taus: NDArray[np.float64],

@@ -34,18 +34,46 @@ def register(subparsers: Any) -> None:
         ),
         epilog="example: gyrobias report log.csv --columns gx,gy,gz --units deg/s -o report.html",
     )
-    p.add_argument("log", type=Path, metavar="LOG", help="log: text (.csv/.tsv/.txt, also compressed), .npy, ROS1/ROS2 bag or .mcap")
-    p.add_argument("-o", "--output", type=Path, default=None, metavar="HTML",
-                   help="output file (default: LOG with the suffix .html)")
+    p.add_argument(
+        "log",
+        type=Path,
+        metavar="LOG",
+        help="log: text (.csv/.tsv/.txt, also compressed), .npy, ROS1/ROS2 bag or .mcap",
+    )
+    p.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        default=None,
+        metavar="HTML",
+        help="output file (default: LOG with the suffix .html)",
+    )
     add_read_arguments(p)
     ana = p.add_argument_group("analysis")
-    ana.add_argument("--confidence", type=float, default=0.683, metavar="P",
-                     help="level of the Allan confidence intervals (default 0.683 ≈ 1σ)")
-    ana.add_argument("--fit-method", choices=("joint", "ieee"), default="joint", help="identification method")
-    ana.add_argument("--conservative", type=float, default=0.95, metavar="P",
-                     help="one-sided level of the conservative set (default 0.95)")
-    ana.add_argument("--rate", type=float, default=None, metavar="HZ",
-                     help="IMU rate written into the exports (default: the log's sample rate)")
+    ana.add_argument(
+        "--confidence",
+        type=float,
+        default=0.683,
+        metavar="P",
+        help="level of the Allan confidence intervals (default 0.683 ≈ 1σ)",
+    )
+    ana.add_argument(
+        "--fit-method", choices=("joint", "ieee"), default="joint", help="identification method"
+    )
+    ana.add_argument(
+        "--conservative",
+        type=float,
+        default=0.95,
+        metavar="P",
+        help="one-sided level of the conservative set (default 0.95)",
+    )
+    ana.add_argument(
+        "--rate",
+        type=float,
+        default=None,
+        metavar="HZ",
+        help="IMU rate written into the exports (default: the log's sample rate)",
+    )
     p.set_defaults(func=run)
 
 

@@ -15,7 +15,7 @@
 //! * [`fit`]: joint weighted non-negative least squares of the model (the better estimator).
 //! * [`ieee`]: the IEEE-952 read-off (fixed-slope lines on detected slope regions, B from the
 //!   minimum).
-//! * [`overbound`]: conservative coefficients whose model overbounds the curve's upper
+//! * [`mod@overbound`]: conservative coefficients whose model overbounds the curve's upper
 //!   confidence bound (Lethander & Taylor 2023).
 //! * [`model`]: the basis functions, slopes, read-off times and simple EDF approximations.
 
