@@ -412,8 +412,8 @@ def load(
     estimated rate is ``fs = 1 / mean(regular Δt)`` and the jitter ``std(regular Δt) /
     median(Δt)``. Integer timestamps are read as int64, so epoch nanoseconds keep their
     exact intervals. Delimited text is parsed by pyarrow's streaming CSV reader when pyarrow
-    is installed (``gyrobias[io]``; 10⁷ rows × 4 columns in about 1.5 s, memory bounded by
-    the blocks), with :func:`numpy.loadtxt` for whitespace-separated or compressed files and
+    is installed (``gyrobias[io]``; about 4× faster than :func:`numpy.loadtxt`, see
+    ``benches/python/bench_io.py``; 4 MB blocks, written into one preallocated array), with :func:`numpy.loadtxt` for whitespace-separated or compressed files and
     for any file pyarrow rejects (comment lines between the rows, bad cells: the error then
     names the line and column). Bags are read in batches of 65 536 messages; messages of
     the standard layout are decoded at fixed byte offsets, others by ``rosbags``.
@@ -971,7 +971,7 @@ def _read_arrow(
     if t_idx is not None:
         types[names[t_idx]] = pa.int64() if int_time else pa.float64()
     include = ([names[t_idx]] if t_idx is not None else []) + [names[i] for i in idx]
-    read_opts = pacsv.ReadOptions(column_names=names, block_size=1 << 24, use_threads=True)
+    read_opts = pacsv.ReadOptions(column_names=names, block_size=1 << 22, use_threads=True)
     parse_opts = pacsv.ParseOptions(delimiter=delimiter, ignore_empty_lines=True)
     convert_opts = pacsv.ConvertOptions(
         column_types=types,
