@@ -413,8 +413,9 @@ def load(
     median(Δt)``. Integer timestamps are read as int64, so epoch nanoseconds keep their
     exact intervals. Delimited text is parsed by pyarrow's streaming CSV reader when pyarrow
     is installed (``gyrobias[io]``; about 4× faster than :func:`numpy.loadtxt`, see
-    ``benches/python/bench_io.py``; 4 MB blocks, written into one preallocated array), with :func:`numpy.loadtxt` for whitespace-separated or compressed files and
-    for any file pyarrow rejects (comment lines between the rows, bad cells: the error then
+    ``benches/python/bench_io.py``; 4 MB blocks, written into one preallocated array),
+    with :func:`numpy.loadtxt` for whitespace-separated or compressed files and for any
+    file pyarrow rejects (comment lines between the rows, bad cells: the error then
     names the line and column). Bags are read in batches of 65 536 messages; messages of
     the standard layout are decoded at fixed byte offsets, others by ``rosbags``.
     """
