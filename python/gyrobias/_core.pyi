@@ -1,5 +1,6 @@
 """Type stubs of the Rust extension module (checked by ``python -m mypy.stubtest gyrobias._core``)."""
 
+from collections.abc import Callable
 from typing import Any, final
 
 import numpy as np
@@ -18,16 +19,21 @@ def allan_analysis(
     per_decade: int,
     taus: NDArray[np.float64] | None,
     confidence: float | None,
+    gaps: str = "error",
+    progress: Callable[[float], object] | None = None,
 ) -> list[dict[str, NDArray[np.float64] | NDArray[np.uint64] | NDArray[np.int32]]]: ...
-def allan_factors(
-    n_samples: int,
+def allan_batch(
+    data: NDArray[np.float64],
     t0: float,
     data_type: str,
     estimator: str,
     tau_spec: str,
     per_decade: int,
     taus: NDArray[np.float64] | None,
-) -> NDArray[np.uint64]: ...
+    confidence: float | None,
+    gaps: str = "error",
+    progress: Callable[[float], object] | None = None,
+) -> list[list[dict[str, NDArray[np.float64] | NDArray[np.uint64] | NDArray[np.int32]]]]: ...
 
 # --- fractional --------------------------------------------------------------------------------
 
