@@ -303,7 +303,7 @@ def _analyse(
         raise ValueError(f"axis_names has {len(axis_names)} names for {n_axes} axes")
     # One core call for all τ and axes; progress is reported from inside the kernel, so the
     # numbers are the same with or without it.
-    raw = _core.allan_analysis(
+    raw: list[Any] = _core.allan.analyse(
         matrix, 1.0 / fs, data_type, estimator, spec, int(per_decade), explicit, confidence, gaps, progress
     )
     results = tuple(
@@ -387,7 +387,7 @@ def adev_batch(
     n_axes = batch.shape[2]
     if axis_names is not None and len(axis_names) != n_axes:
         raise ValueError(f"axis_names has {len(axis_names)} names for {n_axes} axes")
-    raw = _core.allan_batch(
+    raw_batch: list[list[Any]] = _core.allan.analyse_batch(
         batch, 1.0 / fs, data_type, estimator, spec, int(per_decade), explicit, confidence, gaps, progress
     )
     return tuple(
@@ -404,7 +404,7 @@ def adev_batch(
             )
             for i, r in enumerate(unit)
         )
-        for unit in raw
+        for unit in raw_batch
     )
 
 

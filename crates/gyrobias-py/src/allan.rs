@@ -4,11 +4,13 @@ use std::sync::Mutex;
 
 use gyrocore::allan::{self, Config, DataType, Estimator, Gaps, Progress, TauSpec, Taus};
 use numpy::{
-    IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods,
+    IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
+    PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::array::c_order;
 use crate::error::core;
 
 fn taus_from(spec: &str, per_decade: usize, explicit: Option<Vec<f64>>) -> PyResult<Taus> {
@@ -41,10 +43,7 @@ fn config(
     confidence: Option<f64>,
     gaps: &str,
 ) -> PyResult<Config> {
-    let explicit = match taus {
-        Some(t) => Some(t.as_slice()?.to_vec()),
-        None => None,
-    };
+    let explicit = taus.map(|t| c_order(t).into_owned());
     Ok(Config {
         t0,
         data_type: core(DataType::parse(data_type))?,
@@ -131,14 +130,15 @@ fn to_dict<'py>(py: Python<'py>, r: allan::AllanAnalysis) -> PyResult<Bound<'py,
     Ok(d)
 }
 
-/// Allan-family analysis of each column of a C-contiguous (samples × axes) float64 array.
+/// Allan-family analysis of each column of a (samples × axes) float64 array
+/// (`gyrocore::allan::analyse_matrix`).
 ///
 /// Returns one dict per axis with keys `m`, `variance`, `n_terms` and, when `confidence` is
 /// given, `alpha`, `edf`, `low`, `high`. `progress(fraction)` is called from the kernel.
 #[pyfunction]
 #[pyo3(signature = (data, t0, data_type, estimator, tau_spec, per_decade, taus, confidence, gaps="error", progress=None))]
 #[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
-fn allan_analysis<'py>(
+fn analyse<'py>(
     py: Python<'py>,
     data: PyReadonlyArray2<'py, f64>,
     t0: f64,
@@ -152,7 +152,7 @@ fn allan_analysis<'py>(
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
     let n_axes = data.shape()[1];
-    let slice = data.as_slice()?;
+    let slice = c_order(&data);
     let cfg = config(
         t0,
         data_type,
@@ -164,18 +164,19 @@ fn allan_analysis<'py>(
         gaps,
     )?;
     let results =
-        PyHook::new(progress).run(py, |p| allan::analyse_matrix(slice, n_axes, &cfg, p))?;
+        PyHook::new(progress).run(py, |p| allan::analyse_matrix(&slice, n_axes, &cfg, p))?;
     results.into_iter().map(|r| to_dict(py, r)).collect()
 }
 
-/// Allan-family analysis of a C-contiguous (units × samples × axes) float64 batch in one call
-/// (GIL released for the whole batch, scratch buffers reused across units).
+/// Allan-family analysis of a (units × samples × axes) float64 batch in one call
+/// (`gyrocore::allan::batch::analyse_batch`: GIL released for the whole batch, scratch buffers
+/// reused across units).
 ///
 /// Returns `[unit][axis]` dicts as [`allan_analysis`].
 #[pyfunction]
 #[pyo3(signature = (data, t0, data_type, estimator, tau_spec, per_decade, taus, confidence, gaps="error", progress=None))]
 #[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
-fn allan_batch<'py>(
+fn analyse_batch<'py>(
     py: Python<'py>,
     data: PyReadonlyArray3<'py, f64>,
     t0: f64,
@@ -190,7 +191,7 @@ fn allan_batch<'py>(
 ) -> PyResult<Vec<Vec<Bound<'py, PyDict>>>> {
     let shape = data.shape();
     let (n_units, n_axes) = (shape[0], shape[2]);
-    let slice = data.as_slice()?;
+    let slice = c_order(&data);
     let cfg = config(
         t0,
         data_type,
@@ -202,7 +203,7 @@ fn allan_batch<'py>(
         gaps,
     )?;
     let results = PyHook::new(progress).run(py, |p| {
-        allan::batch::analyse_batch(slice, n_units, n_axes, &cfg, p)
+        allan::batch::analyse_batch(&slice, n_units, n_axes, &cfg, p)
     })?;
     results
         .into_iter()
@@ -210,7 +211,37 @@ fn allan_batch<'py>(
         .collect()
 }
 
+/// The averaging factors an analysis of `n_samples` samples would use
+/// (`gyrocore::allan::resolve_factors`).
+#[pyfunction]
+#[pyo3(signature = (n_samples, t0, data_type, estimator, tau_spec, per_decade, taus))]
+#[allow(clippy::needless_pass_by_value)]
+fn factors<'py>(
+    py: Python<'py>,
+    n_samples: usize,
+    t0: f64,
+    data_type: &str,
+    estimator: &str,
+    tau_spec: &str,
+    per_decade: usize,
+    taus: Option<PyReadonlyArray1<'py, f64>>,
+) -> PyResult<Bound<'py, PyArray1<u64>>> {
+    let data_type = core(DataType::parse(data_type))?;
+    let estimator = core(Estimator::parse(estimator))?;
+    let explicit = taus.map(|t| c_order(&t).into_owned());
+    let taus = taus_from(tau_spec, per_decade, explicit)?;
+    let ms = core(allan::resolve_factors(
+        &taus, n_samples, t0, data_type, estimator,
+    ))?;
+    Ok(ms
+        .into_iter()
+        .map(|m| m as u64)
+        .collect::<Vec<_>>()
+        .into_pyarray(py))
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(allan_analysis, m)?)?;
-    m.add_function(wrap_pyfunction!(allan_batch, m)?)
+    m.add_function(wrap_pyfunction!(analyse, m)?)?;
+    m.add_function(wrap_pyfunction!(analyse_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(factors, m)?)
 }
