@@ -265,7 +265,7 @@ def _result(
     if units is not None and data_type == "angle":
         unit = f"{units}/s"
     return AllanResult(
-        taus=m * t0,
+        taus=np.asarray(m * t0, dtype=np.float64),
         avar=var,
         n_terms=np.asarray(r["n_terms"]).astype(np.int64),
         fs=fs,

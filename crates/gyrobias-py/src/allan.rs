@@ -114,7 +114,7 @@ impl PyHook {
     }
 }
 
-fn to_dict<'py>(py: Python<'py>, r: allan::AllanAnalysis) -> PyResult<Bound<'py, PyDict>> {
+fn to_dict(py: Python<'_>, r: allan::AllanAnalysis) -> PyResult<Bound<'_, PyDict>> {
     let d = PyDict::new(py);
     let m: Vec<u64> = r.m.iter().map(|&m| m as u64).collect();
     let n: Vec<u64> = r.n_terms.iter().map(|&n| n as u64).collect();
