@@ -34,11 +34,19 @@ T0 = 1_700_000_000_000_000_000  # epoch ns
 FORMATS = ["ros1", "db3", "mcap-dir", "mcap"]
 
 
-def imu_message(ros1: bool, stamp_ns: int, gyro: Sequence[float], accel: Sequence[float], frame: str = "imu_link") -> Any:
+def imu_message(
+    ros1: bool,
+    stamp_ns: int,
+    gyro: Sequence[float],
+    accel: Sequence[float],
+    frame: str = "imu_link",
+) -> Any:
     ts = TS1 if ros1 else TS2
     types = ts.types
     header_kw: dict[str, Any] = {
-        "stamp": types["builtin_interfaces/msg/Time"](sec=stamp_ns // 10**9, nanosec=stamp_ns % 10**9),
+        "stamp": types["builtin_interfaces/msg/Time"](
+            sec=stamp_ns // 10**9, nanosec=stamp_ns % 10**9
+        ),
         "frame_id": frame,
     }
     if ros1:
@@ -125,11 +133,20 @@ def test_bag_round_trip_every_format(tmp_path: Path, fmt: str) -> None:
     assert log.fs == 200.0 and log.sampling.time_unit == "ns" and log.sampling.jitter == 0.0
     assert log.sampling.regular and log.sampling.n_gaps == 0
     assert log.time_start == pytest.approx(T0 / 1e9)
-    assert log.sampling.source_format == {
-        "ros1": "ROS1 bag", "db3": "ROS2 bag (sqlite3)", "mcap-dir": "ROS2 bag (mcap)", "mcap": "MCAP"
-    }[fmt]
+    assert (
+        log.sampling.source_format
+        == {
+            "ros1": "ROS1 bag",
+            "db3": "ROS2 bag (sqlite3)",
+            "mcap-dir": "ROS2 bag (mcap)",
+            "mcap": "MCAP",
+        }[fmt]
+    )
     assert log.unit_groups() == [("rad/s", [0, 1, 2]), ("m/s^2", [3, 4, 5])]
     assert topics(path) == [("/imu", IMU, n)]
+    seen: list[float] = []
+    np.testing.assert_array_equal(load(path, progress=seen.append).data, data)  # same values
+    assert seen and seen[-1] == 1.0
 
 
 @pytest.mark.parametrize("fmt", ["ros1", "db3"])
@@ -139,7 +156,9 @@ def test_fast_decoder_equals_rosbags_deserializer(tmp_path: Path, fmt: str) -> N
     n = 40
     data = imu_data(n, seed=3)
     stamps = regular(n)
-    for k, frame in enumerate(["", "a", "ab", "imu", "imu0", "imu_l", "imu_li", "imu_lin", "imu_link"] + [None]):  # type: ignore[list-item]
+    for k, frame in enumerate(
+        ["", "a", "ab", "imu", "imu0", "imu_l", "imu_li", "imu_lin", "imu_link"] + [None]
+    ):  # type: ignore[list-item]
         frames = ["", "a", "ab", "imu", "imu0"] if frame is None else [frame]
         path = write_bag(tmp_path / f"f{k}", fmt, stamps, data, frames=frames)
         fast = _bag.read_bag(path, None, "header", None, lambda m: np.empty((m, 6)))
@@ -156,13 +175,17 @@ def test_fast_decoder_equals_rosbags_deserializer(tmp_path: Path, fmt: str) -> N
     st.text(alphabet="abc_/0123456789", max_size=12),
     st.booleans(),
 )
-def test_decoder_property(tmp_path_factory: pytest.TempPathFactory, values: list[float], frame: str, ros1: bool) -> None:
+def test_decoder_property(
+    tmp_path_factory: pytest.TempPathFactory, values: list[float], frame: str, ros1: bool
+) -> None:
     rows = len(values) // 6
     data = np.array(values[: rows * 6]).reshape(rows, 6)
     stamps = T0 + np.arange(rows, dtype=np.int64) * 1_000_003
     ts = TS1 if ros1 else TS2
     serialize = ts.serialize_ros1 if ros1 else ts.serialize_cdr
-    raws = [serialize(imu_message(ros1, int(t), d[:3], d[3:], frame), IMU) for t, d in zip(stamps, data)]
+    raws = [
+        serialize(imu_message(ros1, int(t), d[:3], d[3:], frame), IMU) for t, d in zip(stamps, data)
+    ]
     decoded = _bag._fast_decode(raws, ros1)
     assert decoded is not None
     np.testing.assert_array_equal(decoded[0], data)
@@ -175,18 +198,31 @@ def test_topic_selection_columns_and_receive_time(tmp_path: Path) -> None:
     stamps = regular(n)
     receive = stamps + 2_000_000 + (np.arange(n) % 3) * 100_000  # late and jittery
     extra_data = imu_data(50, seed=9)
-    extra_msgs = [imu_message(False, int(t), d[:3], d[3:]) for t, d in zip(regular(50, 10.0), extra_data)]
+    extra_msgs = [
+        imu_message(False, int(t), d[:3], d[3:]) for t, d in zip(regular(50, 10.0), extra_data)
+    ]
     string = TS2.types["std_msgs/msg/String"]
     path = write_bag(
-        tmp_path / "multi", "db3", stamps, data, topic="/imu0", receive=receive,
-        extra=[("/imu1", IMU, extra_msgs), ("/note", "std_msgs/msg/String", [string(data="hello")])],
+        tmp_path / "multi",
+        "db3",
+        stamps,
+        data,
+        topic="/imu0",
+        receive=receive,
+        extra=[
+            ("/imu1", IMU, extra_msgs),
+            ("/note", "std_msgs/msg/String", [string(data="hello")]),
+        ],
     )
     with pytest.raises(ValueError) as err:
         load(path)
     msg = str(err.value)
     assert msg.startswith("multi: 2 IMU topics, choose one with topic= (--topic)")
-    for part in ("/imu0 (sensor_msgs/msg/Imu, 300 messages)", "/imu1 (sensor_msgs/msg/Imu, 50 messages)",
-                 "/note (std_msgs/msg/String, 1 message)"):
+    for part in (
+        "/imu0 (sensor_msgs/msg/Imu, 300 messages)",
+        "/imu1 (sensor_msgs/msg/Imu, 50 messages)",
+        "/note (std_msgs/msg/String, 1 message)",
+    ):
         assert part in msg
     one = load(path, topic="/imu1")
     np.testing.assert_array_equal(one.data, extra_data)
@@ -201,7 +237,9 @@ def test_topic_selection_columns_and_receive_time(tmp_path: Path) -> None:
     assert rx.time_column == "receive time"
     assert rx.time_start == pytest.approx((T0 + 2_000_000) / 1e9)
     assert rx.sampling.jitter is not None and rx.sampling.jitter > 0.01
-    with pytest.raises(ValueError, match="topic /note has type std_msgs/msg/String, not sensor_msgs/msg/Imu"):
+    with pytest.raises(
+        ValueError, match="topic /note has type std_msgs/msg/String, not sensor_msgs/msg/Imu"
+    ):
         load(path, topic="/note")
     with pytest.raises(ValueError, match="no topic '/nope'; topics: /imu0"):
         load(path, topic="/nope")
@@ -235,7 +273,9 @@ def test_out_of_order_duplicates_gaps_and_repairs(tmp_path: Path) -> None:
     stamps_written[301:] += 500_000_000
     receive = T0 + 1_000_000 + np.arange(len(stamps_written)) * 5_000_000  # in recording order
     path = write_bag(tmp_path / "messy", "mcap", stamps_written, data_written, receive=receive)
-    with pytest.raises(ValueError, match=r"out of order in 'header.stamp' at row 101 .*repair='sort'"):
+    with pytest.raises(
+        ValueError, match=r"out of order in 'header.stamp' at row 101 .*repair='sort'"
+    ):
         load(path)
     log = load(path, repair="sort")
     rep = log.sampling
@@ -243,10 +283,16 @@ def test_out_of_order_duplicates_gaps_and_repairs(tmp_path: Path) -> None:
     assert rep.n_exact_duplicates == 1 and rep.duplicate_rows.tolist() == [201]
     assert rep.n_gaps == 1 and rep.gap_rows.tolist() == [301] and rep.missing_samples == 100
     assert any("sorted by timestamp" in w for w in rep.warnings)
-    assert any("repeat the previous one exactly" in w and "--repair dedup" in w for w in rep.warnings)
+    assert any(
+        "repeat the previous one exactly" in w and "--repair dedup" in w for w in rep.warnings
+    )
     np.testing.assert_array_equal(log.data[:201], data[:201])
     clean = load(path, repair=["sort", "dedup"])
-    assert clean.n_samples == n and clean.sampling.n_duplicates == 0 and clean.sampling.n_exact_duplicates == 1
+    assert (
+        clean.n_samples == n
+        and clean.sampling.n_duplicates == 0
+        and clean.sampling.n_exact_duplicates == 1
+    )
     assert len(clean.sampling.repairs) == 2 and "dropped 1 sample" in clean.sampling.repairs[1]
     np.testing.assert_array_equal(clean.data, data)
     filled = load(path, repair="sort,dedup", fill_gaps=True)
@@ -265,12 +311,27 @@ def test_out_of_order_duplicates_gaps_and_repairs(tmp_path: Path) -> None:
 def test_bad_bags_give_one_line_errors(tmp_path: Path) -> None:
     string = TS2.types["std_msgs/msg/String"]
     cases: list[tuple[Path, str]] = []
-    cases.append((write_bag(tmp_path / "noimu", "db3", [], np.zeros((0, 6)),
-                            extra=[("/chatter", "std_msgs/msg/String", [string(data="x")] * 3)]),
-                  r"noimu: no IMU topic \(sensor_msgs/msg/Imu\); topics: /chatter \(std_msgs/msg/String, 3 messages\)"))
-    cases.append((write_bag(tmp_path / "empty", "ros1", [], np.zeros((0, 6))), "empty.bag: the bag is empty"))
-    cases.append((write_bag(tmp_path / "one", "mcap-dir", regular(1), imu_data(1)),
-                  "one: topic /imu has 1 message; a noise analysis needs at least 2"))
+    cases.append(
+        (
+            write_bag(
+                tmp_path / "noimu",
+                "db3",
+                [],
+                np.zeros((0, 6)),
+                extra=[("/chatter", "std_msgs/msg/String", [string(data="x")] * 3)],
+            ),
+            r"noimu: no IMU topic \(sensor_msgs/msg/Imu\); topics: /chatter \(std_msgs/msg/String, 3 messages\)",
+        )
+    )
+    cases.append(
+        (write_bag(tmp_path / "empty", "ros1", [], np.zeros((0, 6))), "empty.bag: the bag is empty")
+    )
+    cases.append(
+        (
+            write_bag(tmp_path / "one", "mcap-dir", regular(1), imu_data(1)),
+            "one: topic /imu has 1 message; a noise analysis needs at least 2",
+        )
+    )
     good = write_bag(tmp_path / "good", "ros1", regular(3000), imu_data(3000))
     truncated = tmp_path / "truncated.bag"
     truncated.write_bytes(good.read_bytes()[: good.stat().st_size // 2])
@@ -289,13 +350,19 @@ def test_bad_bags_give_one_line_errors(tmp_path: Path) -> None:
         assert code == 2
 
 
-def test_cli_errors_for_bags_are_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_cli_errors_for_bags_are_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     good = write_bag(tmp_path / "good", "ros1", regular(3000), imu_data(3000))
     truncated = tmp_path / "cut.bag"
     truncated.write_bytes(good.read_bytes()[:-700])
     assert main(["allan", str(truncated)]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("gyrobias: error: cut.bag: ") and err.count("\n") == 1 and "Traceback" not in err
+    assert (
+        err.startswith("gyrobias: error: cut.bag: ")
+        and err.count("\n") == 1
+        and "Traceback" not in err
+    )
 
 
 def test_pipes_and_devices_are_refused(tmp_path: Path) -> None:
@@ -330,7 +397,9 @@ def test_spilled_bag_is_a_memmap_with_the_same_values(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("fmt", ["ros1", "db3", "mcap"])
-def test_allan_fit_kalibr_from_a_bag(tmp_path: Path, fmt: str, capsys: pytest.CaptureFixture[str]) -> None:
+def test_allan_fit_kalibr_from_a_bag(
+    tmp_path: Path, fmt: str, capsys: pytest.CaptureFixture[str]
+) -> None:
     import yaml
 
     n, fs = 20_000, 200.0

@@ -18,7 +18,9 @@ RNG = np.random.default_rng(77)
 
 def _csv(path: Path, t: np.ndarray, x: np.ndarray, header: str = "t,gx,gy,gz,ax,ay,az") -> Path:
     rows = np.column_stack([t, x])
-    path.write_text(header + "\n" + "".join(",".join(repr(float(v)) for v in r) + "\n" for r in rows))
+    path.write_text(
+        header + "\n" + "".join(",".join(repr(float(v)) for v in r) + "\n" for r in rows)
+    )
     return path
 
 
@@ -78,7 +80,11 @@ def test_same_stamp_different_values_is_kept(tmp_path: Path) -> None:
     t[5] = t[4]
     x = np.arange(10.0).reshape(-1, 1)
     rep = load(_csv(tmp_path / "d.csv", t, x, header="t,g"), repair="dedup")
-    assert rep.n_samples == 10 and rep.sampling.n_duplicates == 1 and rep.sampling.n_exact_duplicates == 0
+    assert (
+        rep.n_samples == 10
+        and rep.sampling.n_duplicates == 1
+        and rep.sampling.n_exact_duplicates == 0
+    )
 
 
 def test_fill_gaps_inserts_nan_rows_at_the_right_places(tmp_path: Path) -> None:
@@ -107,7 +113,9 @@ def test_fill_gaps_inserts_nan_rows_at_the_right_places(tmp_path: Path) -> None:
 
 @settings(max_examples=25, deadline=None)
 @given(st.lists(st.integers(1, 6), min_size=1, max_size=5), st.integers(0, 2**31))
-def test_fill_gaps_property(tmp_path_factory: pytest.TempPathFactory, holes: list[int], seed: int) -> None:
+def test_fill_gaps_property(
+    tmp_path_factory: pytest.TempPathFactory, holes: list[int], seed: int
+) -> None:
     # any set of holes: filling restores the full length, NaN exactly at the holes
     rng = np.random.default_rng(seed)
     n = 200
@@ -138,7 +146,9 @@ def test_spill_npy_maps_the_file_and_copies_selections(tmp_path: Path) -> None:
     x = RNG.normal(size=(5000, 3))
     np.save(tmp_path / "x.npy", x)
     whole = load(tmp_path / "x.npy", fs=100.0, spill=True)
-    assert isinstance(whole.data, np.memmap) and not whole.data.flags.writeable  # the file, read-only
+    assert (
+        isinstance(whole.data, np.memmap) and not whole.data.flags.writeable
+    )  # the file, read-only
     np.testing.assert_array_equal(whole.data, x)
     part = load(tmp_path / "x.npy", fs=100.0, spill=True, columns=[2, 0])
     assert isinstance(part.data, np.memmap)
@@ -189,7 +199,9 @@ def _arrow_used(monkeypatch: pytest.MonkeyPatch) -> list[bool]:
     return calls
 
 
-def test_arrow_reads_plain_csv_and_falls_back_on_comments(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_arrow_reads_plain_csv_and_falls_back_on_comments(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     pytest.importorskip("pyarrow")
     calls = _arrow_used(monkeypatch)
     t = np.arange(500) / 100.0
@@ -208,7 +220,9 @@ def test_arrow_reads_plain_csv_and_falls_back_on_comments(tmp_path: Path, monkey
     np.testing.assert_array_equal(again.data, x)
 
 
-def test_arrow_integer_nanosecond_stamps_are_exact(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_arrow_integer_nanosecond_stamps_are_exact(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     pytest.importorskip("pyarrow")
     calls = _arrow_used(monkeypatch)
     stamps = 1_700_000_000_123_456_789 + np.arange(300, dtype=np.int64) * 2_500_000
@@ -216,9 +230,13 @@ def test_arrow_integer_nanosecond_stamps_are_exact(tmp_path: Path, monkeypatch: 
     path.write_text("stamp,a\n" + "".join(f"{s},{i}\n" for i, s in enumerate(stamps)))
     log = load(path, time_column="stamp")
     assert calls == [True]
-    assert log.fs == 400.0 and log.sampling.jitter is not None and log.sampling.jitter < 1e-12  # np.std rounding
+    assert (
+        log.fs == 400.0 and log.sampling.jitter is not None and log.sampling.jitter < 1e-12
+    )  # np.std rounding
     assert log.time is not None
-    np.testing.assert_array_equal(log.time, (np.arange(300, dtype=np.int64) * 2_500_000) / 1e9)  # exact
+    np.testing.assert_array_equal(
+        log.time, (np.arange(300, dtype=np.int64) * 2_500_000) / 1e9
+    )  # exact
 
 
 @settings(max_examples=30, deadline=None)
@@ -249,7 +267,9 @@ def test_bad_cells_still_name_line_and_column_with_arrow(tmp_path: Path) -> None
     t = np.arange(50_000) / 100.0
     rows = "".join(f"{v!r},{i}\n" for i, v in enumerate(t.tolist()))
     big.write_text("t,g\n" + rows + "500.0,x\n")
-    with pytest.raises(ValueError, match=r"big.csv: 'x' \(not a number\) in column 'g' at line 50002"):
+    with pytest.raises(
+        ValueError, match=r"big.csv: 'x' \(not a number\) in column 'g' at line 50002"
+    ):
         load(big)
 
 
@@ -273,3 +293,20 @@ def test_corrupt_compressed_files_name_the_file(tmp_path: Path, name: str, make:
     path.write_bytes(make(gzip.compress(text.encode())))  # type: ignore[operator]
     with pytest.raises(ValueError, match=f"{name}: cannot read the file"):
         load(path)
+
+
+# --------------------------------------------------------------------------- progress
+
+
+def test_progress_reports_fractions_and_changes_nothing(tmp_path: Path) -> None:
+    pytest.importorskip("pyarrow")
+    t = np.arange(20_000) / 100.0
+    x = RNG.normal(size=(20_000, 2))
+    path = _csv(tmp_path / "p.csv", t, x, header="t,a,b")
+    seen: list[float] = []
+    with_bar = load(path, progress=seen.append)
+    without = load(path)
+    np.testing.assert_array_equal(with_bar.data, without.data)
+    assert with_bar.sampling.to_dict() == without.sampling.to_dict()
+    assert seen and seen[-1] == 1.0 and all(0.0 <= f <= 1.0 for f in seen)
+    assert seen == sorted(seen)

@@ -25,7 +25,7 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import Protocol
+from typing import Any, Protocol
 
 from gyrobias import io
 
@@ -33,6 +33,7 @@ __all__ = [
     "ProgressBar",
     "add_progress_argument",
     "add_read_arguments",
+    "load_options",
     "progress_bar",
     "read_log",
     "require_fs",
@@ -71,36 +72,75 @@ def add_read_arguments(
         "(sqlite3 or MCAP) and .mcap/.db3 files; see gyrobias.io.load",
     )
     src.add_argument(
-        "--columns", "--column", dest="columns", metavar="A,B,…",
-        help=column_help or "channels by name or 0-based index (default: all but time; for bags "
+        "--columns",
+        "--column",
+        dest="columns",
+        metavar="A,B,…",
+        help=column_help
+        or "channels by name or 0-based index (default: all but time; for bags "
         "gyro_x … accel_z, or 'gyro' / 'accel')",
     )
-    src.add_argument("--fs", type=float, metavar="HZ", required=fs_required,
-                     help="sample rate" + ("" if fs_required else " (default: from the timestamps)"))
-    src.add_argument("--time-column", metavar="NAME",
-                     help="column of timestamps (default: a header column named t/time/timestamp)")
+    src.add_argument(
+        "--fs",
+        type=float,
+        metavar="HZ",
+        required=fs_required,
+        help="sample rate" + ("" if fs_required else " (default: from the timestamps)"),
+    )
+    src.add_argument(
+        "--time-column",
+        metavar="NAME",
+        help="column of timestamps (default: a header column named t/time/timestamp)",
+    )
     src.add_argument("--no-time-column", action="store_true", help="the log has no time column")
-    src.add_argument("--time-unit", choices=("auto", "s", "ms", "us", "ns"), default="auto",
-                     help="unit of the timestamps (default auto: ns if the median step ≥ 1000, else s)")
-    src.add_argument("--delimiter", metavar="SEP",
-                     help="field separator: , ; tab (or \\t) or whitespace (default: detected)")
-    src.add_argument("--skip-rows", type=int, default=0, metavar="N", help="lines to skip before the header")
+    src.add_argument(
+        "--time-unit",
+        choices=("auto", "s", "ms", "us", "ns"),
+        default="auto",
+        help="unit of the timestamps (default auto: ns if the median step ≥ 1000, else s)",
+    )
+    src.add_argument(
+        "--delimiter",
+        metavar="SEP",
+        help="field separator: , ; tab (or \\t) or whitespace (default: detected)",
+    )
+    src.add_argument(
+        "--skip-rows", type=int, default=0, metavar="N", help="lines to skip before the header"
+    )
     if units:
         src.add_argument(
-            "--units", metavar="UNIT",
+            "--units",
+            metavar="UNIT",
             help="unit of the samples: one for all channels (deg/s), one per channel "
             "(deg/s,deg/s,deg/s,g,g,g) or per name (gx=deg/s,ax=m/s^2); bags are rad/s and m/s^2",
         )
-    src.add_argument("--topic", metavar="TOPIC", help="bag topic (default: the only sensor_msgs/Imu topic)")
-    src.add_argument("--stamp", choices=("header", "receive"), default="header",
-                     help="bag timestamps: header.stamp (default) or the receive time")
-    src.add_argument("--repair", metavar="sort,dedup", default="",
-                     help="sort out-of-order samples by timestamp and/or drop exact duplicates (reported)")
-    src.add_argument("--fill-gaps", action="store_true",
-                     help="insert NaN rows for samples missing in gaps of the timestamps")
-    src.add_argument("--spill", choices=("auto", "always", "never"), default="auto",
-                     help="keep the samples in a memory-mapped temporary file (auto: when larger than "
-                     "a quarter of the memory)")
+    src.add_argument(
+        "--topic", metavar="TOPIC", help="bag topic (default: the only sensor_msgs/Imu topic)"
+    )
+    src.add_argument(
+        "--stamp",
+        choices=("header", "receive"),
+        default="header",
+        help="bag timestamps: header.stamp (default) or the receive time",
+    )
+    src.add_argument(
+        "--repair",
+        metavar="sort,dedup",
+        default="",
+        help="sort out-of-order samples by timestamp and/or drop exact duplicates (reported)",
+    )
+    src.add_argument(
+        "--fill-gaps",
+        action="store_true",
+        help="insert NaN rows for samples missing in gaps of the timestamps",
+    )
+    src.add_argument(
+        "--spill",
+        choices=("auto", "always", "never"),
+        default="auto",
+        help="keep the samples in a memory-mapped temporary file (auto: when larger than "
+        "a quarter of the memory)",
+    )
     parser.set_defaults(read_units=units)
     add_progress_argument(parser)
     return src
@@ -111,7 +151,9 @@ def add_progress_argument(parser: argparse.ArgumentParser) -> None:
     if any("--progress" in a.option_strings for a in parser._actions):
         return
     parser.add_argument(
-        "--progress", action=argparse.BooleanOptionalAction, default=None,
+        "--progress",
+        action=argparse.BooleanOptionalAction,
+        default=None,
         help="progress bars on stderr (default: for long work when stderr is a terminal)",
     )
 
@@ -135,35 +177,14 @@ def read_log(
     :func:`gyrobias.io.load` raises.
     """
     path = Path(args.log if path is None else path)
-    no_time = bool(getattr(args, "no_time_column", False))
-    time_column = getattr(args, "time_column", None)
-    if no_time and time_column is not None:
-        raise ValueError("--time-column and --no-time-column contradict each other")
-    delimiter = getattr(args, "delimiter", None)
-    if delimiter is not None:
-        delimiter = _DELIMITERS.get(delimiter, delimiter)
-    spill = {"auto": None, "always": True, "never": False}[getattr(args, "spill", "auto")]
-    columns = getattr(args, "columns", None)
+    options = load_options(args)
+    if fs is not None:
+        options["fs"] = fs
     bar = None
     if _wants_progress(args, path):
         bar = progress_bar(f"reading {path.name}", args)
     try:
-        log = io.load(
-            path,
-            columns=columns,
-            time_column=False if no_time else time_column,
-            time_unit=getattr(args, "time_unit", "auto"),
-            fs=getattr(args, "fs", None) if fs is None else fs,
-            delimiter=delimiter,
-            skip_rows=getattr(args, "skip_rows", 0),
-            units=getattr(args, "units", None) if getattr(args, "read_units", True) else None,
-            topic=getattr(args, "topic", None),
-            stamp=getattr(args, "stamp", "header"),
-            repair=getattr(args, "repair", ""),
-            fill_gaps=bool(getattr(args, "fill_gaps", False)),
-            spill=spill,
-            progress=bar,
-        )
+        log = io.load(path, **options, progress=bar)
     finally:
         if bar is not None:
             bar.close()
@@ -171,6 +192,34 @@ def read_log(
         for w in log.warnings:
             warn(f"{path.name}: {w}")
     return log
+
+
+def load_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The keyword arguments of :func:`gyrobias.io.load` given by :func:`add_read_arguments`' options.
+
+    Raises ``ValueError`` for contradictory options. ``gyrobias fleet`` passes them to every log.
+    """
+    no_time = bool(getattr(args, "no_time_column", False))
+    time_column = getattr(args, "time_column", None)
+    if no_time and time_column is not None:
+        raise ValueError("--time-column and --no-time-column contradict each other")
+    delimiter = getattr(args, "delimiter", None)
+    if delimiter is not None:
+        delimiter = _DELIMITERS.get(delimiter, delimiter)
+    return {
+        "columns": getattr(args, "columns", None),
+        "time_column": False if no_time else time_column,
+        "time_unit": getattr(args, "time_unit", "auto"),
+        "fs": getattr(args, "fs", None),
+        "delimiter": delimiter,
+        "skip_rows": getattr(args, "skip_rows", 0),
+        "units": getattr(args, "units", None) if getattr(args, "read_units", True) else None,
+        "topic": getattr(args, "topic", None),
+        "stamp": getattr(args, "stamp", "header"),
+        "repair": getattr(args, "repair", ""),
+        "fill_gaps": bool(getattr(args, "fill_gaps", False)),
+        "spill": {"auto": None, "always": True, "never": False}[getattr(args, "spill", "auto")],
+    }
 
 
 def require_fs(log: io.GyroLog, path: Path) -> float:
@@ -190,7 +239,9 @@ def _wants_progress(args: argparse.Namespace, path: Path) -> bool:
     if not sys.stderr.isatty():
         return False
     try:
-        size = path.stat().st_size if path.is_file() else sum(f.stat().st_size for f in path.iterdir())
+        size = (
+            path.stat().st_size if path.is_file() else sum(f.stat().st_size for f in path.iterdir())
+        )
     except OSError:
         return False
     return size > PROGRESS_MIN_BYTES

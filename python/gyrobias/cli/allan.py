@@ -112,6 +112,8 @@ def run(args: argparse.Namespace) -> int:
             }
             if args.kind == "adev":
                 kw["overlapping"] = not args.non_overlapping
+            if log.sampling.filled_samples:
+                kw.update(_gap_option(args.kind))
             out = _FUNCTIONS[args.kind](part, fs, **kw)
             assert isinstance(out, tuple)
             by_column.update(zip(cols, out))
@@ -150,6 +152,7 @@ def run(args: argparse.Namespace) -> int:
             "confidence": confidence,
             "columns": list(log.columns),
             "time_column": log.time_column,
+            "topic": log.topic,
             "sampling": report.to_dict(),
             "timing_s": {"read": t_read, "analysis": t_run},
             "axes": [r.to_dict() for r in results],
@@ -176,6 +179,18 @@ def run(args: argparse.Namespace) -> int:
             save_allan_plot(results, args.plot, title=title, fits=fits)
             print(f"wrote {args.plot}")
     return 0
+
+
+def _gap_option(kind: str) -> dict[str, str]:
+    """``{"gaps": "omit"}`` for the NaN rows of ``--fill-gaps``, if the estimator supports it."""
+    import inspect
+
+    if "gaps" in inspect.signature(_FUNCTIONS[kind]).parameters:
+        return {"gaps": "omit"}
+    raise ValueError(
+        f"--fill-gaps marks missing samples with NaN, and this {kind.upper()} cannot skip gaps; "
+        "leave out --fill-gaps to analyse the samples as if contiguous"
+    )
 
 
 def _json_units(units: tuple[str | None, ...]) -> str | list[str | None] | None:

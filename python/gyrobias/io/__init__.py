@@ -60,8 +60,23 @@ NS_THRESHOLD = 1e3
 
 _PER_SECOND = {"s": 1.0, "ms": 1e3, "us": 1e6, "ns": 1e9}
 _TIME_UNITS = ("auto", "s", "ms", "us", "ns")
-_TIME_NAMES = ("t", "time", "timestamp", "times", "time_s", "t_s", "time_ns", "t_ns", "timestamp_ns",
-               "time_us", "t_us", "timestamp_us", "time_ms", "t_ms", "timestamp_ms")
+_TIME_NAMES = (
+    "t",
+    "time",
+    "timestamp",
+    "times",
+    "time_s",
+    "t_s",
+    "time_ns",
+    "t_ns",
+    "timestamp_ns",
+    "time_us",
+    "t_us",
+    "timestamp_us",
+    "time_ms",
+    "t_ms",
+    "timestamp_ms",
+)
 _OPENERS: dict[str, Any] = {".gz": gzip.open, ".bz2": bz2.open, ".xz": lzma.open}  # as np.loadtxt
 _INT_RE = re.compile(r"^[+-]?\d+$")
 _LOADTXT_CELL = re.compile(r"could not convert string '(.*)' to \w+ at row (\d+), column (\d+)")
@@ -144,7 +159,9 @@ class SamplingReport:
     duplicate_rows: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     warnings: tuple[str, ...] = ()
     n_out_of_order: int = 0
-    out_of_order_rows: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    out_of_order_rows: NDArray[np.int64] = field(
+        default_factory=lambda: np.zeros(0, dtype=np.int64)
+    )
     n_exact_duplicates: int = 0
     repairs: tuple[str, ...] = ()
     filled_samples: int = 0
@@ -421,7 +438,9 @@ def load(
         columns = list(columns)
         if not columns:
             raise ValueError("columns is empty")
-    store = Store(None if spill is None else bool(spill), None if spill_dir is None else os.fspath(spill_dir))
+    store = Store(
+        None if spill is None else bool(spill), None if spill_dir is None else os.fspath(spill_dir)
+    )
 
     topic_used: str | None = None
     file_units: tuple[str | None, ...] | None = None
@@ -429,22 +448,33 @@ def load(
     t_raw: NDArray[Any] | None
     t_name: str | None
     if _bag.is_bag(p):
-        for name, value, default in (("time_column", time_column, None), ("delimiter", delimiter, None),
-                                     ("skip_rows", skip_rows, 0)):
+        for name, value, default in (
+            ("time_column", time_column, None),
+            ("delimiter", delimiter, None),
+            ("skip_rows", skip_rows, 0),
+        ):
             if value != default:
                 raise ValueError(f"{name} does not apply to bags ({p.name}); see topic= and stamp=")
         if time_unit not in ("auto", "ns"):
-            raise ValueError(f"time_unit does not apply to bags ({p.name}): their stamps are nanoseconds")
-        data6, t_raw, t_name, topic_used, fmt = _bag.read_bag(p, topic, stamp, progress, lambda n: store.empty(n, 6))
+            raise ValueError(
+                f"time_unit does not apply to bags ({p.name}): their stamps are nanoseconds"
+            )
+        data6, t_raw, t_name, topic_used, fmt = _bag.read_bag(
+            p, topic, stamp, progress, lambda n: store.empty(n, 6)
+        )
         idx, _ = _select(_expand_groups(columns), False, _bag.CHANNELS, 6, p.name)
         table = data6 if idx == list(range(6)) else _take_columns(data6, idx, store)
         names = [_bag.CHANNELS[i] for i in idx]
         file_units = tuple(_bag.UNITS[i] for i in idx)
         time_unit = "ns"
     elif p.is_dir():
-        raise ValueError(f"'{p}' is a directory, not a log file (a ROS2 bag directory has a metadata.yaml)")
+        raise ValueError(
+            f"'{p}' is a directory, not a log file (a ROS2 bag directory has a metadata.yaml)"
+        )
     elif not p.is_file():
-        raise ValueError(f"'{p}' is not a regular file (a pipe or a device?); save the log to a file first")
+        raise ValueError(
+            f"'{p}' is not a regular file (a pipe or a device?); save the log to a file first"
+        )
     elif topic is not None or stamp != "header":
         raise ValueError(f"topic= and stamp= apply to bags only, and {p.name} is not one")
     elif p.suffix.lower() == ".npy":
@@ -453,12 +483,27 @@ def load(
     else:
         try:
             table, names, t_raw, t_name, line_of = _read_text(
-                p, columns, time_column, time_unit, delimiter, int(skip_rows), comments, store, progress
+                p,
+                columns,
+                time_column,
+                time_unit,
+                delimiter,
+                int(skip_rows),
+                comments,
+                store,
+                progress,
             )
         except PermissionError:
             raise
-        except (OSError, EOFError, lzma.LZMAError, zlib.error) as exc:  # corrupt/truncated .gz/.bz2/.xz
-            raise ValueError(f"{p.name}: cannot read the file ({' '.join(str(exc).split())})") from None
+        except (
+            OSError,
+            EOFError,
+            lzma.LZMAError,
+            zlib.error,
+        ) as exc:  # corrupt/truncated .gz/.bz2/.xz
+            raise ValueError(
+                f"{p.name}: cannot read the file ({' '.join(str(exc).split())})"
+            ) from None
         fmt = "text"
     unit_tuple = _resolve_units(units, names, file_units, p.name)
 
@@ -475,9 +520,18 @@ def load(
     else:
         assert t_name is not None
         t_raw, table, fixes = _repair(p, t_raw, table, t_name, repairs, line_of, store)
-        time, intervals, time_start, unit_used, guessed = _time_seconds(p, t_raw, t_name, time_unit, line_of)
+        time, intervals, time_start, unit_used, guessed = _time_seconds(
+            p, t_raw, t_name, time_unit, line_of
+        )
         report = _sampling_report(
-            len(table), time, intervals, unit_used, fs, unit_guessed=guessed, fixes=fixes, source_format=fmt,
+            len(table),
+            time,
+            intervals,
+            unit_used,
+            fs,
+            unit_guessed=guessed,
+            fixes=fixes,
+            source_format=fmt,
             filling=fill_gaps,
         )
         if fill_gaps and report.n_gaps:
@@ -541,7 +595,9 @@ def _expand_groups(columns: Sequence[ColumnSpec] | None) -> list[ColumnSpec] | N
     return out
 
 
-def _take_columns(src: NDArray[np.float64], idx: Sequence[int], store: Store) -> NDArray[np.float64]:
+def _take_columns(
+    src: NDArray[np.float64], idx: Sequence[int], store: Store
+) -> NDArray[np.float64]:
     """``src[:, idx]`` copied block by block into a store array."""
     out = store.empty(src.shape[0], len(idx))
     for sl in blocks(src.shape[0]):
@@ -550,7 +606,10 @@ def _take_columns(src: NDArray[np.float64], idx: Sequence[int], store: Store) ->
 
 
 def _resolve_units(
-    units: UnitSpec | None, names: Sequence[str], file_units: tuple[str | None, ...] | None, source: str
+    units: UnitSpec | None,
+    names: Sequence[str],
+    file_units: tuple[str | None, ...] | None,
+    source: str,
 ) -> tuple[str | None, ...]:
     """Per-channel units from ``units=`` (validated) and the file's own units."""
     from gyrobias.units import parse_unit
@@ -570,12 +629,16 @@ def _resolve_units(
             mapping = {str(key).strip(): str(v).strip() for key, v in units.items()}
             unknown = [key for key in mapping if key not in names]
             if unknown:
-                raise ValueError(f"units names channel(s) {', '.join(unknown)} not loaded; channels: {', '.join(names)}")
+                raise ValueError(
+                    f"units names channel(s) {', '.join(unknown)} not loaded; channels: {', '.join(names)}"
+                )
             given = [mapping.get(n) for n in names]
         elif given is None:
             given = [None if u is None else str(u) for u in units]
         if len(given) != k:
-            raise ValueError(f"units has {len(given)} entries for {k} channels ({', '.join(names)})")
+            raise ValueError(
+                f"units has {len(given)} entries for {k} channels ({', '.join(names)})"
+            )
         for u in given:
             if u is not None:
                 try:
@@ -614,13 +677,17 @@ def _check_finite(p: Path, table: NDArray[np.float64], names: Sequence[str], lin
         )
 
 
-def _resolve(spec: ColumnSpec, header: Sequence[str] | None, n_cols: int, what: str, source: str) -> int:
+def _resolve(
+    spec: ColumnSpec, header: Sequence[str] | None, n_cols: int, what: str, source: str
+) -> int:
     """0-based index of the column ``spec`` (a name, an index, ``"col<i>"`` or ``"<i>"``)."""
     available = list(header) if header is not None else [f"col{i}" for i in range(n_cols)]
     if isinstance(spec, (int, np.integer)) and not isinstance(spec, bool):
         if 0 <= spec < n_cols:
             return int(spec)
-        raise ValueError(f"{what} index {spec} out of range: {source} has {n_cols} columns (0..{n_cols - 1})")
+        raise ValueError(
+            f"{what} index {spec} out of range: {source} has {n_cols} columns (0..{n_cols - 1})"
+        )
     if not isinstance(spec, str):
         raise TypeError(f"{what} must be a column name or integer index, got {type(spec).__name__}")
     name = spec.strip()
@@ -671,7 +738,10 @@ def _select(
 
 
 def _read_npy(
-    p: Path, columns: Sequence[ColumnSpec] | None, time_column: ColumnSpec | Literal[False] | None, store: Store
+    p: Path,
+    columns: Sequence[ColumnSpec] | None,
+    time_column: ColumnSpec | Literal[False] | None,
+    store: Store,
 ) -> tuple[NDArray[np.float64], list[str], NDArray[Any] | None, str | None]:
     try:
         arr = np.load(p, mmap_mode="r", allow_pickle=False)
@@ -682,7 +752,9 @@ def _read_npy(
     if arr.ndim == 1:
         arr = arr.reshape(-1, 1)
     if arr.ndim != 2:
-        raise ValueError(f"{p.name}: expected a 1-D or 2-D array (samples × channels), got shape {arr.shape}")
+        raise ValueError(
+            f"{p.name}: expected a 1-D or 2-D array (samples × channels), got shape {arr.shape}"
+        )
     if arr.shape[0] == 0 or arr.shape[1] == 0:
         raise ValueError(f"{p.name}: the array is empty (shape {arr.shape})")
     idx, t_idx = _select(columns, time_column, None, arr.shape[1], p.name)
@@ -769,7 +841,9 @@ def _read_text(
     header = first_fields if has_header else None
     data_start = sample[1][0] if has_header and len(sample) > 1 else sample[0][0]
     if has_header and len(sample) == 1:
-        raise ValueError(f"{p.name}: the file has a header ({', '.join(first_fields)}) but no data rows")
+        raise ValueError(
+            f"{p.name}: the file has a header ({', '.join(first_fields)}) but no data rows"
+        )
     n_cols = len(_split(sample[1 if has_header else 0][1], delimiter))
     if header is not None and len(header) != n_cols:
         raise ValueError(
@@ -782,7 +856,7 @@ def _read_text(
     def line_of(row: int) -> int:
         """File line (1-based) of data row ``row`` (0-based); scans the file, error path only."""
         for k, (number, _) in enumerate(
-            (item for item in _content_lines(p, skip_rows, comments) if item[0] >= data_start)
+            item for item in _content_lines(p, skip_rows, comments) if item[0] >= data_start
         ):
             if k == row:
                 return number
@@ -791,13 +865,27 @@ def _read_text(
     usecols = ([t_idx] if t_idx is not None else []) + idx
     first_data = _split(sample[1 if has_header else 0][1], delimiter)
     int_time = t_idx is not None and bool(_INT_RE.match(first_data[t_idx])) and time_unit != "s"
+    if int_time and t_idx is not None:  # every sampled stamp must be an integer, not just the first
+        for number, text in sample:
+            fields = _split(text, delimiter)
+            if number >= data_start and len(fields) > t_idx and not _INT_RE.match(fields[t_idx]):
+                int_time = False
     if delimiter is not None and len(delimiter) == 1 and p.suffix.lower() not in _OPENERS:
         data_lines = [text for number, text in sample if number >= data_start]
         mean_line = (sum(len(t) for t in data_lines) + len(data_lines)) / max(len(data_lines), 1)
         estimated_rows = int(p.stat().st_size / max(mean_line, 1.0)) + 1
         for as_int in (True, False) if int_time else (False,):
             fast = _read_arrow(
-                p, delimiter, data_start, n_cols, t_idx, idx, as_int, store, progress, estimated_rows
+                p,
+                delimiter,
+                data_start,
+                n_cols,
+                t_idx,
+                idx,
+                as_int,
+                store,
+                progress,
+                estimated_rows,
             )
             if fast is not None:
                 return fast[1], names, fast[0], t_name, line_of
@@ -897,10 +985,15 @@ def _read_arrow(
     sink = store.sink(len(idx), estimated_rows)
     stamps: list[NDArray[Any]] = []
     try:
-        source = pa.memory_map(str(p))
+        source = pa.OSFile(str(p), "r")  # plain reads: a mapping would count the file as resident
         try:
             source.seek(_line_offset(p, data_start))
-            reader = pacsv.open_csv(source, read_options=read_opts, parse_options=parse_opts, convert_options=convert_opts)
+            reader = pacsv.open_csv(
+                source,
+                read_options=read_opts,
+                parse_options=parse_opts,
+                convert_options=convert_opts,
+            )
             for batch in reader:
                 m = batch.num_rows
                 block = np.empty((m, len(idx)))
@@ -932,7 +1025,12 @@ class _NotInteger(Exception):
 
 
 def _loadtxt(
-    p: Path, kw: dict[str, Any], dtype: Any, col_name: Any, line_of: Any, int_column: int | None = None
+    p: Path,
+    kw: dict[str, Any],
+    dtype: Any,
+    col_name: Any,
+    line_of: Any,
+    int_column: int | None = None,
 ) -> Any:
     """np.loadtxt with its errors turned into messages naming the file line and column.
 
@@ -969,7 +1067,9 @@ def _loadtxt(
             ) from None
         raise ValueError(f"{p.name}: {msg}") from None
     except IndexError:
-        raise ValueError(f"{p.name}: some line has fewer fields than the selected columns need") from None
+        raise ValueError(
+            f"{p.name}: some line has fewer fields than the selected columns need"
+        ) from None
     if len(out) == 0:
         raise ValueError(f"{p.name}: the file is empty (no data rows)")
     return out
@@ -996,7 +1096,13 @@ def _time_seconds(
     # the intervals from the raw differences: exact for integer stamps, so a perfectly
     # regular nanosecond log has exactly zero jitter
     intervals = steps.astype(np.float64) / per_second
-    return rel.astype(np.float64) / per_second, intervals, float(t_raw[0]) / per_second, unit, guessed
+    return (
+        rel.astype(np.float64) / per_second,
+        intervals,
+        float(t_raw[0]) / per_second,
+        unit,
+        guessed,
+    )
 
 
 def _sampling_report(
@@ -1017,7 +1123,9 @@ def _sampling_report(
     dup_rows = np.flatnonzero(steps == 0) + 1
     positive = steps[steps > 0]
     if positive.size == 0:
-        raise ValueError(f"the time column does not advance ({n} samples, all with the same timestamp)")
+        raise ValueError(
+            f"the time column does not advance ({n} samples, all with the same timestamp)"
+        )
     median = float(np.median(positive))
     gap_mask = steps > GAP_FACTOR * median
     gap_rows = np.flatnonzero(gap_mask) + 1
@@ -1098,13 +1206,19 @@ def _sampling_report(
 class _Fixes:
     """What :func:`_repair` found and changed."""
 
-    out_of_order_rows: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
-    exact_duplicate_rows: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    out_of_order_rows: NDArray[np.int64] = field(
+        default_factory=lambda: np.zeros(0, dtype=np.int64)
+    )
+    exact_duplicate_rows: NDArray[np.int64] = field(
+        default_factory=lambda: np.zeros(0, dtype=np.int64)
+    )
     dropped: int = 0
     repairs: tuple[str, ...] = ()
 
 
-def _take_rows(table: NDArray[np.float64], rows: NDArray[np.int64], store: Store) -> NDArray[np.float64]:
+def _take_rows(
+    table: NDArray[np.float64], rows: NDArray[np.int64], store: Store
+) -> NDArray[np.float64]:
     """``table[rows]`` copied block by block into a store array."""
     out = store.empty(len(rows), table.shape[1])
     for sl in blocks(len(rows)):
@@ -1188,7 +1302,9 @@ def _fill_gaps(
     new_time[dest] = time
     for row, count in zip(report.gap_rows.tolist(), missing.tolist()):
         t0, t1 = time[row - 1], time[row]
-        new_time[dest[row - 1] + 1 : dest[row]] = t0 + (t1 - t0) * np.arange(1, count + 1) / (count + 1)
+        new_time[dest[row - 1] + 1 : dest[row]] = t0 + (t1 - t0) * np.arange(1, count + 1) / (
+            count + 1
+        )
     note = f"inserted {int(missing.sum())} NaN row(s) for the samples missing in {report.n_gaps} gap(s) (fill_gaps)"
     report = replace(
         report,

@@ -31,7 +31,12 @@ BAG_SUFFIXES = (".bag", ".mcap", ".db3")
 #: Messages decoded per batch (bounds the raw-message buffer to a few tens of MB).
 BATCH = 65_536
 
-_FIELDS = ("std_msgs/msg/Header", "geometry_msgs/msg/Vector3", "geometry_msgs/msg/Quaternion", IMU_TYPE)
+_FIELDS = (
+    "std_msgs/msg/Header",
+    "geometry_msgs/msg/Vector3",
+    "geometry_msgs/msg/Quaternion",
+    IMU_TYPE,
+)
 
 
 class BagError(ValueError):
@@ -91,7 +96,9 @@ def _topic_list(reader: Any) -> list[tuple[str, str, int]]:
 
 
 def _describe(listing: Sequence[tuple[str, str, int]]) -> str:
-    return "; ".join(f"{name} ({typ}, {count} message{'s' * (count != 1)})" for name, typ, count in listing)
+    return "; ".join(
+        f"{name} ({typ}, {count} message{'s' * (count != 1)})" for name, typ, count in listing
+    )
 
 
 def _choose_topic(p: Path, reader: Any, topic: str | None) -> tuple[str, list[Any], int]:
@@ -111,7 +118,11 @@ def _choose_topic(p: Path, reader: Any, topic: str | None) -> tuple[str, list[An
     else:
         imu = [t for t in listing if t[1] == IMU_TYPE]
         if len(imu) != 1:
-            what = "no IMU topic" if not imu else f"{len(imu)} IMU topics, choose one with topic= (--topic)"
+            what = (
+                "no IMU topic"
+                if not imu
+                else f"{len(imu)} IMU topics, choose one with topic= (--topic)"
+            )
             raise BagError(f"{p.name}: {what} ({IMU_TYPE}); topics: {_describe(listing)}")
         name, typ, count = imu[0]
     if count < 2:
@@ -134,7 +145,9 @@ def _standard_layout(reader: Any, ros1: bool) -> bool:
         return False
 
 
-def _fast_decode(raws: Sequence[bytes | memoryview], ros1: bool) -> tuple[NDArray[np.float64], NDArray[np.int64]] | None:
+def _fast_decode(
+    raws: Sequence[bytes | memoryview], ros1: bool
+) -> tuple[NDArray[np.float64], NDArray[np.int64]] | None:
     """Decode a batch of same-length standard Imu messages at fixed offsets; ``None`` if not possible.
 
     ROS1 layout: ``seq u4, sec u4, nsec u4, len u4, frame_id[len]``, then float64 orientation (4),
@@ -163,15 +176,27 @@ def _fast_decode(raws: Sequence[bytes | memoryview], ros1: bool) -> tuple[NDArra
     gyro, acc = pos + 13 * 8, pos + 25 * 8
     if acc + 24 + 72 != length:
         return None
-    sec = np.ascontiguousarray(buf[:, head : head + 4]).view(f"{order}{sec_type}").ravel().astype(np.int64)
-    nsec = np.ascontiguousarray(buf[:, head + 4 : head + 8]).view(f"{order}u4").ravel().astype(np.int64)
+    sec = (
+        np.ascontiguousarray(buf[:, head : head + 4])
+        .view(f"{order}{sec_type}")
+        .ravel()
+        .astype(np.int64)
+    )
+    nsec = (
+        np.ascontiguousarray(buf[:, head + 4 : head + 8])
+        .view(f"{order}u4")
+        .ravel()
+        .astype(np.int64)
+    )
     out = np.empty((len(raws), 6))
     out[:, :3] = np.ascontiguousarray(buf[:, gyro : gyro + 24]).view(f"{order}f8")
     out[:, 3:] = np.ascontiguousarray(buf[:, acc : acc + 24]).view(f"{order}f8")
     return out, sec * 1_000_000_000 + nsec
 
 
-def _slow_decode(reader: Any, raws: Sequence[bytes | memoryview], msgtype: str) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+def _slow_decode(
+    reader: Any, raws: Sequence[bytes | memoryview], msgtype: str
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     out = np.empty((len(raws), 6))
     stamps = np.empty(len(raws), dtype=np.int64)
     for i, raw in enumerate(raws):
@@ -239,9 +264,13 @@ def read_bag(
         except BagError:
             raise
         except Exception as exc:  # truncated chunks, bad compression, undecodable messages
-            raise BagError(f"{p.name}: cannot read message {n + len(raws) + 1} of {name} ({_why(exc)})") from None
+            raise BagError(
+                f"{p.name}: cannot read message {n + len(raws) + 1} of {name} ({_why(exc)})"
+            ) from None
         if n < 2:
-            raise BagError(f"{p.name}: topic {name} has {n} readable message(s); a noise analysis needs at least 2")
+            raise BagError(
+                f"{p.name}: topic {name} has {n} readable message(s); a noise analysis needs at least 2"
+            )
         t_name = "header.stamp" if stamp == "header" else "receive time"
         fmt = _format(p, reader)
         return data[:n], stamps[:n], t_name, name, fmt
