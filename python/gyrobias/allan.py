@@ -266,7 +266,7 @@ def _analyse(
             unit = f"{units}/s"
         results.append(
             AllanResult(
-                taus=m * t0,
+                taus=np.asarray(m * t0, dtype=np.float64),
                 avar=var,
                 n_terms=np.asarray(r["n_terms"]).astype(np.int64),
                 fs=fs,
