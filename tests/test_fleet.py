@@ -173,6 +173,16 @@ def test_array_sources_match_single_unit_api(client: Client) -> None:
     np.testing.assert_array_equal(single["N"].to_numpy(), table[table["axis"] == "col1"]["N"].to_numpy())
 
 
+def test_progress_is_reported_and_changes_nothing(logs: Path, client: Client) -> None:
+    for where in (None, client):
+        seen: list[float] = []
+        with_progress = fleet.analyse(str(logs / "unit[0-4]*"), fs=FS, client=where, progress=seen.append)
+        plain = fleet.analyse(str(logs / "unit[0-4]*"), fs=FS, client=where)
+        assert seen == sorted(seen) and seen[-1] == 1.0 and len(seen) >= 5
+        pd.testing.assert_frame_equal(with_progress.drop(columns=["adev_tau", "adev"]),
+                                      plain.drop(columns=["adev_tau", "adev"]))
+
+
 def test_grouping_of_units_into_tasks_does_not_change_results() -> None:
     data = np.stack([noise.simulate(4000, FS, arw=ARW, seed=s) for s in range(7)])
     one = fleet.analyse(data, fs=FS, num_workers=1)
@@ -341,9 +351,12 @@ def test_cli_scheduler_address_and_csv(logs: Path, tmp_path: Path, client: Clien
                                        capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "fleet.csv"
     address = client.scheduler.address
-    code = main(["fleet", str(logs / "unit[0-2]*"), "--fs", "100", "--scheduler", address, "--out", str(out)])
+    code = main(["fleet", str(logs / "unit[0-2]*"), "--fs", "100", "--scheduler", address, "--out", str(out),
+                 "--progress"])
     assert code == 0
-    assert f"(scheduler {address})" in capsys.readouterr().out
+    captured = capsys.readouterr()
+    assert f"(scheduler {address})" in captured.out
+    assert "fleet" in captured.err  # the progress bar (tqdm, stderr)
     back = pd.read_csv(out)
     assert len(back) == 9 and "adev" not in back.columns
 

@@ -59,7 +59,7 @@ import glob
 import importlib
 import math
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -283,22 +283,48 @@ def _blocks(n_units: int, workers: int) -> list[tuple[int, int]]:
 # --------------------------------------------------------------------------------- Dask
 
 
-def _run(tasks: list[tuple[Any, tuple[Any, ...], str]], client: Any, num_workers: int | None) -> list[Any]:
-    """Run ``(function, args, source)`` tasks; a task lost on a worker becomes an error row."""
+def _run(
+    tasks: list[tuple[Any, tuple[Any, ...], str]],
+    client: Any,
+    num_workers: int | None,
+    progress: Callable[[float], None] | None,
+) -> list[Any]:
+    """Run ``(function, args, source)`` tasks; a task lost on a worker becomes an error row.
+
+    ``progress(fraction)`` is called as tasks finish (in any order); results keep task order.
+    """
     dask = _require("dask")
+    total = max(1, len(tasks))
     if client is None:
         delayed = [dask.delayed(fn, pure=False)(*args) for fn, args, _ in tasks]
-        return list(dask.compute(*delayed, scheduler="threads", num_workers=num_workers))
+        if progress is None:
+            return list(dask.compute(*delayed, scheduler="threads", num_workers=num_workers))
+        callbacks = _require("dask.callbacks")
+        done = 0
+
+        def posttask(*_: Any) -> None:
+            nonlocal done
+            done += 1
+            progress(min(done / total, 1.0))
+
+        with callbacks.Callback(posttask=posttask):
+            out = list(dask.compute(*delayed, scheduler="threads", num_workers=num_workers))
+        progress(1.0)
+        return out
     futures = [client.submit(fn, *args, pure=False) for fn, args, _ in tasks]
-    out: list[Any] = []
+    if progress is not None:
+        distributed = _require("distributed")
+        for done, _ in enumerate(distributed.as_completed(futures), start=1):
+            progress(done / total)
+    results: list[Any] = []
     for future, (_, _, source) in zip(futures, tasks):
         try:
-            out.append(future.result())
+            results.append(future.result())
         except Exception as exc:  # noqa: BLE001 - worker died, task cancelled: report, go on
             row = _empty_row(source)
             row["error"] = f"task failed on the cluster: {_error_text(exc)}"
-            out.append([row])
-    return out
+            results.append([row])
+    return results
 
 
 def _connect(client: Any) -> tuple[Any, bool]:
@@ -331,6 +357,7 @@ def analyse(
     confidence: float | None = 0.683,
     threshold: float = OUT_OF_FAMILY_THRESHOLD,
     num_workers: int | None = None,
+    progress: Callable[[float], None] | None = None,
 ) -> DataFrame:
     """Noise terms of every unit of a fleet, one row per unit and axis, computed on Dask.
 
@@ -367,6 +394,9 @@ def analyse(
         ``|z|`` above which a term is out of family (module docs).
     num_workers : int, optional
         Threads of the local threaded scheduler (default: one per core). Ignored with ``client``.
+    progress : callable, optional
+        Called with the completed fraction (0..1) of the tasks as they finish; never changes
+        a result.
 
     Returns
     -------
@@ -457,7 +487,7 @@ def analyse(
             tasks = [(_analyse_block, (blk, a, opts), f"array[{a}:{b}]") for blk, (a, b) in zip(blocks, ranges)]
         else:
             tasks = [(_analyse_file, (p, opts), p) for p in expanded]
-        parts = _run(tasks, client, num_workers)
+        parts = _run(tasks, client, num_workers, progress)
     finally:
         if owned:
             client.close()
