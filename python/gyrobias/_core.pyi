@@ -28,6 +28,26 @@ def allan_factors(
     per_decade: int,
     taus: NDArray[np.float64] | None,
 ) -> NDArray[np.uint64]: ...
+def allan_family_analysis(
+    data: NDArray[np.float64],
+    t0: float,
+    data_type: str,
+    statistic: str,
+    tau_spec: str,
+    per_decade: int,
+    taus: NDArray[np.float64] | None,
+    confidence: float | None,
+) -> list[dict[str, Any]]: ...
+def allan_dynamic(
+    data: NDArray[np.float64],
+    t0: float,
+    data_type: str,
+    window: int,
+    step: int,
+    tau_spec: str,
+    per_decade: int,
+    taus: NDArray[np.float64] | None,
+) -> dict[str, NDArray[np.float64] | NDArray[np.uint64]]: ...
 
 # --- fractional --------------------------------------------------------------------------------
 

@@ -26,9 +26,14 @@
 //! freedom, chi-square bounds) live in [`confidence`].
 
 pub mod confidence;
+pub mod dynamic;
 pub mod edf;
+pub mod family;
 mod fused;
+pub mod hadamard;
 pub mod noise_id;
+pub mod theo;
+pub mod total;
 
 use std::borrow::Cow;
 
