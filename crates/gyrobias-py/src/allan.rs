@@ -2,7 +2,8 @@
 
 use gyrocore::allan::{self, DataType, Estimator, TauSpec, Taus, dynamic, family};
 use numpy::{
-    IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
+    IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -187,9 +188,7 @@ fn allan_dynamic<'py>(
         None => None,
     };
     let taus = taus_from(tau_spec, per_decade, explicit)?;
-    let r = core(py.detach(|| {
-        dynamic::dynamic_avar(slice, t0, data_type, window, step, &taus)
-    }))?;
+    let r = core(py.detach(|| dynamic::dynamic_avar(slice, t0, data_type, window, step, &taus)))?;
     let d = PyDict::new(py);
     let k = r.m.len();
     let rows = r.starts.len();

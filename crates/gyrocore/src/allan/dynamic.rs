@@ -59,26 +59,28 @@ pub fn dynamic_avar(
             format!("must hold at least {min_window} samples for one Allan term, got {window}"),
         ));
     }
-    let ms = resolve_factors(taus, window, t0, data_type, Estimator::Overlapping).map_err(
-        |e| match e {
-            Error::TooShort { .. } => Error::invalid("window", "too short for any τ"),
-            other => other,
-        },
-    )?;
+    let ms =
+        resolve_factors(taus, window, t0, data_type, Estimator::Overlapping).map_err(
+            |e| match e {
+                Error::TooShort { .. } => Error::invalid("window", "too short for any τ"),
+                other => other,
+            },
+        )?;
     let starts: Vec<usize> = (0..=(n - window) / step).map(|w| w * step).collect();
     let k = ms.len();
     let rows: Vec<Result<(Vec<f64>, Vec<usize>)>> = starts
         .par_iter()
         .with_max_len(1)
         .map(|&s| {
-            let x = angle_series(Column::contiguous(&data[s..s + window]), t0, data_type)
-                .map_err(|e| match e {
+            let x = angle_series(Column::contiguous(&data[s..s + window]), t0, data_type).map_err(
+                |e| match e {
                     Error::NonFinite { name, index } => Error::NonFinite {
                         name,
                         index: index + s,
                     },
                     other => other,
-                })?;
+                },
+            )?;
             let mut v = vec![0.0; k];
             let mut t = vec![0usize; k];
             variances_into(&x, t0, &ms, Estimator::Overlapping, &mut v, &mut t)?;
@@ -128,7 +130,10 @@ mod tests {
             )
             .unwrap();
             assert_eq!(a.m, d.m);
-            assert_eq!(&d.variance[w * d.m.len()..(w + 1) * d.m.len()], &a.variance[..]);
+            assert_eq!(
+                &d.variance[w * d.m.len()..(w + 1) * d.m.len()],
+                &a.variance[..]
+            );
         }
     }
 
@@ -149,8 +154,10 @@ mod tests {
             "step"
         );
         assert_eq!(
-            name(dynamic_avar(&r, 1.0, DataType::Rate, 50, 5, &Taus::Explicit(vec![40.0]))
-                .unwrap_err()),
+            name(
+                dynamic_avar(&r, 1.0, DataType::Rate, 50, 5, &Taus::Explicit(vec![40.0]))
+                    .unwrap_err()
+            ),
             "taus"
         );
     }

@@ -436,7 +436,13 @@ pub fn modified_total(alpha: i32, m: usize, n_phase: usize) -> Result<f64> {
             ));
         }
     };
-    positive_edf(b * n_phase as f64 / m as f64 - c, "modified-total", alpha, m, n_phase)
+    positive_edf(
+        b * n_phase as f64 / m as f64 - c,
+        "modified-total",
+        alpha,
+        m,
+        n_phase,
+    )
 }
 
 /// Hadamard-total-variance EDF, SP 1065 Table 13 (Howe, Beard, Greenhall, Riley):
@@ -457,7 +463,13 @@ pub fn hadamard_total(alpha: i32, m: usize, n_phase: usize) -> Result<f64> {
         return greenhall(alpha, 3, m, n_phase, true, false);
     }
     let ratio = n_phase.saturating_sub(1) as f64 / m as f64;
-    positive_edf(ratio / (b0 + b1 / ratio), "Hadamard-total", alpha, m, n_phase)
+    positive_edf(
+        ratio / (b0 + b1 / ratio),
+        "Hadamard-total",
+        alpha,
+        m,
+        n_phase,
+    )
 }
 
 /// Théo1 / ThéoBR EDF, Howe & Tasset's empirical formulas (SP 1065 Table 14) with

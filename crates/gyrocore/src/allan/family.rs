@@ -521,13 +521,17 @@ mod tests {
         let k = theo::theoh_break(2001);
         assert!(a.points.iter().any(|p| !p.theo && (p.m as f64) < k));
         assert!(a.points.iter().any(|p| p.theo && p.tau_factor >= k));
-        assert!(a.points.windows(2).all(|w| w[0].tau_factor < w[1].tau_factor));
+        assert!(
+            a.points
+                .windows(2)
+                .all(|w| w[0].tau_factor < w[1].tau_factor)
+        );
     }
 
     #[test]
     fn explicit_theo_taus() {
-        let pts = resolve_points(&Taus::Explicit(vec![1.5, 3.0]), 100, 1.0, Statistic::Theo1)
-            .unwrap();
+        let pts =
+            resolve_points(&Taus::Explicit(vec![1.5, 3.0]), 100, 1.0, Statistic::Theo1).unwrap();
         assert_eq!(pts.iter().map(|p| p.m).collect::<Vec<_>>(), vec![2, 4]);
         // τ = 0.75 → m = 1 (odd), τ = 1.0 → not a multiple of 0.75.
         assert!(resolve_points(&Taus::Explicit(vec![0.75]), 100, 1.0, Statistic::Theo1).is_err());

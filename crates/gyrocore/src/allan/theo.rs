@@ -102,11 +102,7 @@ pub fn theo1(x: &[f64], t0: f64, m: usize) -> Result<(f64, usize)> {
 /// or `None` when the record is too short (N < 90).
 pub fn bias_terms(n_angle: usize) -> Option<usize> {
     let n = (n_angle as f64 / 30.0 - 3.0).floor();
-    if n < 0.0 {
-        None
-    } else {
-        Some(n as usize + 1)
-    }
+    if n < 0.0 { None } else { Some(n as usize + 1) }
 }
 
 /// Smallest record for ThéoBR / ThéoH.

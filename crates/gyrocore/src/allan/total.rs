@@ -231,10 +231,7 @@ fn mtotvar_with(prefix: &Prefix, t0: f64, m: usize) -> Result<(f64, usize)> {
     let windows = n + 1 - 3 * m;
     let s = reflected_sum(prefix, m);
     let mf = m as f64;
-    Ok((
-        s / (12.0 * mf.powi(5) * t0 * t0 * windows as f64),
-        windows,
-    ))
+    Ok((s / (12.0 * mf.powi(5) * t0 * t0 * windows as f64), windows))
 }
 
 /// Hadamard total variance at averaging factor `m` from the angle series `x` (SP 1065 eq. 29).
@@ -301,7 +298,11 @@ mod tests {
             let mean1: f64 = xs[..half].iter().sum::<f64>() / half as f64;
             let mean2: f64 = xs[w - half..].iter().sum::<f64>() / half as f64;
             let s = (mean2 - mean1) / dist;
-            let x0: Vec<f64> = xs.iter().enumerate().map(|(k, v)| v - s * k as f64).collect();
+            let x0: Vec<f64> = xs
+                .iter()
+                .enumerate()
+                .map(|(k, v)| v - s * k as f64)
+                .collect();
             let mut star: Vec<f64> = x0.iter().rev().copied().collect();
             star.extend_from_slice(&x0);
             star.extend(x0.iter().rev());
@@ -337,7 +338,10 @@ mod tests {
             let fast = reflected_sum(&p, m);
             let slow = naive(&z, m);
             // 1e-11: same sums, different association (prefix differences vs direct sums).
-            assert!((fast - slow).abs() <= 1e-11 * slow, "m={m}: {fast} vs {slow}");
+            assert!(
+                (fast - slow).abs() <= 1e-11 * slow,
+                "m={m}: {fast} vs {slow}"
+            );
         }
     }
 
