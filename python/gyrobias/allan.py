@@ -261,7 +261,7 @@ def _analyse(
     t0 = 1.0 / fs
 
     if progress is None:
-        raw = _core.allan_analysis(matrix, t0, data_type, estimator, spec, int(per_decade), explicit, confidence)
+        raw: list[Any] = _core.allan.analyse(matrix, t0, data_type, estimator, spec, int(per_decade), explicit, confidence)
     else:
         raw = _with_progress(matrix, t0, data_type, estimator, spec, int(per_decade), explicit, confidence, progress)
 
@@ -317,12 +317,12 @@ def _with_progress(
 
     Each chunk re-integrates the rate (one extra O(N) pass per chunk), so chunks are few.
     """
-    factors = _core.allan_factors(matrix.shape[0], t0, data_type, estimator, spec, per_decade, explicit)
+    factors = _core.allan.factors(matrix.shape[0], t0, data_type, estimator, spec, per_decade, explicit)
     chunks = np.array_split(factors, min(len(factors), 8))
     merged: list[dict[str, Any]] = [{} for _ in range(matrix.shape[1])]
     progress(0.0)
     for done, chunk in enumerate(chunks, start=1):
-        part = _core.allan_analysis(
+        part = _core.allan.analyse(
             matrix, t0, data_type, estimator, spec, per_decade, chunk.astype(np.float64) * t0, confidence
         )
         for axis, r in enumerate(part):
@@ -518,7 +518,7 @@ def totdev(
 
 # --- the rest of the Allan family (issue 15) -----------------------------------------------------
 
-#: gyrobias kind → core statistic of :func:`gyrobias._core.allan_family_analysis`.
+#: gyrobias kind → core statistic of :func:`gyrobias._core.allan.family_analyse`.
 _FAMILY_STATISTIC = {
     "tdev": "time",
     "mtotdev": "modified-total",
@@ -596,7 +596,7 @@ def _analyse_family(
     t0 = 1.0 / fs
     if progress is not None:
         progress(0.0)
-    raw = _core.allan_family_analysis(
+    raw = _core.allan.family_analyse(
         np.ascontiguousarray(matrix), t0, data_type, statistic, spec, int(per_decade), explicit, confidence
     )
     if progress is not None:
@@ -996,7 +996,7 @@ def dynamic_adev(
     else:
         explicit = as_float_array("taus", taus, ndims=(1,))
     t0 = 1.0 / fs
-    raw = _core.allan_dynamic(np.ascontiguousarray(arr), t0, data_type, window, step, spec, int(per_decade), explicit)
+    raw = _core.allan.dynamic_avar(np.ascontiguousarray(arr), t0, data_type, window, step, spec, int(per_decade), explicit)
     starts = np.asarray(raw["starts"]).astype(np.int64)
     unit = units
     if units is not None and data_type == "angle":

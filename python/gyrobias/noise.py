@@ -199,7 +199,7 @@ def simulate(
         if not 0 <= int(seed) < 2**64:
             raise ValueError(f"seed must satisfy 0 <= seed < 2**64, got {seed!r}")
         seed_value = int(seed)
-    flat = _core.noise_simulate(
+    flat = _core.noise.simulate(
         n,
         fs,
         _non_negative("quantization", quantization),
@@ -500,7 +500,7 @@ class NoiseCoefficients:
         """
         t = np.ascontiguousarray(np.asarray(taus, dtype=np.float64))
         squared = self._squared_base()
-        total, parts = _core.noise_model(squared, t)
+        total, parts = _core.noise.model(squared, t)
         return np.sqrt(total), {s: np.sqrt(p) for s, p in zip(_SYMBOLS, parts)}
 
     def _squared_base(self) -> list[float]:
@@ -734,12 +734,13 @@ def fit(
     if method == "joint":
         if regions is not None:
             raise ValueError("regions applies to method='ieee' only; use tau_range for the joint fit")
-        raw = _core.noise_fit_joint(taus, variance, m, n_terms, result.overlapping, edf, term_list, tau_range)
+        joint_fit = _core.noise.joint(taus, variance, m, n_terms, result.overlapping, edf, term_list, tau_range)
+        estimates = joint_fit["terms"]
         extra: dict[str, Any] = {
-            "chi2": float(raw["chi2"]),
-            "dof": int(raw["dof"]),
-            "squared": tuple(float(v) for v in raw["squared"]),
-            "tau_range": tuple(raw["tau_range"]),
+            "chi2": float(joint_fit["chi2"]),
+            "dof": int(joint_fit["dof"]),
+            "squared": tuple(float(v) for v in joint_fit["squared"]),
+            "tau_range": tuple(joint_fit["tau_range"]),
         }
     else:
         slope_tolerance = positive_float("slope_tolerance", slope_tolerance)
@@ -750,14 +751,14 @@ def fit(
             choice("regions key", key, _SYMBOLS)
             lo, hi = (float(v) for v in rng)
             region_list[_SYMBOLS.index(key)] = (lo, hi)
-        raw = _core.noise_read_off(
+        estimates = _core.noise.read_off(
             taus, variance, m, n_terms, result.overlapping, edf, term_list, region_list,
             slope_tolerance, int(min_points),
-        )
+        )["terms"]
         extra = {"tau_range": (float(taus[0]), float(taus[-1]))}
     names = TERM_NAMES[sensor or "gyro"]
     built = {}
-    for d in raw["terms"]:
+    for d in estimates:
         s = d["symbol"]
         built[s] = Term(
             symbol=s,
@@ -765,8 +766,8 @@ def fit(
             value=d["value"],
             uncertainty=d["uncertainty"],
             unit=None if data_unit is None else base_unit(data_unit, s),
-            tau_range=None if d["tau_range"] is None else tuple(d["tau_range"]),
-            marker=None if d["marker"] is None else tuple(d["marker"]),
+            tau_range=d["tau_range"],
+            marker=d["marker"],
             missing=d["missing"],
         )
     return NoiseCoefficients(

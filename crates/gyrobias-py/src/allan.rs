@@ -8,6 +8,7 @@ use numpy::{
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::array::c_order;
 use crate::error::core;
 
 fn taus_from(spec: &str, per_decade: usize, explicit: Option<Vec<f64>>) -> PyResult<Taus> {
@@ -28,14 +29,15 @@ fn taus_from(spec: &str, per_decade: usize, explicit: Option<Vec<f64>>) -> PyRes
     Ok(Taus::Spec(spec))
 }
 
-/// Allan-family analysis of each column of a C-contiguous (samples × axes) float64 array.
+/// Allan-family analysis of each column of a (samples × axes) float64 array
+/// (`gyrocore::allan::analyse_axes`).
 ///
 /// Returns one dict per axis with keys `m`, `variance`, `n_terms` and, when `confidence` is
 /// given, `alpha`, `edf`, `low`, `high`.
 #[pyfunction]
 #[pyo3(signature = (data, t0, data_type, estimator, tau_spec, per_decade, taus, confidence))]
 #[allow(clippy::needless_pass_by_value)]
-fn allan_analysis<'py>(
+fn analyse<'py>(
     py: Python<'py>,
     data: PyReadonlyArray2<'py, f64>,
     t0: f64,
@@ -47,16 +49,13 @@ fn allan_analysis<'py>(
     confidence: Option<f64>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
     let n_axes = data.shape()[1];
-    let slice = data.as_slice()?;
+    let slice = c_order(&data);
     let data_type = core(DataType::parse(data_type))?;
     let estimator = core(Estimator::parse(estimator))?;
-    let explicit = match taus {
-        Some(t) => Some(t.as_slice()?.to_vec()),
-        None => None,
-    };
+    let explicit = taus.map(|t| c_order(&t).into_owned());
     let taus = taus_from(tau_spec, per_decade, explicit)?;
     let results = core(py.detach(|| {
-        allan::analyse_axes(slice, n_axes, t0, data_type, estimator, &taus, confidence)
+        allan::analyse_axes(&slice, n_axes, t0, data_type, estimator, &taus, confidence)
     }))?;
     results
         .into_iter()
@@ -78,11 +77,12 @@ fn allan_analysis<'py>(
         .collect()
 }
 
-/// The averaging factors an analysis of `n_samples` samples would use.
+/// The averaging factors an analysis of `n_samples` samples would use
+/// (`gyrocore::allan::resolve_factors`).
 #[pyfunction]
 #[pyo3(signature = (n_samples, t0, data_type, estimator, tau_spec, per_decade, taus))]
 #[allow(clippy::needless_pass_by_value)]
-fn allan_factors<'py>(
+fn factors<'py>(
     py: Python<'py>,
     n_samples: usize,
     t0: f64,
@@ -94,10 +94,7 @@ fn allan_factors<'py>(
 ) -> PyResult<Bound<'py, PyArray1<u64>>> {
     let data_type = core(DataType::parse(data_type))?;
     let estimator = core(Estimator::parse(estimator))?;
-    let explicit = match taus {
-        Some(t) => Some(t.as_slice()?.to_vec()),
-        None => None,
-    };
+    let explicit = taus.map(|t| c_order(&t).into_owned());
     let taus = taus_from(tau_spec, per_decade, explicit)?;
     let ms = core(allan::resolve_factors(
         &taus, n_samples, t0, data_type, estimator,
@@ -109,14 +106,15 @@ fn allan_factors<'py>(
         .into_pyarray(py))
 }
 
-/// Non-overlapping Hadamard, time, total and Théo statistics of each column (`family::analyse`).
+/// Non-overlapping Hadamard, time, total and Théo statistics of each column
+/// (`gyrocore::allan::family::analyse_axes`).
 ///
 /// Returns one dict per axis with keys `m`, `tau_factor` (τ/t0), `theo`, `variance`, `n_terms`
 /// and, when `confidence` is given, `alpha`, `edf`, `low`, `high`.
 #[pyfunction]
 #[pyo3(signature = (data, t0, data_type, statistic, tau_spec, per_decade, taus, confidence))]
 #[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
-fn allan_family_analysis<'py>(
+fn family_analyse<'py>(
     py: Python<'py>,
     data: PyReadonlyArray2<'py, f64>,
     t0: f64,
@@ -128,16 +126,13 @@ fn allan_family_analysis<'py>(
     confidence: Option<f64>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
     let n_axes = data.shape()[1];
-    let slice = data.as_slice()?;
+    let slice = c_order(&data);
     let data_type = core(DataType::parse(data_type))?;
     let statistic = core(family::Statistic::parse(statistic))?;
-    let explicit = match taus {
-        Some(t) => Some(t.as_slice()?.to_vec()),
-        None => None,
-    };
+    let explicit = taus.map(|t| c_order(&t).into_owned());
     let taus = taus_from(tau_spec, per_decade, explicit)?;
     let results = core(py.detach(|| {
-        family::analyse_axes(slice, n_axes, t0, data_type, statistic, &taus, confidence)
+        family::analyse_axes(&slice, n_axes, t0, data_type, statistic, &taus, confidence)
     }))?;
     results
         .into_iter()
@@ -163,14 +158,15 @@ fn allan_family_analysis<'py>(
         .collect()
 }
 
-/// Dynamic overlapping Allan variance of a contiguous 1-D float64 series (`dynamic::dynamic_avar`).
+/// Dynamic overlapping Allan variance of a 1-D float64 series
+/// (`gyrocore::allan::dynamic::dynamic_avar`).
 ///
 /// Returns a dict with `starts` (first sample of each window), `m`, `n_terms` and `variance`
 /// (windows × factors).
 #[pyfunction]
 #[pyo3(signature = (data, t0, data_type, window, step, tau_spec, per_decade, taus))]
 #[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
-fn allan_dynamic<'py>(
+fn dynamic_avar<'py>(
     py: Python<'py>,
     data: PyReadonlyArray1<'py, f64>,
     t0: f64,
@@ -181,14 +177,11 @@ fn allan_dynamic<'py>(
     per_decade: usize,
     taus: Option<PyReadonlyArray1<'py, f64>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let slice = data.as_slice()?;
+    let slice = c_order(&data);
     let data_type = core(DataType::parse(data_type))?;
-    let explicit = match taus {
-        Some(t) => Some(t.as_slice()?.to_vec()),
-        None => None,
-    };
+    let explicit = taus.map(|t| c_order(&t).into_owned());
     let taus = taus_from(tau_spec, per_decade, explicit)?;
-    let r = core(py.detach(|| dynamic::dynamic_avar(slice, t0, data_type, window, step, &taus)))?;
+    let r = core(py.detach(|| dynamic::dynamic_avar(&slice, t0, data_type, window, step, &taus)))?;
     let d = PyDict::new(py);
     let k = r.m.len();
     let rows = r.starts.len();
@@ -203,8 +196,8 @@ fn allan_dynamic<'py>(
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(allan_analysis, m)?)?;
-    m.add_function(wrap_pyfunction!(allan_factors, m)?)?;
-    m.add_function(wrap_pyfunction!(allan_family_analysis, m)?)?;
-    m.add_function(wrap_pyfunction!(allan_dynamic, m)?)
+    m.add_function(wrap_pyfunction!(analyse, m)?)?;
+    m.add_function(wrap_pyfunction!(factors, m)?)?;
+    m.add_function(wrap_pyfunction!(family_analyse, m)?)?;
+    m.add_function(wrap_pyfunction!(dynamic_avar, m)?)
 }

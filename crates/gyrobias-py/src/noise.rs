@@ -5,12 +5,13 @@ use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::array::{c_order, c_order_opt};
 use crate::error::core;
 
-/// Simulated rate noise, row-major `(n, axes)` flattened.
+/// Simulated rate noise, row-major `(n, axes)` flattened (`gyrocore::noise::simulate`).
 #[pyfunction]
 #[pyo3(signature = (n, fs, quantization, arw, bias_instability, rrw, rate_ramp, ar1, bias, axes, seed))]
-fn noise_simulate(
+fn simulate(
     py: Python<'_>,
     n: usize,
     fs: f64,
@@ -57,11 +58,12 @@ fn as_usize(v: &[u64]) -> Vec<usize> {
     v.iter().map(|&x| x as usize).collect()
 }
 
-/// Joint weighted NNLS fit of the five-term model to an Allan-variance curve.
+/// Joint weighted NNLS fit of the five-term model to an Allan-variance curve
+/// (`gyrocore::noise::joint`).
 #[pyfunction]
 #[pyo3(signature = (taus, variance, m, n_terms, overlapping, edf, terms, tau_range))]
 #[allow(clippy::needless_pass_by_value)]
-fn noise_fit_joint<'py>(
+fn joint<'py>(
     py: Python<'py>,
     taus: PyReadonlyArray1<'py, f64>,
     variance: PyReadonlyArray1<'py, f64>,
@@ -74,19 +76,18 @@ fn noise_fit_joint<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
     let enabled = core(noise::parse_terms(&symbols))?;
-    let m = as_usize(m.as_slice()?);
-    let n_terms = as_usize(n_terms.as_slice()?);
-    let edf_slice = match &edf {
-        Some(e) => Some(e.as_slice()?),
-        None => None,
-    };
+    let m = as_usize(&c_order(&m));
+    let n_terms = as_usize(&c_order(&n_terms));
+    let edf = c_order_opt(edf.as_ref());
+    let taus = c_order(&taus);
+    let variance = c_order(&variance);
     let curve = Curve {
-        taus: taus.as_slice()?,
-        variance: variance.as_slice()?,
+        taus: &taus,
+        variance: &variance,
         m: &m,
         n_terms: &n_terms,
         overlapping,
-        edf: edf_slice,
+        edf: edf.as_deref(),
     };
     let fit = core(noise::joint(&curve, enabled, tau_range))?;
     let d = PyDict::new(py);
@@ -111,11 +112,12 @@ fn noise_fit_joint<'py>(
     Ok(d)
 }
 
-/// IEEE-952 read-off of the noise terms from an Allan-variance curve.
+/// IEEE-952 read-off of the noise terms from an Allan-variance curve
+/// (`gyrocore::noise::read_off`).
 #[pyfunction]
 #[pyo3(signature = (taus, variance, m, n_terms, overlapping, edf, terms, regions, tolerance, min_points))]
 #[allow(clippy::needless_pass_by_value)]
-fn noise_read_off<'py>(
+fn read_off<'py>(
     py: Python<'py>,
     taus: PyReadonlyArray1<'py, f64>,
     variance: PyReadonlyArray1<'py, f64>,
@@ -137,19 +139,18 @@ fn noise_read_off<'py>(
     }
     let mut region_array = [None; 5];
     region_array.copy_from_slice(&regions);
-    let m = as_usize(m.as_slice()?);
-    let n_terms = as_usize(n_terms.as_slice()?);
-    let edf_slice = match &edf {
-        Some(e) => Some(e.as_slice()?),
-        None => None,
-    };
+    let m = as_usize(&c_order(&m));
+    let n_terms = as_usize(&c_order(&n_terms));
+    let edf = c_order_opt(edf.as_ref());
+    let taus = c_order(&taus);
+    let variance = c_order(&variance);
     let curve = Curve {
-        taus: taus.as_slice()?,
-        variance: variance.as_slice()?,
+        taus: &taus,
+        variance: &variance,
         m: &m,
         n_terms: &n_terms,
         overlapping,
-        edf: edf_slice,
+        edf: edf.as_deref(),
     };
     let options = ReadOffOptions {
         tolerance,
@@ -170,12 +171,12 @@ type ModelCurves<'py> = (Bound<'py, PyArray1<f64>>, Vec<Bound<'py, PyArray1<f64>
 #[pyfunction]
 #[pyo3(signature = (squared, taus))]
 #[allow(clippy::needless_pass_by_value)]
-fn noise_model<'py>(
+fn model<'py>(
     py: Python<'py>,
     squared: [f64; 5],
     taus: PyReadonlyArray1<'py, f64>,
-) -> PyResult<ModelCurves<'py>> {
-    let taus = taus.as_slice()?;
+) -> ModelCurves<'py> {
+    let taus = c_order(&taus);
     let total: Vec<f64> = taus
         .iter()
         .map(|t| noise::model_variance(&squared, *t))
@@ -189,12 +190,12 @@ fn noise_model<'py>(
                 .into_pyarray(py)
         })
         .collect();
-    Ok((total.into_pyarray(py), parts))
+    (total.into_pyarray(py), parts)
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(noise_simulate, m)?)?;
-    m.add_function(wrap_pyfunction!(noise_fit_joint, m)?)?;
-    m.add_function(wrap_pyfunction!(noise_read_off, m)?)?;
-    m.add_function(wrap_pyfunction!(noise_model, m)?)
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(joint, m)?)?;
+    m.add_function(wrap_pyfunction!(read_off, m)?)?;
+    m.add_function(wrap_pyfunction!(model, m)?)
 }

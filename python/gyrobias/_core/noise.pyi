@@ -1,0 +1,80 @@
+"""Bindings of ``gyrocore::noise``."""
+
+from typing import TypedDict, type_check_only
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["joint", "model", "read_off", "simulate"]
+
+@type_check_only
+class TermEstimate(TypedDict):
+    """One noise term (Q, N, B, K or R) in the base unit of the curve."""
+
+    symbol: str
+    value: float | None
+    uncertainty: float | None
+    tau_range: tuple[float, float] | None
+    marker: tuple[float, float] | None
+    missing: str | None
+
+@type_check_only
+class JointFit(TypedDict):
+    """Joint weighted NNLS fit of the five-term model."""
+
+    terms: list[TermEstimate]
+    squared: list[float]
+    covariance: list[list[float]]
+    chi2: float
+    dof: int
+    tau_range: tuple[float, float]
+    used: list[int]
+    edf: NDArray[np.float64]
+    iterations: int
+
+@type_check_only
+class ReadOff(TypedDict):
+    """IEEE-952 read-off of the noise terms."""
+
+    terms: list[TermEstimate]
+    local_slopes: NDArray[np.float64]
+
+def simulate(
+    n: int,
+    fs: float,
+    quantization: float,
+    arw: float,
+    bias_instability: float,
+    rrw: float,
+    rate_ramp: float,
+    ar1: tuple[float, float] | None,
+    bias: float,
+    axes: int,
+    seed: int,
+) -> NDArray[np.float64]: ...
+def joint(
+    taus: NDArray[np.float64],
+    variance: NDArray[np.float64],
+    m: NDArray[np.uint64],
+    n_terms: NDArray[np.uint64],
+    overlapping: bool,
+    edf: NDArray[np.float64] | None,
+    terms: list[str],
+    tau_range: tuple[float, float] | None,
+) -> JointFit: ...
+def read_off(
+    taus: NDArray[np.float64],
+    variance: NDArray[np.float64],
+    m: NDArray[np.uint64],
+    n_terms: NDArray[np.uint64],
+    overlapping: bool,
+    edf: NDArray[np.float64] | None,
+    terms: list[str],
+    regions: list[tuple[float, float] | None],
+    tolerance: float,
+    min_points: int,
+) -> ReadOff: ...
+def model(
+    squared: list[float] | tuple[float, float, float, float, float],
+    taus: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], list[NDArray[np.float64]]]: ...
