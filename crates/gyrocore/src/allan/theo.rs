@@ -169,7 +169,7 @@ mod tests {
         let mut s = 0.0;
         for i in 0..n - m {
             for d in 0..h {
-                let t = x[i] - x[i - d + h] + x[i + m] - x[i + d + h];
+                let t = x[i] - x[i + h - d] + x[i + m] - x[i + d + h];
                 s += t * t / (h - d) as f64;
             }
         }
