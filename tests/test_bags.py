@@ -144,6 +144,9 @@ def test_bag_round_trip_every_format(tmp_path: Path, fmt: str) -> None:
     )
     assert log.unit_groups() == [("rad/s", [0, 1, 2]), ("m/s^2", [3, 4, 5])]
     assert topics(path) == [("/imu", IMU, n)]
+    seen: list[float] = []
+    np.testing.assert_array_equal(load(path, progress=seen.append).data, data)  # same values
+    assert seen and seen[-1] == 1.0
 
 
 @pytest.mark.parametrize("fmt", ["ros1", "db3"])

@@ -293,3 +293,20 @@ def test_corrupt_compressed_files_name_the_file(tmp_path: Path, name: str, make:
     path.write_bytes(make(gzip.compress(text.encode())))  # type: ignore[operator]
     with pytest.raises(ValueError, match=f"{name}: cannot read the file"):
         load(path)
+
+
+# --------------------------------------------------------------------------- progress
+
+
+def test_progress_reports_fractions_and_changes_nothing(tmp_path: Path) -> None:
+    pytest.importorskip("pyarrow")
+    t = np.arange(20_000) / 100.0
+    x = RNG.normal(size=(20_000, 2))
+    path = _csv(tmp_path / "p.csv", t, x, header="t,a,b")
+    seen: list[float] = []
+    with_bar = load(path, progress=seen.append)
+    without = load(path)
+    np.testing.assert_array_equal(with_bar.data, without.data)
+    assert with_bar.sampling.to_dict() == without.sampling.to_dict()
+    assert seen and seen[-1] == 1.0 and all(0.0 <= f <= 1.0 for f in seen)
+    assert seen == sorted(seen)

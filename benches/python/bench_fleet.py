@@ -30,6 +30,13 @@ import time
 from contextlib import ExitStack
 from pathlib import Path
 
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _timing import best_of
+
+from gyrobias import allan, fleet, io, noise
+
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--units", type=int, default=64)
 parser.add_argument("--samples", type=int, default=1_000_000)
@@ -37,13 +44,6 @@ parser.add_argument("--axes", type=int, default=3)
 parser.add_argument("--repeats", type=int, default=2, help="interleaved rounds; the best time per mode is kept")
 parser.add_argument("--dir", type=Path, default=None, help="where to write the logs (default: a temp dir)")
 ARGS = parser.parse_args()
-
-import numpy as np  # noqa: E402
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _timing import best_of  # noqa: E402
-
-from gyrobias import allan, fleet, io, noise  # noqa: E402
 
 FS = 100.0
 
@@ -112,7 +112,8 @@ def main() -> None:
             ("LocalCluster, 1 worker × 1 kernel thread", (1, 1)),
             ("LocalCluster, 2 workers × 1 kernel thread", (2, 1)),
         ):
-            modes[label] = lambda c=cluster(*args): run_fleet(c)
+            client = cluster(*args)
+            modes[label] = lambda c=client: run_fleet(c)
         # Interleaved rounds: each mode sees the same (shared, noisy) machine; the best is kept.
         for _ in range(ARGS.repeats):
             for name, fn in modes.items():

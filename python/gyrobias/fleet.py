@@ -115,12 +115,12 @@ class _Options:
     """Everything a worker needs to analyse one unit (picklable)."""
 
     fs: float | None
-    units: str | None
     fit: str
     taus: str | tuple[float, ...]
     confidence: float | None
     axis_names: tuple[str, ...] | None
     load: dict[str, Any] = field(default_factory=dict)
+    array_units: tuple[str | None, ...] = ()
 
 
 # --------------------------------------------------------------------------------- per unit
@@ -144,21 +144,20 @@ def _rows_for(
     data: NDArray[np.float64],
     fs: float,
     axis_names: Sequence[str],
+    axis_units: Sequence[str | None],
     opts: _Options,
     sampling: io.SamplingReport | None,
 ) -> list[dict[str, Any]]:
     """Allan analysis and fit of one unit (``data`` is ``(n,)`` or ``(n, axes)``)."""
-    sensor = None if opts.units is None else sensor_kind(opts.units)
     taus: str | NDArray[np.float64] = opts.taus if isinstance(opts.taus, str) else np.asarray(opts.taus)
     matrix = data.reshape(-1, 1) if data.ndim == 1 else data
+    shared = axis_units[0] if len(set(axis_units)) == 1 else None
     results = allan.adev(
-        matrix, fs, taus=taus, confidence=opts.confidence, units=opts.units, axis_names=list(axis_names)
+        matrix, fs, taus=taus, confidence=opts.confidence, units=shared, axis_names=list(axis_names)
     )
     assert isinstance(results, tuple)
     n = int(matrix.shape[0])
     common: dict[str, Any] = {
-        "sensor": sensor,
-        "data_unit": opts.units,
         "fs": fs,
         "duration": n / fs,
         "n_samples": n,
@@ -177,15 +176,17 @@ def _rows_for(
             sampling_warnings="; ".join(sampling.warnings) or None,
         )
     rows = []
-    for r in results:
+    for r, unit in zip(results, axis_units):
         row = _empty_row(source)
         row.update(common)
         row["axis"] = r.axis
+        row["data_unit"] = unit
         row["fit_method"] = opts.fit
         row["adev_tau"] = np.asarray(r.taus, dtype=np.float64)
         row["adev"] = np.asarray(r.adev, dtype=np.float64)
         try:
-            c = noise.fit(r, method=opts.fit)
+            row["sensor"] = None if unit is None else sensor_kind(unit)
+            c = noise.fit(r, method=opts.fit, unit=unit)
         except Exception as exc:  # noqa: BLE001 - one failed fit is one error row, never a crash
             row["error"] = f"noise fit: {_error_text(exc)}"
             rows.append(row)
@@ -193,7 +194,7 @@ def _rows_for(
         for t in c.terms:
             row[t.symbol] = math.nan if t.value is None else float(t.value)
             row[f"{t.symbol}_uncertainty"] = math.nan if t.uncertainty is None else float(t.uncertainty)
-            row[f"{t.symbol}_unit"] = _term_unit(opts.units, t.symbol)
+            row[f"{t.symbol}_unit"] = _term_unit(unit, t.symbol)
         row["chi2"] = math.nan if c.chi2 is None else float(c.chi2)
         row["dof"] = c.dof
         row["chi2_reduced"] = math.nan if c.chi2 is None or not c.dof else float(c.chi2) / c.dof
@@ -215,7 +216,8 @@ def _analyse_file(path: str, opts: _Options) -> list[dict[str, Any]]:
                     f"channels of {os.path.basename(path)} ({', '.join(log.columns)})"
                 )
             names = opts.axis_names
-        return _rows_for(path, log.data, float(log.fs), names, opts, log.sampling)
+        units = tuple(log.units) if len(log.units) == len(log.columns) else (None,) * len(log.columns)
+        return _rows_for(path, log.data, float(log.fs), names, units, opts, log.sampling)
     except Exception as exc:  # noqa: BLE001 - a failed file is a row with its error
         row = _empty_row(path)
         row["error"] = _error_text(exc)
@@ -225,13 +227,11 @@ def _analyse_file(path: str, opts: _Options) -> list[dict[str, Any]]:
 def _analyse_block(block: NDArray[np.float64], start: int, opts: _Options) -> list[dict[str, Any]]:
     """Analyse units ``start …`` of an array block ``(units, n)`` or ``(units, n, axes)``."""
     assert opts.fs is not None
-    n_axes = 1 if block.ndim == 2 else int(block.shape[2])
-    names = opts.axis_names if opts.axis_names is not None else tuple(f"col{i}" for i in range(n_axes))
     rows: list[dict[str, Any]] = []
     for i in range(block.shape[0]):
         source = f"array[{start + i}]"
         try:
-            rows.extend(_rows_for(source, block[i], opts.fs, names, opts, None))
+            rows.extend(_rows_for(source, block[i], opts.fs, opts.axis_names or (), opts.array_units, opts, None))
         except Exception as exc:  # noqa: BLE001 - one failed unit is one error row
             row = _empty_row(source)
             row["error"] = _error_text(exc)
@@ -320,7 +320,7 @@ def analyse(
     sources: str | os.PathLike[str] | Sequence[str | os.PathLike[str]] | ArrayLike,
     *,
     fs: float | None = None,
-    units: str | None = None,
+    units: str | Sequence[str | None] | Mapping[str, str] | None = None,
     fit: str = "joint",
     client: Any = None,
     columns: Sequence[str | int] | str | None = None,
@@ -343,9 +343,11 @@ def analyse(
     fs : float, optional
         Sample rate in Hz. Required for arrays and for logs without a time column; for logs
         with timestamps it is the user-given rate of :func:`gyrobias.io.load`.
-    units : str, optional
-        Unit of the rate samples (``"deg/s"``, ``"rad/s"``, ``"m/s^2"``, …): the term columns
-        are then in its base units (``N`` in deg/√s for deg/s, …) and ``sensor`` is set.
+    units : str, sequence or mapping, optional
+        Unit of the rate samples (``"deg/s"``, ``"rad/s"``, ``"m/s^2"``, …), one per channel,
+        or per channel name, as :func:`gyrobias.io.load` takes it (bags carry their own: rad/s
+        and m/s²). Each row's terms are then in the base units of its channel (``N`` in deg/√s
+        for deg/s, …) and ``sensor`` is ``"gyro"`` or ``"accel"``.
     fit : {"joint", "ieee"}
         Noise-coefficient method of :func:`gyrobias.noise.fit`.
     client : distributed.Client or str, optional
@@ -401,8 +403,8 @@ def analyse(
     choice("fit", fit, ("joint", "ieee"))
     if fs is not None:
         fs = positive_float("fs", fs)
-    if units is not None:
-        sensor_kind(units)  # unknown or non-rate units fail here, once, not in every row
+    if isinstance(units, str) and not set(units) & {",", "="}:
+        sensor_kind(units)  # an unknown or non-rate unit fails here, once, not in every row
     if confidence is not None:
         c = float(confidence)
         if not 0.0 < c < 1.0:
@@ -424,27 +426,27 @@ def analyse(
         load["columns"] = columns
     if time_column is not None:
         load["time_column"] = time_column
-    opts = _Options(
-        fs=fs,
-        units=units,
-        fit=fit,
-        taus=tau_spec,
-        confidence=confidence,
-        axis_names=None if axis_names is None else tuple(str(a) for a in axis_names),
-        load=load,
-    )
+    if units is not None:
+        load["units"] = units
+    names = None if axis_names is None else tuple(str(a) for a in axis_names)
     expanded = _expand(sources)
+    array_units: tuple[str | None, ...] = ()
+    if isinstance(expanded, np.ndarray):
+        if fs is None:
+            raise ValueError("fs is required when sources is an array")
+        n_axes = 1 if expanded.ndim == 2 else int(expanded.shape[2])
+        if names is not None and len(names) != n_axes:
+            raise ValueError(f"axis_names has {len(names)} names for {n_axes} axes")
+        names = names or tuple(f"col{i}" for i in range(n_axes))
+        array_units = io._resolve_units(units, names, None, "sources")  # the reader's rules for units=
+    opts = _Options(
+        fs=fs, fit=fit, taus=tau_spec, confidence=confidence, axis_names=names, load=load, array_units=array_units
+    )
 
     client, owned = _connect(client)
     tasks: list[tuple[Any, tuple[Any, ...], str]]
     try:
         if isinstance(expanded, np.ndarray):
-            if fs is None:
-                raise ValueError("fs is required when sources is an array")
-            if opts.axis_names is not None:
-                n_axes = 1 if expanded.ndim == 2 else expanded.shape[2]
-                if len(opts.axis_names) != n_axes:
-                    raise ValueError(f"axis_names has {len(opts.axis_names)} names for {n_axes} axes")
             workers = num_workers or os.cpu_count() or 1
             if client is not None:
                 workers = max(1, sum(client.nthreads().values()))
@@ -542,6 +544,33 @@ def _chi2_sf(x: float, dof: int) -> float:
     return 0.5 * math.erfc(zval / math.sqrt(2.0))
 
 
+def _spread(x: NDArray[np.float64], u: NDArray[np.float64], alpha: float, min_ratio: float) -> dict[str, Any]:
+    """The statistics of one term over the units that have it (see :func:`summary`)."""
+    med = float(np.median(x))
+    spread = _MAD_TO_SD * float(np.median(np.abs(x - med)))
+    good = np.isfinite(u) & (u > 0.0)
+    mean_u = float(np.sqrt(np.mean(u[good] ** 2))) if good.any() else math.nan
+    dof = int(good.sum()) - 1
+    chi2 = p = ratio = math.nan
+    if dof >= 1:
+        w = 1.0 / u[good] ** 2
+        xm = float(np.sum(w * x[good]) / np.sum(w))
+        chi2 = float(np.sum(w * (x[good] - xm) ** 2))
+        p = _chi2_sf(chi2, dof)
+        ratio = math.sqrt(chi2 / dof)
+    return {
+        "median": med,
+        "spread": spread,
+        "mean_uncertainty": mean_u,
+        "intrinsic_spread": math.sqrt(max(spread * spread - mean_u * mean_u, 0.0)) if math.isfinite(mean_u) else math.nan,
+        "chi2": chi2,
+        "dof": dof if dof >= 1 else None,
+        "birge_ratio": ratio,
+        "p_value": p,
+        "spread_real": None if dof < 1 else bool(p < alpha and ratio >= min_ratio),
+    }
+
+
 def summary(table: DataFrame, *, alpha: float = SPREAD_ALPHA, min_ratio: float = SPREAD_MIN_RATIO) -> DataFrame:
     """Per axis and term: median, spread, mean uncertainty, and whether the spread is real.
 
@@ -584,20 +613,7 @@ def summary(table: DataFrame, *, alpha: float = SPREAD_ALPHA, min_ratio: float =
             have = np.isfinite(values)
             if not have.any():
                 continue
-            x, u = values[have], unc[have]
-            med = float(np.median(x))
-            spread = _MAD_TO_SD * float(np.median(np.abs(x - med)))
-            good = np.isfinite(u) & (u > 0.0)
-            mean_u = float(np.sqrt(np.mean(u[good] ** 2))) if good.any() else math.nan
-            chi2 = math.nan
-            dof = int(good.sum()) - 1
-            p = math.nan
-            if dof >= 1:
-                w = 1.0 / u[good] ** 2
-                xm = float(np.sum(w * x[good]) / np.sum(w))
-                chi2 = float(np.sum(w * (x[good] - xm) ** 2))
-                p = _chi2_sf(chi2, dof)
-            ratio = math.sqrt(chi2 / dof) if dof >= 1 else math.nan
+            stats = _spread(values[have], unc[have], alpha, min_ratio)
             units = group[f"{t}_unit"].dropna()
             flagged = group["out_of_family_terms"].dropna().map(lambda text, t=t: t in str(text).split(","))
             out.append(
@@ -606,17 +622,7 @@ def summary(table: DataFrame, *, alpha: float = SPREAD_ALPHA, min_ratio: float =
                     "term": t,
                     "unit": None if units.empty else str(units.iloc[0]),
                     "n": int(have.sum()),
-                    "median": med,
-                    "spread": spread,
-                    "mean_uncertainty": mean_u,
-                    "intrinsic_spread": math.sqrt(max(spread * spread - mean_u * mean_u, 0.0))
-                    if math.isfinite(mean_u)
-                    else math.nan,
-                    "chi2": chi2,
-                    "dof": dof if dof >= 1 else None,
-                    "birge_ratio": ratio,
-                    "p_value": p,
-                    "spread_real": None if dof < 1 else bool(p < alpha and ratio >= min_ratio),
+                    **stats,
                     "n_out_of_family": int(flagged.sum()),
                 }
             )

@@ -543,7 +543,7 @@ class NoiseCoefficients:
         colours = {"Q": "tab:purple", "N": "tab:blue", "B": "tab:green", "K": "tab:orange", "R": "tab:red"}
         ax.loglog(grid, total, "-", color="k", lw=1.5, label=f"{self.method} model")
         unit = self.data_unit or ""
-        for t, b in zip(self.terms, base.terms):
+        for t, _b in zip(self.terms, base.terms):
             if t.value is None:
                 continue
             curve = parts[t.symbol]
@@ -695,7 +695,7 @@ def fit(
         if isinstance(allan, (str, bytes)) or not isinstance(allan, Sequence):
             raise TypeError(f"allan must be an AllanResult or a sequence of them, got {type(allan).__name__}")
         return tuple(
-            fit(  # type: ignore[misc]
+            fit(
                 a,
                 method=method,
                 terms=terms,

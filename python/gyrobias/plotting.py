@@ -344,7 +344,6 @@ def _draw_fleet(fig: Any, ok: Any, title: str | None) -> None:
         ax.set_title(f"axis {name} ({len(rows)} units)", fontsize=10)
         ax.set_xlabel("τ [s]")
         ax.grid(True, which="major", alpha=0.5)
-        ax.grid(True, which="minor", alpha=0.15)
     adev_axes[0].set_ylabel(f"σ(τ) [{unit}]" if unit else "σ(τ)")
     handles, labels = adev_axes[0].get_legend_handles_labels()
     if handles:

@@ -25,7 +25,7 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import Protocol
+from typing import Any, Protocol
 
 from gyrobias import io
 
@@ -33,6 +33,7 @@ __all__ = [
     "ProgressBar",
     "add_progress_argument",
     "add_read_arguments",
+    "load_options",
     "progress_bar",
     "read_log",
     "require_fs",
@@ -176,35 +177,14 @@ def read_log(
     :func:`gyrobias.io.load` raises.
     """
     path = Path(args.log if path is None else path)
-    no_time = bool(getattr(args, "no_time_column", False))
-    time_column = getattr(args, "time_column", None)
-    if no_time and time_column is not None:
-        raise ValueError("--time-column and --no-time-column contradict each other")
-    delimiter = getattr(args, "delimiter", None)
-    if delimiter is not None:
-        delimiter = _DELIMITERS.get(delimiter, delimiter)
-    spill = {"auto": None, "always": True, "never": False}[getattr(args, "spill", "auto")]
-    columns = getattr(args, "columns", None)
+    options = load_options(args)
+    if fs is not None:
+        options["fs"] = fs
     bar = None
     if _wants_progress(args, path):
         bar = progress_bar(f"reading {path.name}", args)
     try:
-        log = io.load(
-            path,
-            columns=columns,
-            time_column=False if no_time else time_column,
-            time_unit=getattr(args, "time_unit", "auto"),
-            fs=getattr(args, "fs", None) if fs is None else fs,
-            delimiter=delimiter,
-            skip_rows=getattr(args, "skip_rows", 0),
-            units=getattr(args, "units", None) if getattr(args, "read_units", True) else None,
-            topic=getattr(args, "topic", None),
-            stamp=getattr(args, "stamp", "header"),
-            repair=getattr(args, "repair", ""),
-            fill_gaps=bool(getattr(args, "fill_gaps", False)),
-            spill=spill,
-            progress=bar,
-        )
+        log = io.load(path, **options, progress=bar)
     finally:
         if bar is not None:
             bar.close()
@@ -212,6 +192,34 @@ def read_log(
         for w in log.warnings:
             warn(f"{path.name}: {w}")
     return log
+
+
+def load_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The keyword arguments of :func:`gyrobias.io.load` given by :func:`add_read_arguments`' options.
+
+    Raises ``ValueError`` for contradictory options. ``gyrobias fleet`` passes them to every log.
+    """
+    no_time = bool(getattr(args, "no_time_column", False))
+    time_column = getattr(args, "time_column", None)
+    if no_time and time_column is not None:
+        raise ValueError("--time-column and --no-time-column contradict each other")
+    delimiter = getattr(args, "delimiter", None)
+    if delimiter is not None:
+        delimiter = _DELIMITERS.get(delimiter, delimiter)
+    return {
+        "columns": getattr(args, "columns", None),
+        "time_column": False if no_time else time_column,
+        "time_unit": getattr(args, "time_unit", "auto"),
+        "fs": getattr(args, "fs", None),
+        "delimiter": delimiter,
+        "skip_rows": getattr(args, "skip_rows", 0),
+        "units": getattr(args, "units", None) if getattr(args, "read_units", True) else None,
+        "topic": getattr(args, "topic", None),
+        "stamp": getattr(args, "stamp", "header"),
+        "repair": getattr(args, "repair", ""),
+        "fill_gaps": bool(getattr(args, "fill_gaps", False)),
+        "spill": {"auto": None, "always": True, "never": False}[getattr(args, "spill", "auto")],
+    }
 
 
 def require_fs(log: io.GyroLog, path: Path) -> float:

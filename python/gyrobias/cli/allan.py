@@ -158,6 +158,7 @@ def run(args: argparse.Namespace) -> int:
             "confidence": confidence,
             "columns": list(log.columns),
             "time_column": log.time_column,
+            "topic": log.topic,
             "sampling": report.to_dict(),
             "timing_s": {"read": t_read, "analysis": t_run},
             "axes": [r.to_dict() for r in results],

@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from gyrobias import fleet
+from gyrobias.cli._common import add_read_arguments, load_options
 
 __all__ = ["register", "run"]
 
@@ -40,16 +41,9 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument("sources", nargs="+", metavar="LOG",
                    help="log files or quoted glob patterns ('logs/*.csv', 'runs/**/*.npy')")
-    src = p.add_argument_group("reading the logs")
-    src.add_argument("--columns", metavar="A,B,…", help="channels by header name or 0-based index (default: all but time)")
-    src.add_argument("--fs", type=float, metavar="HZ", help="sample rate (required for logs without a time column)")
-    src.add_argument("--time-column", metavar="NAME", help="column of timestamps (default: a header column named t/time/timestamp)")
-    src.add_argument("--no-time-column", action="store_true", help="the logs have no time column")
-    src.add_argument("--time-unit", choices=("auto", "s", "ms", "us", "ns"), default="auto",
-                     help="unit of the timestamps (default auto)")
+    src = add_read_arguments(p)
     src.add_argument("--axis-names", metavar="X,Y,…",
                      help="names for the channels of every log (compares logs whose headers differ, e.g. CSV and NPY)")
-    src.add_argument("--units", metavar="UNIT", help="unit of the samples, e.g. deg/s (terms in its base units)")
     ana = p.add_argument_group("analysis")
     ana.add_argument("--fit-method", choices=("joint", "ieee"), default="joint",
                      help="joint weighted NNLS fit (default) or IEEE-952 slope read-off")
@@ -115,23 +109,20 @@ def _print_summary(summ: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Execute ``gyrobias fleet``."""
-    if args.no_time_column and args.time_column is not None:
-        raise ValueError("--time-column and --no-time-column contradict each other")
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
     if args.out is not None and args.out.suffix.lower() not in (".parquet", ".csv"):
         raise ValueError(f"--out must end in .parquet or .csv, got '{args.out}'")
-    time_column: Any = False if args.no_time_column else args.time_column
+    options = load_options(args)
+    fs, units = options.pop("fs"), options.pop("units")
     table = fleet.analyse(
         args.sources,
-        fs=args.fs,
-        units=args.units,
+        fs=fs,
+        units=units,
         fit=args.fit_method,
         client=args.scheduler,
-        columns=args.columns,
         axis_names=None if args.axis_names is None else [a.strip() for a in args.axis_names.split(",") if a.strip()],
-        time_column=time_column,
-        load_options={"time_unit": args.time_unit},
+        load_options=options,
         taus=args.taus,
         threshold=args.threshold,
         num_workers=args.workers,

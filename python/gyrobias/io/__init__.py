@@ -865,6 +865,11 @@ def _read_text(
     usecols = ([t_idx] if t_idx is not None else []) + idx
     first_data = _split(sample[1 if has_header else 0][1], delimiter)
     int_time = t_idx is not None and bool(_INT_RE.match(first_data[t_idx])) and time_unit != "s"
+    if int_time and t_idx is not None:  # every sampled stamp must be an integer, not just the first
+        for number, text in sample:
+            fields = _split(text, delimiter)
+            if number >= data_start and len(fields) > t_idx and not _INT_RE.match(fields[t_idx]):
+                int_time = False
     if delimiter is not None and len(delimiter) == 1 and p.suffix.lower() not in _OPENERS:
         data_lines = [text for number, text in sample if number >= data_start]
         mean_line = (sum(len(t) for t in data_lines) + len(data_lines)) / max(len(data_lines), 1)
@@ -980,7 +985,7 @@ def _read_arrow(
     sink = store.sink(len(idx), estimated_rows)
     stamps: list[NDArray[Any]] = []
     try:
-        source = pa.memory_map(str(p))
+        source = pa.OSFile(str(p), "r")  # plain reads: a mapping would count the file as resident
         try:
             source.seek(_line_offset(p, data_start))
             reader = pacsv.open_csv(

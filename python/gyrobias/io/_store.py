@@ -75,16 +75,22 @@ class Store:
 
     def sink(self, cols: int, estimated_rows: int) -> Sink:
         """A writer of row blocks whose total count is not known in advance."""
-        return Sink(self, cols, self.wants_spill(estimated_rows * cols * 8))
+        return Sink(self, cols, self.wants_spill(estimated_rows * cols * 8), estimated_rows)
 
 
 class Sink:
-    """Collects ``(m, cols)`` float64 blocks; :meth:`finish` returns them as one array."""
+    """Collects ``(m, cols)`` float64 blocks; :meth:`finish` returns them as one array.
 
-    def __init__(self, store: Store, cols: int, spill: bool) -> None:
+    In memory, the rows go into one array allocated for the estimated row count, grown by half
+    when the estimate was short and trimmed in place at the end (no second copy of the data).
+    Spilled, they are appended to an anonymous temporary file that is then memory-mapped.
+    """
+
+    def __init__(self, store: Store, cols: int, spill: bool, estimated_rows: int = 0) -> None:
         self.cols = cols
         self.rows = 0
-        self._blocks: list[NDArray[np.float64]] = []
+        self._buf = np.empty((0, cols))
+        self._estimate = max(int(estimated_rows * 1.05) + 16, 16)
         self._file = None
         if spill:
             self._file = tempfile.TemporaryFile(
@@ -95,21 +101,24 @@ class Sink:
     def append(self, block: NDArray[np.float64]) -> None:
         """Add rows (copied)."""
         block = np.ascontiguousarray(block, dtype=np.float64).reshape(-1, self.cols)
+        m = block.shape[0]
         if self._file is not None:
             self._file.write(block.tobytes())
         else:
-            self._blocks.append(block)
-        self.rows += block.shape[0]
+            if self.rows + m > self._buf.shape[0]:
+                size = max(self._estimate, int(1.5 * self._buf.shape[0]), self.rows + m)
+                bigger = np.empty((size, self.cols))
+                bigger[: self.rows] = self._buf[: self.rows]
+                self._buf = bigger
+            self._buf[self.rows : self.rows + m] = block
+        self.rows += m
 
     def finish(self) -> NDArray[np.float64]:
         """All rows as an ``(n, cols)`` array (a memmap of the anonymous temporary file if spilled)."""
         if self._file is None:
-            if len(self._blocks) == 1:
-                return self._blocks[0]
-            if not self._blocks:
-                return np.empty((0, self.cols))
-            out = np.concatenate(self._blocks)
-            self._blocks.clear()
+            out, self._buf = self._buf, np.empty((0, self.cols))
+            if out.shape[0] != self.rows:
+                out.resize((self.rows, self.cols), refcheck=False)  # in place: frees the tail
             return out
         self._file.flush()
         if self.rows == 0:
