@@ -40,8 +40,8 @@ def register(subparsers: Any) -> None:
         "allan",
         help="Allan / modified / Hadamard / total deviation of a gyro log",
         description=(
-            "Compute an Allan-family deviation of each channel of an IMU log (CSV/TSV/text, "
-            ".npy, ROS1/ROS2 bag or MCAP), print a table per sensor axis with confidence "
+            "Compute an Allan-family deviation of each channel of an IMU log (CSV/TSV/text,\n"
+            ".npy, ROS1/ROS2 bag or MCAP), print a table per sensor axis with confidence\n"
             "intervals and the identified noise type, and optionally write JSON and a log-log plot."
         ),
         epilog="examples: gyrobias allan log.csv --columns gx,gy,gz --units deg/s --plot adev.png\n"
