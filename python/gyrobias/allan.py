@@ -235,7 +235,6 @@ def _options(
     """Normalised options: ``(fs, estimator, tau spec, explicit taus, confidence)``."""
     fs = positive_float("fs", fs)
     choice("data_type", data_type, ("rate", "angle"))
-    units = checked_units("units", units)
     per_decade = integer("per_decade", per_decade)  # >= 1: the core's check
     confidence = None if confidence is None else real("confidence", confidence)  # (0, 1): the core's
     if kind == "adev":
@@ -309,6 +308,7 @@ def _analyse(
     gaps: str = "error",
 ) -> AllanResult | tuple[AllanResult, ...]:
     arr = as_float_array("data", data, ndims=(1, 2))
+    units = checked_units("units", units)
     fs, estimator, spec, explicit, confidence = _options(
         kind, fs, taus, per_decade, data_type, overlapping, confidence
     )
@@ -395,6 +395,7 @@ def adev_batch(
     True
     """
     arr = as_float_array("data", data, ndims=(2, 3))
+    units = checked_units("units", units)
     fs, estimator, spec, explicit, confidence = _options(
         "adev", fs, taus, per_decade, data_type, overlapping, confidence
     )
@@ -694,10 +695,11 @@ def _analyse_family(
     arr = as_float_array("data", data, ndims=(1, 2))
     fs = positive_float("fs", fs)
     choice("data_type", data_type, ("rate", "angle"))
+    units = checked_units("units", units)
     if isinstance(per_decade, bool) or not isinstance(per_decade, (int, np.integer)) or per_decade < 1:
         raise ValueError(f"per_decade must be an integer >= 1, got {per_decade!r}")
     if confidence is not None:
-        c = float(confidence)
+        c = real("confidence", confidence)
         if not 0.0 < c < 1.0:
             raise ValueError(f"confidence must lie strictly between 0 and 1 (or be None), got {confidence!r}")
         confidence = c
