@@ -6,7 +6,7 @@ from typing import NotRequired, TypedDict, type_check_only
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["analyse", "analyse_batch", "factors"]
+__all__ = ["analyse", "analyse_batch", "analyse_stream", "factors"]
 
 @type_check_only
 class Analysis(TypedDict):
@@ -44,6 +44,18 @@ def analyse_batch(
     gaps: str = "error",
     progress: Callable[[float], object] | None = None,
 ) -> list[list[Analysis]]: ...
+def analyse_stream(
+    read: Callable[[int, int], NDArray[np.float64]],
+    n_samples: int,
+    t0: float,
+    data_type: str,
+    tau_spec: str,
+    per_decade: int,
+    taus: NDArray[np.float64] | None,
+    confidence: float | None,
+    block: int,
+    progress: Callable[[float], object] | None = None,
+) -> Analysis: ...
 def factors(
     n_samples: int,
     t0: float,

@@ -32,6 +32,7 @@ mod fused;
 pub mod gaps;
 pub mod noise_id;
 pub mod progress;
+pub mod stream;
 
 use std::borrow::Cow;
 
