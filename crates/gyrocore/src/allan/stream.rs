@@ -404,7 +404,7 @@ fn identify(
         n,
         ms,
         |_, _| (small_ids, large_ids),
-        |m| lookup(m),
+        lookup,
         // Only records under 30 samples need B1; those are analysed in memory.
         |_| None,
     ))
