@@ -400,6 +400,10 @@ def _file_readers(data: object) -> list[_ColumnReader] | None:
     if mapping is None or path is None or data.dtype.kind != "f" or any(s <= 0 for s in data.strides):
         return None
     import mmap
+    import os
+
+    if not os.path.isfile(path):  # e.g. io's spill files, unlinked once mapped: read in memory
+        return None
 
     base = np.frombuffer(mapping, dtype=np.uint8)
     first = int(data.offset) - int(data.offset) % mmap.ALLOCATIONGRANULARITY
