@@ -127,6 +127,7 @@ def run(args: argparse.Namespace) -> int:
             axis_names=None if args.axis_names is None else [a.strip() for a in args.axis_names.split(",") if a.strip()],
             load_options=options,
             taus=args.taus,
+            gaps="omit" if args.fill_gaps else "error",
             threshold=args.threshold,
             num_workers=args.workers,
             progress=bar,
