@@ -87,6 +87,41 @@ def noise_model(
     squared: list[float] | tuple[float, float, float, float, float],
     taus: NDArray[np.float64],
 ) -> tuple[NDArray[np.float64], list[NDArray[np.float64]]]: ...
+def noise_fit(
+    taus: NDArray[np.float64],
+    variance: NDArray[np.float64],
+    m: NDArray[np.uint64],
+    n_terms: NDArray[np.uint64],
+    overlapping: bool,
+    edf: NDArray[np.float64] | None,
+    terms: list[str],
+    tau_range: tuple[float, float] | None,
+    correlation_time: tuple[float, float] | None,
+    automatic_range: bool,
+) -> dict[str, Any]: ...
+def noise_diagnose(
+    taus: NDArray[np.float64],
+    variance: NDArray[np.float64],
+    m: NDArray[np.uint64],
+    n_terms: NDArray[np.uint64],
+    overlapping: bool,
+    edf: NDArray[np.float64] | None,
+    squared: list[float] | tuple[float, float, float, float, float],
+    gauss_markov: list[tuple[float, float]],
+    n_params: int,
+) -> dict[str, Any]: ...
+def noise_gauss_markov_variance(
+    gauss_markov: list[tuple[float, float]], taus: NDArray[np.float64]
+) -> list[NDArray[np.float64]]: ...
+def noise_gmwm(
+    data: NDArray[np.float64],
+    t0: float,
+    terms: list[str],
+    select: bool,
+    bootstrap: int,
+    seed: int,
+    min_blocks: int,
+) -> dict[str, Any]: ...
 
 # --- fir ---------------------------------------------------------------------------------------
 

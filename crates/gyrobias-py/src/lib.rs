@@ -10,6 +10,7 @@ mod fir;
 mod fractional;
 mod kalman;
 mod noise;
+mod noise_fit;
 mod predict;
 mod spectral;
 mod thermal;
@@ -28,5 +29,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     predict::register(m)?;
     kalman::register(m)?;
     noise::register(m)?;
+    noise_fit::register(m)?;
     Ok(())
 }
