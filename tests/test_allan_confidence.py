@@ -140,7 +140,7 @@ def test_nbs14_deviations_and_intervals(kind, overlapping):
 
 def test_raw_core_returns_variance_bounds():
     y = nbs14_1000()
-    raw = _core.allan_analysis(y.reshape(-1, 1), 1.0, "rate", "overlapping", "octave", 10, None, LEVEL)[0]
+    raw = _core.allan.analyse(y.reshape(-1, 1), 1.0, "rate", "overlapping", "octave", 10, None, LEVEL)[0]
     r = gyrobias.allan.adev(y, fs=1.0, confidence=LEVEL)
     # The wrapper reports deviations: the square roots of the core's variance bounds.
     np.testing.assert_array_equal(np.sqrt(raw["low"]), r.ci_low)
@@ -174,7 +174,7 @@ def test_coverage_of_white_rate_intervals():
 def test_bounds_are_exact_chi_square_quantiles(level, seed, n):
     """high/σ² and low/σ² are edf/χ² quantiles: SciPy's CDF at edf·σ²/bound gives the tails."""
     y = np.random.default_rng(seed).normal(size=n)
-    raw = _core.allan_analysis(y.reshape(-1, 1), 1.0, "rate", "overlapping", "octave", 10, None, level)[0]
+    raw = _core.allan.analyse(y.reshape(-1, 1), 1.0, "rate", "overlapping", "octave", 10, None, level)[0]
     tail = (1.0 - level) / 2.0
     for var, low, high, edf in zip(raw["variance"], raw["low"], raw["high"], raw["edf"], strict=True):
         # 1e-9 relative on the tail probabilities: our quantiles are accurate to ~1e-13; the
@@ -236,7 +236,7 @@ def test_confidence_outside_unit_interval_is_rejected(level):
         gyrobias.allan.adev(y, fs=1.0, confidence=level)
     # The core checks it too (callers of the raw binding get the same message).
     with pytest.raises(ValueError, match="confidence"):
-        _core.allan_analysis(y.reshape(-1, 1), 1.0, "rate", "overlapping", "octave", 10, None, level)
+        _core.allan.analyse(y.reshape(-1, 1), 1.0, "rate", "overlapping", "octave", 10, None, level)
 
 
 def test_confidence_none_skips_intervals():

@@ -18,6 +18,7 @@ MODULES = [
     "gyrobias.spectral",
     "gyrobias.thermal",
     "gyrobias.plotting",
+    "gyrobias.fleet",
 ]
 
 

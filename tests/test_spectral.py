@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import scipy.signal as ss
 from astropy.timeseries import LombScargle
-from hypothesis import given
+from hypothesis import example, given
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
@@ -33,13 +33,31 @@ def irregular(n: int, seed: int, gap: bool = True) -> tuple[np.ndarray, np.ndarr
 ATOL = 1e-12
 
 
+def conditioning_tolerance(t: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """Forward-error allowance of a normal-equation least-squares fit at each frequency.
+
+    Both gyrobias and astropy solve the [1, cos, sin] fit through its normal equations, whose
+    forward error grows like κ(A)²·ε. At frequencies with only a fraction of a cycle over the
+    record, cos and sin are nearly collinear with the mean (κ ≈ 160 for 20 points over 0.13
+    cycles: κ²ε ≈ 6e-12), and the two implementations are then each ~7e-13 from the exact
+    value (checked at 50 digits with mpmath), in opposite directions.
+    """
+    kappa = np.array(
+        [np.linalg.cond(np.c_[np.ones_like(t), np.cos(2 * np.pi * fk * t), np.sin(2 * np.pi * fk * t)]) for fk in f]
+    )
+    return ATOL + kappa**2 * np.finfo(float).eps
+
+
 @given(seed=st.integers(0, 2**32 - 1), n=st.integers(20, 400))
+@example(seed=38894, n=20)  # issue 19 explore run: 1.4e-12 apart at f = 0.002 (κ = 160)
 def test_equals_astropy_unequal_spacing(seed: int, n: int) -> None:
     t, y = irregular(n, seed)
     f = np.linspace(0.002, 0.5, 300)
     r = spectral.lssa(t, y, f)
     ref = LombScargle(t, y, fit_mean=True, center_data=True, normalization="standard").power(f, method="cython")
-    assert_allclose(r.spectrum, ref, rtol=0, atol=ATOL)
+    tolerance = conditioning_tolerance(t, f)
+    worst = np.max(np.abs(r.spectrum - ref) / tolerance)
+    assert worst <= 1.0, f"gyrobias and astropy differ by {worst:.3g} times the conditioning allowance"
 
 
 def test_equals_astropy_weighted_and_irregular_grid() -> None:
@@ -123,7 +141,7 @@ def test_known_constituent_suppressed_without_shifting_peaks() -> None:
 
 
 def test_critical_value_and_significance() -> None:
-    assert gyrobias._core.lssa_critical(600, 1, 0.01) == pytest.approx(0.01530931, abs=5e-9)
+    assert gyrobias._core.spectral.critical_value(600, 1, 0.01) == pytest.approx(0.01530931, abs=5e-9)
     rng = np.random.default_rng(8)
     t = np.sort(rng.uniform(0, 500, 600))
     r = spectral.lssa(t, rng.normal(size=600), alpha=0.01)

@@ -243,7 +243,7 @@ def _analyse(
     t0 = 1.0 / fs
 
     if progress is None:
-        raw = _core.allan_analysis(matrix, t0, data_type, estimator, spec, int(per_decade), explicit, confidence)
+        raw: list[Any] = _core.allan.analyse(matrix, t0, data_type, estimator, spec, int(per_decade), explicit, confidence)
     else:
         raw = _with_progress(matrix, t0, data_type, estimator, spec, int(per_decade), explicit, confidence, progress)
 
@@ -299,12 +299,12 @@ def _with_progress(
 
     Each chunk re-integrates the rate (one extra O(N) pass per chunk), so chunks are few.
     """
-    factors = _core.allan_factors(matrix.shape[0], t0, data_type, estimator, spec, per_decade, explicit)
+    factors = _core.allan.factors(matrix.shape[0], t0, data_type, estimator, spec, per_decade, explicit)
     chunks = np.array_split(factors, min(len(factors), 8))
     merged: list[dict[str, Any]] = [{} for _ in range(matrix.shape[1])]
     progress(0.0)
     for done, chunk in enumerate(chunks, start=1):
-        part = _core.allan_analysis(
+        part = _core.allan.analyse(
             matrix, t0, data_type, estimator, spec, per_decade, chunk.astype(np.float64) * t0, confidence
         )
         for axis, r in enumerate(part):

@@ -132,7 +132,7 @@ class KaiserLowpass:
             freqs = np.linspace(0.0, 0.5 * self.fs, int(n))
         else:
             freqs = as_float_array("frequencies", frequencies)
-        re, im = _core.fir_response(self.taps, self.fs, freqs)
+        re, im = _core.fir.frequency_response(self.taps, self.fs, freqs)
         resp = re + 1j * im
         if zero_phase:
             resp = (np.abs(resp) ** 2).astype(np.complex128)
@@ -228,7 +228,7 @@ def kaiser_lowpass(
     fstop = positive_float("fstop", fstop)
     apass_db = positive_float("apass_db", apass_db)
     astop_db = positive_float("astop_db", astop_db)
-    d = _core.kaiser_design(fs, fpass, fstop, apass_db, astop_db)
+    d = _core.fir.kaiser_lowpass(fs, fpass, fstop, apass_db, astop_db)
     return KaiserLowpass(
         fs=fs,
         fpass=fpass,
@@ -310,7 +310,7 @@ def apply(
     moved = np.moveaxis(arr, axis, -1)
     shape = moved.shape
     rows = np.ascontiguousarray(moved.reshape(-1, shape[-1]))
-    out = _core.fir_filter(h, rows, bool(zero_phase), padtype, int(padlen) if zero_phase else 0)
+    out = _core.fir.filter_rows(h, rows, bool(zero_phase), padtype, int(padlen) if zero_phase else 0)
     return np.moveaxis(out.reshape(shape), -1, axis)
 
 
@@ -373,5 +373,5 @@ def stream(
         if st.shape != (*shape[:-1], width):
             raise ValueError(f"state must have shape {(*shape[:-1], width)}, got {st.shape}")
         st = np.ascontiguousarray(st.reshape(rows.shape[0], width))
-    y, new_state = _core.fir_stream(h, rows, st)
+    y, new_state = _core.fir.filter_stream(h, rows, st)
     return np.moveaxis(y.reshape(shape), -1, axis), new_state.reshape(*shape[:-1], width)

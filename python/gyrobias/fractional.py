@@ -117,7 +117,7 @@ def weights(d: float, n: int) -> NDArray[np.float64]:
     >>> weights(-0.5, 3)
     array([1.   , 0.5  , 0.375])
     """
-    return _core.fractional_weights(_real("d", d), _count("n", n, 0))
+    return _core.fractional.weights(_real("d", d), _count("n", n, 0))
 
 
 def _apply(
@@ -169,7 +169,7 @@ def diff(x: ArrayLike, d: float, *, axis: int = -1, method: Method = "auto") -> 
     >>> diff([0, 1, 2, 3, 4], 1.0)
     array([0., 1., 1., 1., 1.])
     """
-    return _apply("x", x, d, axis, method, _core.fractional_diff)
+    return _apply("x", x, d, axis, method, _core.fractional.diff)
 
 
 def integrate(
@@ -203,7 +203,7 @@ def integrate(
     >>> integrate([1.0, 1.0, 1.0], 1.0)
     array([1., 2., 3.])
     """
-    return _apply("w", w, d, axis, method, _core.fractional_integrate)
+    return _apply("w", w, d, axis, method, _core.fractional.integrate)
 
 
 def arfima(
@@ -270,7 +270,7 @@ def arfima(
     elif not 0 <= seed < 2**64:
         raise ValueError(f"seed must be in [0, 2**64), got {seed}")
     rows = int(np.prod(batch, dtype=np.int64)) if batch else 1
-    out = _core.fractional_arfima(n, d, sigma, rows, int(seed), kind_name)
+    out = _core.fractional.arfima(n, d, sigma, rows, int(seed), kind_name)
     return out.reshape(*batch, n)
 
 
@@ -395,7 +395,7 @@ def elw(
     """
     m, lower, upper, level_name = _elw_settings(m, bounds, level)
     rows, shape = _rows("x", x, axis)
-    raw = _core.fractional_elw(rows, m, lower, upper, level_name)
+    raw = _core.fractional.elw(rows, m, lower, upper, level_name)
     batch = shape[:-1]
 
     def shaped(a: NDArray[Any]) -> Any:
@@ -427,4 +427,4 @@ def elw_objective(
     m, _, _, level_name = _elw_settings(m, (-0.5, 2.0), level)
     xs = as_float_array("x", x)
     ds = as_float_array("d", np.atleast_1d(np.asarray(d)))
-    return _core.fractional_elw_objective(xs, ds, m, level_name)
+    return _core.fractional.elw_objective(xs, ds, m, level_name)

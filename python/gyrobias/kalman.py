@@ -105,7 +105,7 @@ def steady_state_gain(q_omega: float, q_b: float, r_d: float) -> NDArray[np.floa
     >>> k.round(6).tolist()
     [0.199778, 0.0004]
     """
-    return _core.kalman_steady_state_gain(
+    return _core.kalman.steady_state_gain(
         positive_float("q_omega", q_omega),
         _non_negative_float("q_b", q_b),
         positive_float("r_d", r_d),
@@ -124,7 +124,7 @@ def riccati_gain(
         raise TypeError(f"iterations must be an int, got {type(iterations).__name__}")
     if iterations < 1:
         raise ValueError(f"iterations must be >= 1, got {iterations}")
-    return _core.kalman_riccati_gain(
+    return _core.kalman.riccati_gain(
         positive_float("q_omega", q_omega),
         _non_negative_float("q_b", q_b),
         positive_float("r_d", r_d),
@@ -147,7 +147,7 @@ def qomega_for_bandwidth(
         If the bandwidth is unreachable: not below Nyquist, above ≈ 1/(2π) Hz for
         ``form="paper"``, or so low that the bias random walk alone exceeds it.
     """
-    return _core.kalman_q_omega_for_bandwidth(
+    return _core.kalman.q_omega_for_bandwidth(
         positive_float("bandwidth", bandwidth),
         positive_float("fs", fs),
         positive_float("arw", arw),
@@ -175,7 +175,7 @@ def bandwidth_for_qomega(
 #: filtering bit for bit; ``rate`` and ``bias``, the estimates after the last sample (u/s);
 #: ``gain``, the ``G`` of the filter that produced it (checked on resume); ``samples``, the
 #: rows processed so far; ``n_axes``.
-KalmanState = _core.KalmanState
+KalmanState = _core.kalman.KalmanState
 
 
 @dataclass(frozen=True)
@@ -280,7 +280,7 @@ class FixedGainKalman:
             raise ValueError("give exactly one of q_omega and bandwidth (both or neither given)")
         q = None if q_omega is None else positive_float("q_omega", q_omega)
         bw = None if bandwidth is None else positive_float("bandwidth", bandwidth)
-        self._core = _core.FixedGainKalmanCore(fs, arw, rrw, q, bw, form)
+        self._core = _core.kalman.FixedGainKalman(fs, arw, rrw, q, bw, form)
         self._fs, self._arw, self._rrw, self._form = fs, arw, rrw, form
         self._x0 = None if x0 is None else self._check_x0(x0)
 
@@ -473,7 +473,7 @@ class FixedGainKalman:
             data = as_float_array("z", z, ndims=(1, 2))
         if state is None:
             state = self._initial(data[0] if data.ndim == 2 else data[:1])
-        elif type(state) is not _core.KalmanState:
+        elif type(state) is not _core.kalman.KalmanState:
             self._check_state_type(state)
         if out is None:
             rate = np.empty(data.shape)
@@ -487,7 +487,7 @@ class FixedGainKalman:
 
     @staticmethod
     def _check_state_type(state: object) -> None:
-        if type(state) is not _core.KalmanState:
+        if type(state) is not _core.kalman.KalmanState:
             raise TypeError(
                 f"state must be a KalmanState returned by FixedGainKalman.filter, "
                 f"got {type(state).__name__}"

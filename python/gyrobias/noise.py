@@ -207,7 +207,7 @@ def simulate(
         if not 0 <= int(seed) < 2**64:
             raise ValueError(f"seed must satisfy 0 <= seed < 2**64, got {seed!r}")
         seed_value = int(seed)
-    flat = _core.noise_simulate(
+    flat = _core.noise.simulate(
         n,
         fs,
         _non_negative("quantization", quantization),
@@ -660,11 +660,11 @@ class NoiseCoefficients:
         """
         t = np.ascontiguousarray(np.asarray(taus, dtype=np.float64))
         squared = self._squared_base()
-        total, parts = _core.noise_model(squared, t)
+        total, parts = _core.noise.model(squared, t)
         out = {s: np.sqrt(p) for s, p in zip(_SYMBOLS, parts)}
         gm = self._gauss_markov_base()
         if gm:
-            for g, v in zip(self.gauss_markov, _core.noise_gauss_markov_variance(gm, t)):
+            for g, v in zip(self.gauss_markov, _core.noise.gauss_markov_variance(gm, t)):
                 total = total + v
                 out[g.sigma.symbol] = np.sqrt(v)
         return np.sqrt(total), out
@@ -802,7 +802,7 @@ def gauss_markov_avar(sigma: float, correlation_time: float, taus: Any) -> NDArr
     tau = as_float_array("taus", np.atleast_1d(np.asarray(taus, dtype=np.float64)), ndims=(1,))
     if tau.size and not np.all(np.isfinite(tau) & (tau > 0)):
         raise ValueError("taus must be finite and > 0")
-    return np.asarray(_core.noise_gauss_markov_variance([(s * s, t)], tau)[0], dtype=np.float64)
+    return np.asarray(_core.noise.gauss_markov_variance([(s * s, t)], tau)[0], dtype=np.float64)
 
 
 def _edf_source(result: AllanResult) -> str:
@@ -1008,7 +1008,7 @@ def fit(
     if method == "joint":
         if regions is not None:
             raise ValueError("regions applies to method='ieee' only; use tau_range for the joint fit")
-        raw = _core.noise_fit(
+        raw = _core.noise.fit(
             taus, variance, m, n_terms, result.overlapping, edf, term_list, tau_range, correlation_time, auto_range
         )
         extra: dict[str, Any] = {
@@ -1030,13 +1030,13 @@ def fit(
             choice("regions key", key, _SYMBOLS)
             lo, hi = (float(v) for v in rng)
             region_list[_SYMBOLS.index(key)] = (lo, hi)
-        raw = _core.noise_read_off(
+        raw = _core.noise.read_off(
             taus, variance, m, n_terms, result.overlapping, edf, term_list, region_list,
             slope_tolerance, int(min_points),
         )
         extra = {"tau_range": (float(taus[0]), float(taus[-1]))}
         read = [0.0 if d["value"] is None else float(d["value"]) ** 2 for d in raw["terms"]]
-        diagnostics_raw = _core.noise_diagnose(
+        diagnostics_raw = _core.noise.diagnose(
             taus, variance, m, n_terms, result.overlapping, edf, read, [], sum(v > 0.0 for v in read)
         )
     return _assemble(
@@ -1081,8 +1081,8 @@ def _assemble(
             value=d["value"],
             uncertainty=d["uncertainty"],
             unit=None if data_unit is None else base_unit(data_unit, s),
-            tau_range=None if d["tau_range"] is None else tuple(d["tau_range"]),
-            marker=None if d["marker"] is None else tuple(d["marker"]),
+            tau_range=d["tau_range"],
+            marker=d["marker"],
             missing=d["missing"],
         )
     rate_unit = None if data_unit is None else base_unit(data_unit, "B")
@@ -1233,7 +1233,7 @@ def gmwm(
     out = []
     for a in range(n_axes):
         column = np.ascontiguousarray(matrix[:, a], dtype=np.float64)
-        raw = _core.noise_gmwm(column, t0, term_list, select, replicates, seed_value, 8)
+        raw = _core.noise.gmwm(column, t0, term_list, select, replicates, seed_value, 8)
         wv = raw["wavelet"]
         m = np.asarray(wv["m"]).astype(np.int64)
         name = None if axis_names is None else str(axis_names[a])

@@ -17,7 +17,7 @@ import numpy as np
 if TYPE_CHECKING:
     from gyrobias.allan import AllanResult
 
-__all__ = ["plot_allan", "save_allan_plot"]
+__all__ = ["plot_allan", "plot_fleet", "save_allan_plot", "save_fleet_plot"]
 
 _SYMBOL = {"adev": "σ(τ)", "mdev": "Mod σ(τ)", "hdev": "Hadamard σ(τ)", "totdev": "Tot σ(τ)"}
 _NAME = {"adev": "Allan", "mdev": "modified Allan", "hdev": "Hadamard", "totdev": "total"}
@@ -128,9 +128,23 @@ def save_allan_plot(
 
     if labels is not None and len(labels) != len(items):
         raise ValueError(f"labels has {len(labels)} entries for {len(items)} results")
+    bars = kwargs.pop("confidence_bars", True)
+    units = list(dict.fromkeys(r.unit for r in items))
+    if len(units) > 1:  # e.g. a 6-axis IMU: one panel per unit (gyro rad/s, accel m/s²)
+        fig = Figure(figsize=(7.0 * len(units), 5.0), layout="constrained")
+        if title:
+            fig.suptitle(title)
+        for k, unit in enumerate(units):
+            pick = [i for i, r in enumerate(items) if r.unit == unit]
+            ax = fig.add_subplot(1, len(units), k + 1)
+            _draw(ax, [items[i] for i in pick], None if labels is None else [labels[i] for i in pick],
+                  _sensor_title(unit), bars, dict(kwargs))
+            _overlay_fits(ax, [items[i] for i in pick], None if fits is None else [fits[i] for i in pick])
+        fig.savefig(os.fspath(path), dpi=dpi)
+        return
     fig = Figure(figsize=(7.5, 5.0), layout="constrained")
     ax = fig.add_subplot()
-    _draw(ax, items, labels, title, kwargs.pop("confidence_bars", True), kwargs)
+    _draw(ax, items, labels, title, bars, kwargs)
     _overlay_fits(ax, items, fits)
     fig.savefig(os.fspath(path), dpi=dpi)
 
@@ -197,3 +211,175 @@ def _draw(
             ax.legend(title=legend_title)
         elif legend_title:
             ax.text(0.98, 0.98, legend_title, transform=ax.transAxes, ha="right", va="top", fontsize=9)
+
+
+def _sensor_title(unit: str | None) -> str:
+    """Panel title of a unit's results: ``"gyroscope [rad/s]"``, ``"accelerometer [m/s^2]"``."""
+    from gyrobias.units import sensor_kind
+
+    try:
+        kind = sensor_kind(unit or "")
+    except ValueError:
+        return f"[{unit}]" if unit else "no unit"
+    return f"{'gyroscope' if kind == 'gyro' else 'accelerometer'} [{unit}]"
+
+
+# --- fleets (gyrobias.fleet) ---------------------------------------------------------------------
+
+
+def _fleet_band(curves: list[tuple[Any, Any]]) -> tuple[Any, Any, Any, Any]:
+    """Fleet median and 16–84 % band of Allan curves on the τ grid of the longest curve.
+
+    Each curve is interpolated linearly in log τ – log σ inside its own τ range; the statistics
+    are taken where at least 3 curves are defined.
+    """
+    grid = np.asarray(max(curves, key=lambda c: len(c[0]))[0], dtype=np.float64)
+    stack = np.full((len(curves), grid.size), np.nan)
+    for i, (tau, dev) in enumerate(curves):
+        tau = np.asarray(tau, dtype=np.float64)
+        dev = np.asarray(dev, dtype=np.float64)
+        good = (tau > 0) & (dev > 0)
+        if good.sum() < 2:
+            continue
+        lt, ld = np.log(tau[good]), np.log(dev[good])
+        inside = (np.log(grid) >= lt[0] - 1e-12) & (np.log(grid) <= lt[-1] + 1e-12)
+        stack[i, inside] = np.exp(np.interp(np.log(grid[inside]), lt, ld))
+    enough = np.sum(np.isfinite(stack), axis=0) >= 3
+    if not enough.any():
+        return grid[:0], grid[:0], grid[:0], grid[:0]
+    sub = stack[:, enough]
+    return (
+        grid[enough],
+        np.nanmedian(sub, axis=0),
+        np.nanpercentile(sub, 16.0, axis=0),
+        np.nanpercentile(sub, 84.0, axis=0),
+    )
+
+
+def plot_fleet(table: Any, fig: Any = None, *, title: str | None = None) -> Any:
+    """Fleet figure: every unit's ADEV with the fleet median and band, and each term's spread.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The result of :func:`gyrobias.fleet.analyse`.
+    fig : matplotlib Figure, optional
+        Where to draw; default a new pyplot figure.
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Notes
+    -----
+    Top row, one panel per axis: all units' Allan deviations (grey; out-of-family units red),
+    the fleet median (black) and its 16–84 % band, interpolated in log–log on the τ grid of the
+    longest record where at least 3 units have data. Bottom row, one panel per noise term: the
+    value of each unit with its 1σ uncertainty, per axis; outliers (``out_of_family_terms``
+    names the term) are red crosses labelled with their source file.
+    """
+    _require_matplotlib()
+    ok = table[table["error"].isna()]
+    if ok.empty:
+        raise ValueError("table has no analysed unit (every row has an error): nothing to plot")
+    if fig is None:
+        import matplotlib.pyplot as plt
+
+        fig = plt.figure(figsize=(11.0, 7.5), layout="constrained")
+    _draw_fleet(fig, ok, title)
+    return fig
+
+
+def save_fleet_plot(table: Any, path: str | os.PathLike[str], *, title: str | None = None, dpi: int = 150) -> None:
+    """Render :func:`plot_fleet` to an image file through a pyplot-free ``Figure`` (headless)."""
+    _require_matplotlib()
+    from matplotlib.figure import Figure
+
+    ok = table[table["error"].isna()]
+    if ok.empty:
+        raise ValueError("table has no analysed unit (every row has an error): nothing to plot")
+    fig = Figure(figsize=(11.0, 7.5), layout="constrained")
+    _draw_fleet(fig, ok, title)
+    target = os.fspath(path)
+    root, suffix = os.path.splitext(target)
+    tmp = f"{root}.tmp{os.getpid()}{suffix}"
+    try:
+        fig.savefig(tmp, dpi=dpi)
+        os.replace(tmp, target)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
+def _draw_fleet(fig: Any, ok: Any, title: str | None) -> None:
+    from gyrobias.fleet import TERMS
+
+    axes_names = list(dict.fromkeys(str(a) for a in ok["axis"]))
+    terms = [t for t in TERMS if np.isfinite(ok[t].to_numpy(dtype=np.float64)).any()]
+    top, bottom = fig.subfigures(2, 1, height_ratios=[1.15, 1.0]) if terms else (fig, None)
+    adev_axes = np.atleast_1d(top.subplots(1, len(axes_names), sharey=True, squeeze=False)[0])
+    for ax, name in zip(adev_axes, axes_names):
+        rows = ok[ok["axis"].astype(str) == name]
+        curves = []
+        flagged = rows["out_of_family"].astype("boolean").fillna(False).to_numpy(dtype=bool)
+        for tau_list, dev_list, bad in zip(rows["adev_tau"], rows["adev"], flagged):
+            tau, dev = np.asarray(tau_list, dtype=np.float64), np.asarray(dev_list, dtype=np.float64)
+            curves.append((tau, dev))
+            ax.loglog(tau, dev, color="tab:red" if bad else "0.55", lw=1.1 if bad else 0.7,
+                      alpha=0.9 if bad else 0.45, zorder=3 if bad else 1)
+        grid, med, lo, hi = _fleet_band(curves)
+        if grid.size:
+            ax.fill_between(grid, lo, hi, color="tab:blue", alpha=0.25, lw=0, label="fleet 16–84 %", zorder=2)
+            ax.loglog(grid, med, color="black", lw=1.8, label="fleet median", zorder=4)
+        unit = next((u for u in rows["data_unit"] if isinstance(u, str)), None)
+        ax.set_title(f"axis {name} ({len(rows)} units)", fontsize=10)
+        ax.set_xlabel("τ [s]")
+        ax.grid(True, which="major", alpha=0.5)
+    adev_axes[0].set_ylabel(f"σ(τ) [{unit}]" if unit else "σ(τ)")
+    handles, labels = adev_axes[0].get_legend_handles_labels()
+    if handles:
+        from matplotlib.lines import Line2D
+
+        handles.append(Line2D([], [], color="tab:red", lw=1.1))
+        labels.append("out of family")
+        adev_axes[0].legend(handles, labels, fontsize=8, loc="best")
+    if title:
+        fig.suptitle(title)
+    if bottom is None:
+        return
+    term_axes = np.atleast_1d(bottom.subplots(1, len(terms), squeeze=False)[0])
+    rng = np.random.default_rng(0)  # fixed jitter: the same table always gives the same figure
+    for ax, t in zip(term_axes, terms):
+        unit = next((u for u in ok[f"{t}_unit"] if isinstance(u, str)), None)
+        for k, name in enumerate(axes_names):
+            rows = ok[ok["axis"].astype(str) == name]
+            values = rows[t].to_numpy(dtype=np.float64)
+            unc = rows[f"{t}_uncertainty"].to_numpy(dtype=np.float64)
+            have = np.isfinite(values)
+            if not have.any():
+                continue
+            flags = rows["out_of_family_terms"].map(lambda s, t=t: isinstance(s, str) and t in s.split(","))
+            out = flags.to_numpy(dtype=bool) & have
+            x = k + rng.uniform(-0.18, 0.18, size=values.size)
+            ax.errorbar(x[have & ~out], values[have & ~out], yerr=np.nan_to_num(unc[have & ~out]),
+                        fmt="o", ms=3, color="tab:blue", alpha=0.6, elinewidth=0.6, capsize=0)
+            ax.hlines(np.median(values[have]), k - 0.3, k + 0.3, color="black", lw=1.5)
+            if out.any():
+                ax.errorbar(x[out], values[out], yerr=np.nan_to_num(unc[out]), fmt="x", ms=7, mew=1.8,
+                            color="tab:red", elinewidth=0.8, capsize=0)
+                for xi, yi, src in zip(x[out], values[out], rows["source"].to_numpy()[out]):
+                    ax.annotate(os.path.basename(str(src)), (xi, yi), textcoords="offset points",
+                                xytext=(4, 3), fontsize=7, color="tab:red")
+        ax.set_xticks(range(len(axes_names)), axes_names)
+        ax.set_xlim(-0.6, len(axes_names) - 0.4)
+        ax.set_title(t, fontsize=10)
+        ax.set_ylabel(f"{t} [{unit}]" if unit else t)
+        ax.grid(True, axis="y", alpha=0.4)
+        shown = ok[t].to_numpy(dtype=np.float64)
+        shown = shown[np.isfinite(shown) & (shown > 0)]
+        if shown.size and shown.max() > 20.0 * shown.min():
+            ax.set_yscale("log")  # an outlier decades away would flatten the fleet into one line
+        else:
+            ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 4))

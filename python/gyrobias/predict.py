@@ -98,7 +98,7 @@ def calibration_mean(y: Any, horizon: int) -> NDArray[np.float64]:
     """
     arr, one = _windows("y", _asarray_ragged("y", y))
     h = _horizon(horizon)
-    out = _core.calibration_mean(arr, h).reshape(arr.shape[0], h)
+    out = _core.predict.calibration_mean(arr, h).reshape(arr.shape[0], h)
     return out[0] if one else out
 
 
@@ -114,7 +114,7 @@ def moving_average(y: Any, horizon: int) -> NDArray[np.float64]:
     """
     arr, one = _windows("y", _asarray_ragged("y", y))
     h = _horizon(horizon)
-    out = _core.moving_average(arr, h).reshape(arr.shape[0], h)
+    out = _core.predict.moving_average(arr, h).reshape(arr.shape[0], h)
     return out[0] if one else out
 
 
@@ -348,7 +348,7 @@ class FractionalKalmanPredictor:
         """
         arr, one = _windows("calibration", _asarray_ragged("calibration", calibration))
         h = _horizon(horizon)
-        res = _core.fractional_kalman(arr, h, *self._args(), self.algorithm, _n_threads(n_threads))
+        res = _core.predict.fractional_kalman(arr, h, *self._args(), self.algorithm, _n_threads(n_threads))
         rows = arr.shape[0]
         bias = res["bias"].reshape(rows, h)
         if one:
@@ -369,7 +369,7 @@ class FractionalKalmanPredictor:
         if k < 2:
             raise ValueError(f"calibration_length must be at least 2 samples, got {k}")
         h = _horizon(horizon)
-        inner = _core.CompiledPredictor(k, h, *self._args(), _n_threads(n_threads))
+        inner = _core.predict.CompiledPredictor(k, h, *self._args(), _n_threads(n_threads))
         return CompiledPredictor(inner, self)
 
     @classmethod

@@ -225,7 +225,7 @@ def lssa(
         raise TypeError(f"alpha must be a real number, got {type(alpha).__name__}")
     if not 0.0 < float(alpha) < 1.0:
         raise ValueError(f"alpha must lie strictly between 0 and 1, got {alpha!r}")
-    ff = _core.lssa_frequencies(tt) if freqs is None else as_float_array("freqs", freqs)
+    ff = _core.spectral.default_frequencies(tt) if freqs is None else as_float_array("freqs", freqs)
     w = None if weights is None else as_float_array("weights", weights)
     c = None
     if cov is not None:
@@ -242,13 +242,13 @@ def lssa(
         user = np.ascontiguousarray(user.reshape(tt.size, -1)) if user.shape[0] == tt.size else user
         if user.ndim != 2 or user.shape[0] != tt.size:
             raise ValueError(f"columns must have {tt.size} rows (one per observation), got shape {user.shape}")
-    r = _core.lssa(tt, yy, ff, w, c, bool(trend), periods, user)
+    r = _core.spectral.lssa(tt, yy, ff, w, c, bool(trend), periods, user)
     n_known = int(r["n_known"])
     return LSSAResult(
         frequencies=ff,
         spectrum=np.asarray(r["spectrum"], dtype=np.float64),
         alpha=float(alpha),
-        critical_value=float(_core.lssa_critical(tt.size, n_known, float(alpha))),
+        critical_value=float(_core.spectral.critical_value(tt.size, n_known, float(alpha))),
         n=int(tt.size),
         n_known=n_known,
         trend=bool(trend),
@@ -371,7 +371,7 @@ def psd(
         raise ValueError(f"nperseg must be >= 2, got {nps}")
     if nov < 0:
         raise ValueError(f"noverlap must be >= 0, got {nov}")
-    f, p = _core.welch_psd(arr, fs, nps, nov, window)
+    f, p = _core.spectral.welch(arr, fs, nps, nov, window)
     return PSDResult(f, p, fs, nps, nov, window, units)
 
 

@@ -155,7 +155,7 @@ def fit_ar1(x: ArrayLike, fs: float = 1.0, *, demean: bool = True) -> AR1Fit:
     """
     arr = as_float_array("x", x)
     fs = positive_float("fs", fs)
-    r = _core.ar1_fit(arr, 1.0 / fs, bool(demean))
+    r = _core.thermal.fit_ar1(arr, 1.0 / fs, bool(demean))
     beta = float(r["beta"])
     pstd = float(r["process_std"])
     return AR1Fit(
@@ -267,7 +267,7 @@ class TemperatureModel:
         flat = np.ascontiguousarray(at.reshape(-1))
         if flat.size == 0:
             raise ValueError("temperature is empty")
-        out = _core.temperature_interpolate(
+        out = _core.thermal.interpolate(
             self.temperatures, self.parameters[name], self.method, self.degree, flat, bool(extrapolate)
         )
         if at.ndim == 0:

@@ -5,6 +5,7 @@ use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyUntyped
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::array::c_order;
 use crate::error::core;
 
 fn taus_from(spec: &str, per_decade: usize, explicit: Option<Vec<f64>>) -> PyResult<Taus> {
@@ -25,14 +26,15 @@ fn taus_from(spec: &str, per_decade: usize, explicit: Option<Vec<f64>>) -> PyRes
     Ok(Taus::Spec(spec))
 }
 
-/// Allan-family analysis of each column of a C-contiguous (samples × axes) float64 array.
+/// Allan-family analysis of each column of a (samples × axes) float64 array
+/// (`gyrocore::allan::analyse_axes`).
 ///
 /// Returns one dict per axis with keys `m`, `variance`, `n_terms` and, when `confidence` is
 /// given, `alpha`, `edf`, `low`, `high`.
 #[pyfunction]
 #[pyo3(signature = (data, t0, data_type, estimator, tau_spec, per_decade, taus, confidence))]
 #[allow(clippy::needless_pass_by_value)]
-fn allan_analysis<'py>(
+fn analyse<'py>(
     py: Python<'py>,
     data: PyReadonlyArray2<'py, f64>,
     t0: f64,
@@ -44,16 +46,13 @@ fn allan_analysis<'py>(
     confidence: Option<f64>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
     let n_axes = data.shape()[1];
-    let slice = data.as_slice()?;
+    let slice = c_order(&data);
     let data_type = core(DataType::parse(data_type))?;
     let estimator = core(Estimator::parse(estimator))?;
-    let explicit = match taus {
-        Some(t) => Some(t.as_slice()?.to_vec()),
-        None => None,
-    };
+    let explicit = taus.map(|t| c_order(&t).into_owned());
     let taus = taus_from(tau_spec, per_decade, explicit)?;
     let results = core(py.detach(|| {
-        allan::analyse_axes(slice, n_axes, t0, data_type, estimator, &taus, confidence)
+        allan::analyse_axes(&slice, n_axes, t0, data_type, estimator, &taus, confidence)
     }))?;
     results
         .into_iter()
@@ -75,11 +74,12 @@ fn allan_analysis<'py>(
         .collect()
 }
 
-/// The averaging factors an analysis of `n_samples` samples would use.
+/// The averaging factors an analysis of `n_samples` samples would use
+/// (`gyrocore::allan::resolve_factors`).
 #[pyfunction]
 #[pyo3(signature = (n_samples, t0, data_type, estimator, tau_spec, per_decade, taus))]
 #[allow(clippy::needless_pass_by_value)]
-fn allan_factors<'py>(
+fn factors<'py>(
     py: Python<'py>,
     n_samples: usize,
     t0: f64,
@@ -91,10 +91,7 @@ fn allan_factors<'py>(
 ) -> PyResult<Bound<'py, PyArray1<u64>>> {
     let data_type = core(DataType::parse(data_type))?;
     let estimator = core(Estimator::parse(estimator))?;
-    let explicit = match taus {
-        Some(t) => Some(t.as_slice()?.to_vec()),
-        None => None,
-    };
+    let explicit = taus.map(|t| c_order(&t).into_owned());
     let taus = taus_from(tau_spec, per_decade, explicit)?;
     let ms = core(allan::resolve_factors(
         &taus, n_samples, t0, data_type, estimator,
@@ -107,6 +104,6 @@ fn allan_factors<'py>(
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(allan_analysis, m)?)?;
-    m.add_function(wrap_pyfunction!(allan_factors, m)?)
+    m.add_function(wrap_pyfunction!(analyse, m)?)?;
+    m.add_function(wrap_pyfunction!(factors, m)?)
 }

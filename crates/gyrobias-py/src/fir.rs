@@ -8,12 +8,14 @@ use numpy::{
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::array::c_order;
 use crate::error::core;
 
-/// Kaiser-window low-pass design: dict with the design quantities and `taps`.
+/// Kaiser-window low-pass design (`gyrocore::fir::kaiser_lowpass`): dict with the design
+/// quantities and `taps`.
 #[pyfunction]
 #[pyo3(signature = (fs, fpass, fstop, apass_db, astop_db))]
-fn kaiser_design(
+fn kaiser_lowpass(
     py: Python<'_>,
     fs: f64,
     fpass: f64,
@@ -33,11 +35,11 @@ fn kaiser_design(
     Ok(d)
 }
 
-/// Filters every row of a C-contiguous (rows × n) float64 array with FIR `taps`.
+/// Filters every row of a (rows × n) float64 array with FIR `taps` (`gyrocore::fir::filter_rows`).
 #[pyfunction]
 #[pyo3(signature = (taps, x, zero_phase, padtype, padlen))]
 #[allow(clippy::needless_pass_by_value)]
-fn fir_filter<'py>(
+fn filter_rows<'py>(
     py: Python<'py>,
     taps: PyReadonlyArray1<'py, f64>,
     x: PyReadonlyArray2<'py, f64>,
@@ -46,8 +48,8 @@ fn fir_filter<'py>(
     padlen: usize,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let shape = [x.shape()[0], x.shape()[1]];
-    let h = taps.as_slice()?;
-    let data = x.as_slice()?;
+    let h = c_order(&taps);
+    let data = c_order(&x);
     let mode = if zero_phase {
         Mode::ZeroPhase {
             padding: core(Padding::parse(padtype))?,
@@ -56,31 +58,33 @@ fn fir_filter<'py>(
     } else {
         Mode::Causal
     };
-    let out = core(py.detach(|| fir::filter_rows(h, data, shape[0], mode)))?;
+    let out = core(py.detach(|| fir::filter_rows(&h, &data, shape[0], mode)))?;
     out.into_pyarray(py).reshape(shape)
 }
 
-/// Complex frequency response of `taps` at `freqs` (Hz): (real, imag).
+/// Complex frequency response of `taps` at `freqs` (Hz): (real, imag)
+/// (`gyrocore::fir::frequency_response`).
 #[pyfunction]
 #[pyo3(signature = (taps, fs, freqs))]
 #[allow(clippy::needless_pass_by_value, clippy::type_complexity)]
-fn fir_response<'py>(
+fn frequency_response<'py>(
     py: Python<'py>,
     taps: PyReadonlyArray1<'py, f64>,
     fs: f64,
     freqs: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
-    let h = taps.as_slice()?;
-    let f = freqs.as_slice()?;
-    let (re, im) = core(py.detach(|| fir::frequency_response(h, fs, f)))?;
+    let h = c_order(&taps);
+    let f = c_order(&freqs);
+    let (re, im) = core(py.detach(|| fir::frequency_response(&h, fs, &f)))?;
     Ok((re.into_pyarray(py), im.into_pyarray(py)))
 }
 
-/// Causal filtering of one stream chunk per row: returns (output rows, new state rows).
+/// Causal filtering of one stream chunk per row: returns (output rows, new state rows)
+/// (`gyrocore::fir::filter_stream`).
 #[pyfunction]
 #[pyo3(signature = (taps, x, state))]
 #[allow(clippy::needless_pass_by_value, clippy::type_complexity)]
-fn fir_stream<'py>(
+fn filter_stream<'py>(
     py: Python<'py>,
     taps: PyReadonlyArray1<'py, f64>,
     x: PyReadonlyArray2<'py, f64>,
@@ -94,15 +98,15 @@ fn fir_stream<'py>(
         )));
     }
     let width = state.shape()[1];
-    let h = taps.as_slice()?;
-    let data = x.as_slice()?;
-    let mut hist = state.as_slice()?.to_vec();
+    let h = c_order(&taps);
+    let data = c_order(&x);
+    let mut hist = c_order(&state).into_owned();
     let out = core(py.detach(|| -> gyrocore::Result<Vec<f64>> {
         let mut out = Vec::with_capacity(data.len());
         for r in 0..rows {
             let row = &data[r * n..(r + 1) * n];
             let state = &mut hist[r * width..(r + 1) * width];
-            out.extend(fir::filter_stream(h, row, state)?);
+            out.extend(fir::filter_stream(&h, row, state)?);
         }
         Ok(out)
     }))?;
@@ -113,8 +117,8 @@ fn fir_stream<'py>(
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(kaiser_design, m)?)?;
-    m.add_function(wrap_pyfunction!(fir_filter, m)?)?;
-    m.add_function(wrap_pyfunction!(fir_response, m)?)?;
-    m.add_function(wrap_pyfunction!(fir_stream, m)?)
+    m.add_function(wrap_pyfunction!(kaiser_lowpass, m)?)?;
+    m.add_function(wrap_pyfunction!(filter_rows, m)?)?;
+    m.add_function(wrap_pyfunction!(frequency_response, m)?)?;
+    m.add_function(wrap_pyfunction!(filter_stream, m)?)
 }

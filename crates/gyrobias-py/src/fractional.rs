@@ -1,6 +1,6 @@
 //! Bindings of `gyrocore::fractional` (differencing, ARFIMA simulation, ELW estimation).
 
-use gyrocore::fractional::{self, Method, arfima, elw};
+use gyrocore::fractional::{self, Method, elw};
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
     PyUntypedArrayMethods,
@@ -8,11 +8,12 @@ use numpy::{
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::array::c_order;
 use crate::error::core;
 
 /// The weights `π_0..π_{n−1}` of `(1 − B)^d`.
 #[pyfunction]
-fn fractional_weights(py: Python<'_>, d: f64, n: usize) -> PyResult<Bound<'_, PyArray1<f64>>> {
+fn weights(py: Python<'_>, d: f64, n: usize) -> PyResult<Bound<'_, PyArray1<f64>>> {
     Ok(core(fractional::weights(d, n))?.into_pyarray(py))
 }
 
@@ -26,17 +27,17 @@ fn rows_op<'py>(
     op: RowsOp,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let (rows, n) = (data.shape()[0], data.shape()[1]);
-    let slice = data.as_slice()?;
+    let slice = c_order(data);
     let method = core(Method::parse(method))?;
-    let out = core(py.detach(|| op(slice, n, d, method)))?;
+    let out = core(py.detach(|| op(&slice, n, d, method)))?;
     out.into_pyarray(py).reshape([rows, n])
 }
 
-/// `Δ^d` along the rows of a C-contiguous (rows × n) float64 array.
+/// `Δ^d` along the rows of a (rows × n) float64 array (`gyrocore::fractional::diff_rows`).
 #[pyfunction]
 #[pyo3(signature = (data, d, method))]
 #[allow(clippy::needless_pass_by_value)]
-fn fractional_diff<'py>(
+fn diff<'py>(
     py: Python<'py>,
     data: PyReadonlyArray2<'py, f64>,
     d: f64,
@@ -45,11 +46,12 @@ fn fractional_diff<'py>(
     rows_op(py, &data, d, method, fractional::diff_rows)
 }
 
-/// `Δ^{−d}` along the rows of a C-contiguous (rows × n) float64 array.
+/// `Δ^{−d}` along the rows of a (rows × n) float64 array
+/// (`gyrocore::fractional::integrate_rows`).
 #[pyfunction]
 #[pyo3(signature = (data, d, method))]
 #[allow(clippy::needless_pass_by_value)]
-fn fractional_integrate<'py>(
+fn integrate<'py>(
     py: Python<'py>,
     data: PyReadonlyArray2<'py, f64>,
     d: f64,
@@ -61,7 +63,7 @@ fn fractional_integrate<'py>(
 /// `rows` ARFIMA(0, d, 0) series of length `n` as a (rows × n) array.
 #[pyfunction]
 #[pyo3(signature = (n, d, sigma, rows, seed, kind))]
-fn fractional_arfima<'py>(
+fn arfima<'py>(
     py: Python<'py>,
     n: usize,
     d: f64,
@@ -70,17 +72,17 @@ fn fractional_arfima<'py>(
     seed: u64,
     kind: &str,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let kind = core(arfima::Kind::parse(kind))?;
-    let out = core(py.detach(|| arfima::arfima(n, d, sigma, rows, seed, kind)))?;
+    let kind = core(fractional::arfima::Kind::parse(kind))?;
+    let out = core(py.detach(|| fractional::arfima::arfima(n, d, sigma, rows, seed, kind)))?;
     out.into_pyarray(py).reshape([rows, n])
 }
 
 /// ELW estimates for each row: a dict of per-row arrays `d`, `standard_error`, `objective`,
 /// `at_bound` and the scalars `m`, `n`.
-#[pyfunction]
+#[pyfunction(name = "elw")]
 #[pyo3(signature = (data, m, lower, upper, level))]
 #[allow(clippy::needless_pass_by_value)]
-fn fractional_elw<'py>(
+fn elw_rows<'py>(
     py: Python<'py>,
     data: PyReadonlyArray2<'py, f64>,
     m: Option<usize>,
@@ -89,9 +91,9 @@ fn fractional_elw<'py>(
     level: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let n = data.shape()[1];
-    let slice = data.as_slice()?;
+    let slice = c_order(&data);
     let level = core(elw::Level::parse(level))?;
-    let est = core(py.detach(|| elw::elw_rows(slice, n, m, (lower, upper), level)))?;
+    let est = core(py.detach(|| elw::elw_rows(&slice, n, m, (lower, upper), level)))?;
     let out = PyDict::new(py);
     let col = |f: fn(&elw::Estimate) -> f64| est.iter().map(f).collect::<Vec<f64>>();
     out.set_item("d", col(|e| e.d).into_pyarray(py))?;
@@ -108,24 +110,24 @@ fn fractional_elw<'py>(
 #[pyfunction]
 #[pyo3(signature = (x, ds, m, level))]
 #[allow(clippy::needless_pass_by_value)]
-fn fractional_elw_objective<'py>(
+fn elw_objective<'py>(
     py: Python<'py>,
     x: PyReadonlyArray1<'py, f64>,
     ds: PyReadonlyArray1<'py, f64>,
     m: Option<usize>,
     level: &str,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let x = x.as_slice()?;
-    let ds = ds.as_slice()?;
+    let x = c_order(&x);
+    let ds = c_order(&ds);
     let level = core(elw::Level::parse(level))?;
-    Ok(core(py.detach(|| elw::objective(x, ds, m, level)))?.into_pyarray(py))
+    Ok(core(py.detach(|| elw::objective(&x, &ds, m, level)))?.into_pyarray(py))
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(fractional_weights, m)?)?;
-    m.add_function(wrap_pyfunction!(fractional_diff, m)?)?;
-    m.add_function(wrap_pyfunction!(fractional_integrate, m)?)?;
-    m.add_function(wrap_pyfunction!(fractional_arfima, m)?)?;
-    m.add_function(wrap_pyfunction!(fractional_elw, m)?)?;
-    m.add_function(wrap_pyfunction!(fractional_elw_objective, m)?)
+    m.add_function(wrap_pyfunction!(weights, m)?)?;
+    m.add_function(wrap_pyfunction!(diff, m)?)?;
+    m.add_function(wrap_pyfunction!(integrate, m)?)?;
+    m.add_function(wrap_pyfunction!(arfima, m)?)?;
+    m.add_function(wrap_pyfunction!(elw_rows, m)?)?;
+    m.add_function(wrap_pyfunction!(elw_objective, m)?)
 }

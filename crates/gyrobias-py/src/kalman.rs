@@ -6,15 +6,16 @@ use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyReadonlyArray1,
     PyReadonlyArrayDyn,
 };
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
+use crate::array::{c_order, c_order_mut};
 use crate::error::core;
 
 /// Designed fixed-gain filter (immutable; safe to share between threads).
-#[pyclass(name = "FixedGainKalmanCore", module = "gyrobias._core", frozen)]
-struct FixedGainKalmanCore {
+#[pyclass(name = "FixedGainKalman", module = "gyrobias._core.kalman", frozen)]
+struct FixedGainKalman {
     inner: kalman::FixedGainKalman,
 }
 
@@ -56,7 +57,7 @@ macro_rules! rows {
 }
 
 #[pymethods]
-impl FixedGainKalmanCore {
+impl FixedGainKalman {
     #[new]
     #[pyo3(signature = (fs, arw, rrw, q_omega, bandwidth, form))]
     fn new(
@@ -67,7 +68,7 @@ impl FixedGainKalmanCore {
         bandwidth: Option<f64>,
         form: &str,
     ) -> PyResult<Self> {
-        Ok(FixedGainKalmanCore {
+        Ok(FixedGainKalman {
             inner: design(fs, arw, rrw, q_omega, bandwidth, form)?,
         })
     }
@@ -132,10 +133,10 @@ impl FixedGainKalmanCore {
         py: Python<'py>,
         freqs: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
-        let f = freqs.as_slice()?;
+        let f = c_order(&freqs);
         let mut re = vec![0.0; f.len()];
         let mut im = vec![0.0; f.len()];
-        core(self.inner.frequency_response_into(f, &mut re, &mut im))?;
+        core(self.inner.frequency_response_into(&f, &mut re, &mut im))?;
         Ok((re.into_pyarray(py), im.into_pyarray(py)))
     }
 
@@ -161,7 +162,7 @@ impl FixedGainKalmanCore {
         }))
     }
 
-    /// Filters a C-contiguous (samples,) or (samples × axes) array `z` from `state` into the preallocated
+    /// Filters a (samples,) or (samples × axes) array `z` from `state` into the preallocated
     /// C-contiguous `rate` and `bias` arrays of the same shape; returns the new state.
     /// Allocation is left to the caller (NumPy's allocator asks the kernel for huge pages,
     /// which halves the page-fault cost of large outputs).
@@ -200,16 +201,11 @@ impl FixedGainKalmanCore {
                 z.shape()
             )));
         }
-        if !(z.is_c_contiguous() && rate.is_c_contiguous() && bias.is_c_contiguous()) {
-            // `as_slice` also accepts Fortran order, which would scramble the axes.
-            return Err(PyTypeError::new_err(
-                "z and the out arrays must be C-contiguous float64 arrays",
-            ));
-        }
         self.check_state(state, n_axes)?;
-        let data = z.as_slice()?;
-        let rate_out = rate.as_slice_mut()?;
-        let bias_out = bias.as_slice_mut()?;
+        let data = c_order(&z);
+        let data = &data[..];
+        let rate_out = c_order_mut("rate", &mut rate)?;
+        let bias_out = c_order_mut("bias", &mut bias)?;
         let mut next = FilterState {
             level: state.level.clone(),
             offset: state.offset.clone(),
@@ -236,7 +232,7 @@ impl FixedGainKalmanCore {
     }
 }
 
-impl FixedGainKalmanCore {
+impl FixedGainKalman {
     fn check_state(&self, state: &KalmanState, n_axes: usize) -> PyResult<()> {
         let gain: [f64; 2] = self.inner.g().into();
         if state.gain != gain {
@@ -258,7 +254,7 @@ impl FixedGainKalmanCore {
 /// Carried state of the fixed-gain filter (immutable, picklable).
 #[pyclass(
     name = "KalmanState",
-    module = "gyrobias._core",
+    module = "gyrobias._core.kalman",
     frozen,
     eq,
     skip_from_py_object
@@ -355,9 +351,9 @@ impl KalmanState {
     }
 }
 
-/// Closed-form steady-state gain [k1, k2] (SPEC §6).
+/// Closed-form steady-state gain [k1, k2] (SPEC §6; `gyrocore::kalman::steady_state_gain`).
 #[pyfunction]
-fn kalman_steady_state_gain(
+fn steady_state_gain(
     py: Python<'_>,
     q_omega: f64,
     q_b: f64,
@@ -369,9 +365,10 @@ fn kalman_steady_state_gain(
     ))
 }
 
-/// Gain after `iterations` steps of [NR] eqs. 9–11 from P0 = 0.
+/// Gain after `iterations` steps of [NR] eqs. 9–11 from P0 = 0
+/// (`gyrocore::kalman::riccati_gain`).
 #[pyfunction]
-fn kalman_riccati_gain(
+fn riccati_gain(
     py: Python<'_>,
     q_omega: f64,
     q_b: f64,
@@ -384,24 +381,19 @@ fn kalman_riccati_gain(
     ))
 }
 
-/// Per-step q_omega for a target −3 dB bandwidth (Hz).
+/// Per-step q_omega for a target −3 dB bandwidth (Hz)
+/// (`gyrocore::kalman::q_omega_for_bandwidth`).
 #[pyfunction]
-fn kalman_q_omega_for_bandwidth(
-    bandwidth: f64,
-    fs: f64,
-    arw: f64,
-    rrw: f64,
-    form: &str,
-) -> PyResult<f64> {
+fn q_omega_for_bandwidth(bandwidth: f64, fs: f64, arw: f64, rrw: f64, form: &str) -> PyResult<f64> {
     let noise = core(DiscreteNoise::from_coefficients(fs, arw, rrw))?;
     let form = core(Form::parse(form))?;
     core(kalman::q_omega_for_bandwidth(bandwidth, &noise, form))
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<FixedGainKalmanCore>()?;
+    m.add_class::<FixedGainKalman>()?;
     m.add_class::<KalmanState>()?;
-    m.add_function(wrap_pyfunction!(kalman_steady_state_gain, m)?)?;
-    m.add_function(wrap_pyfunction!(kalman_riccati_gain, m)?)?;
-    m.add_function(wrap_pyfunction!(kalman_q_omega_for_bandwidth, m)?)
+    m.add_function(wrap_pyfunction!(steady_state_gain, m)?)?;
+    m.add_function(wrap_pyfunction!(riccati_gain, m)?)?;
+    m.add_function(wrap_pyfunction!(q_omega_for_bandwidth, m)?)
 }

@@ -1,34 +1,56 @@
 //! `gyrobias._core`: the pyo3 binding of gyrocore.
 //!
-//! One file per gyrocore module, each with a `register` function. This crate converts
-//! arguments (zero-copy for contiguous float64 arrays), releases the GIL around the numerical
-//! work and maps [`gyrocore::Error`] to Python exceptions. It contains no numerics.
+//! One submodule per gyrocore module, with gyrocore's function names: `gyrobias._core.allan`
+//! binds `gyrocore::allan`, `gyrobias._core.noise` binds `gyrocore::noise`, and so on. Each
+//! submodule is registered in `sys.modules` under its dotted name, so
+//! `from gyrobias._core import allan` and `import gyrobias._core.allan` both work (and
+//! stubtest checks the stub package `gyrobias/_core/`).
+//!
+//! This crate only converts arguments (every input array through [`array::c_order`]: zero-copy
+//! for C-contiguous float64 arrays), releases the GIL around the numerical work and maps
+//! [`gyrocore::Error`] to Python exceptions. It contains no numerics and no checks of its own.
 
 mod allan;
+mod array;
 mod error;
 mod fir;
 mod fractional;
 mod kalman;
 mod noise;
-mod noise_fit;
 mod predict;
 mod spectral;
 mod thermal;
 
 use pyo3::prelude::*;
 
+/// Registers `gyrobias._core.<name>` as a submodule of `parent` and in `sys.modules`.
+fn submodule(
+    parent: &Bound<'_, PyModule>,
+    name: &str,
+    register: fn(&Bound<'_, PyModule>) -> PyResult<()>,
+) -> PyResult<()> {
+    let py = parent.py();
+    let full = format!("gyrobias._core.{name}");
+    let sub = PyModule::new(py, &full)?;
+    register(&sub)?;
+    parent.setattr(name, &sub)?;
+    py.import("sys")?
+        .getattr("modules")?
+        .set_item(&full, &sub)?;
+    Ok(())
+}
+
 /// The extension module.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     error::register(m)?;
-    allan::register(m)?;
-    fir::register(m)?;
-    spectral::register(m)?;
-    thermal::register(m)?;
-    fractional::register(m)?;
-    predict::register(m)?;
-    kalman::register(m)?;
-    noise::register(m)?;
-    noise_fit::register(m)?;
+    submodule(m, "allan", allan::register)?;
+    submodule(m, "fir", fir::register)?;
+    submodule(m, "spectral", spectral::register)?;
+    submodule(m, "thermal", thermal::register)?;
+    submodule(m, "fractional", fractional::register)?;
+    submodule(m, "predict", predict::register)?;
+    submodule(m, "kalman", kalman::register)?;
+    submodule(m, "noise", noise::register)?;
     Ok(())
 }

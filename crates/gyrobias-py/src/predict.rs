@@ -7,6 +7,7 @@ use numpy::{
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::array::c_order;
 use crate::error::core;
 
 /// A pair of float64 arrays returned to Python.
@@ -27,7 +28,8 @@ fn model(d: f64, q: f64, r: f64, mean: &str, mu0: f64, p0: f64) -> PyResult<Mode
     core(Model::new(d, q, r, prior))
 }
 
-/// Fractional Kalman prediction of each row of a C-contiguous (windows × k) float64 array.
+/// Fractional Kalman prediction of each row of a (windows × k) float64 array
+/// (`gyrocore::predict::fractional_kalman_rows`).
 ///
 /// Returns a dict with `bias` (flat windows·h), `std`, `std_observation` (h), `mean` (windows)
 /// and `mean_std`.
@@ -48,11 +50,11 @@ fn fractional_kalman<'py>(
     n_threads: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let k = calibration.shape()[1];
-    let data = calibration.as_slice()?;
+    let data = c_order(&calibration);
     let model = model(d, q, r, mean, mu0, p0)?;
     let algorithm = core(Algorithm::parse(algorithm))?;
     let p = core(py.detach(|| {
-        predict::fractional_kalman_rows(&model, data, k, horizon, algorithm, n_threads)
+        predict::fractional_kalman_rows(&model, &data, k, horizon, algorithm, n_threads)
     }))?;
     let out = PyDict::new(py);
     out.set_item("bias", p.bias.into_pyarray(py))?;
@@ -72,8 +74,8 @@ fn calibration_mean<'py>(
     horizon: usize,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let k = calibration.shape()[1];
-    let data = calibration.as_slice()?;
-    let out = core(py.detach(|| predict::calibration_mean(data, k, horizon)))?;
+    let data = c_order(&calibration);
+    let out = core(py.detach(|| predict::calibration_mean(&data, k, horizon)))?;
     Ok(out.into_pyarray(py))
 }
 
@@ -86,13 +88,13 @@ fn moving_average<'py>(
     horizon: usize,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let k = calibration.shape()[1];
-    let data = calibration.as_slice()?;
-    let out = core(py.detach(|| predict::moving_average(data, k, horizon)))?;
+    let data = c_order(&calibration);
+    let out = core(py.detach(|| predict::moving_average(&data, k, horizon)))?;
     Ok(out.into_pyarray(py))
 }
 
 /// A compiled linear fractional Kalman predictor `ŷ = W·y + w0` (immutable, thread-safe).
-#[pyclass(frozen, module = "gyrobias._core")]
+#[pyclass(frozen, module = "gyrobias._core.predict")]
 struct CompiledPredictor {
     inner: Compiled,
 }
@@ -119,7 +121,7 @@ impl CompiledPredictor {
         Ok(Self { inner })
     }
 
-    /// Predicts each row of a C-contiguous (windows × k) batch: `(bias (flat windows·h), mean)`.
+    /// Predicts each row of a (windows × k) batch: `(bias (flat windows·h), mean)`.
     #[allow(clippy::needless_pass_by_value)]
     fn predict<'py>(
         &self,
@@ -134,8 +136,8 @@ impl CompiledPredictor {
                 self.inner.calibration_length
             )));
         }
-        let data = batch.as_slice()?;
-        let p = core(py.detach(|| self.inner.apply(data, n_threads)))?;
+        let data = c_order(&batch);
+        let p = core(py.detach(|| self.inner.apply(&data, n_threads)))?;
         Ok((p.bias.into_pyarray(py), p.mean.into_pyarray(py)))
     }
 

@@ -5,9 +5,10 @@ use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyUntyped
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::array::{c_order, c_order_opt};
 use crate::error::core;
 
-/// Least-squares spectrum: dict with `spectrum`, `n_known`, `known_params`, `t_ref`,
+/// Least-squares spectrum (`gyrocore::spectral::lssa`): dict with `spectrum`, `n_known`, `known_params`, `t_ref`,
 /// `residual_norm`.
 #[pyfunction]
 #[pyo3(signature = (t, y, freqs, weights, cov, trend, known_periods, columns))]
@@ -23,30 +24,22 @@ fn lssa<'py>(
     known_periods: PyReadonlyArray1<'py, f64>,
     columns: Option<PyReadonlyArray2<'py, f64>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let t = t.as_slice()?;
-    let y = y.as_slice()?;
-    let freqs = freqs.as_slice()?;
-    let weights = match &weights {
-        Some(w) => Some(w.as_slice()?),
-        None => None,
-    };
-    let cov = match &cov {
-        Some(c) => Some(c.as_slice()?),
-        None => None,
-    };
-    let periods = known_periods.as_slice()?;
-    let columns = match &columns {
-        Some(c) => Some((c.as_slice()?, c.shape()[1])),
-        None => None,
-    };
+    let t = c_order(&t);
+    let y = c_order(&y);
+    let freqs = c_order(&freqs);
+    let weights = c_order_opt(weights.as_ref());
+    let cov = c_order_opt(cov.as_ref());
+    let periods = c_order(&known_periods);
+    let n_columns = columns.as_ref().map_or(0, |c| c.shape()[1]);
+    let columns = c_order_opt(columns.as_ref());
     let opts = LssaOptions {
-        weights,
-        cov,
+        weights: weights.as_deref(),
+        cov: cov.as_deref(),
         trend,
-        known_periods: periods,
-        columns,
+        known_periods: &periods,
+        columns: columns.as_deref().map(|c| (c, n_columns)),
     };
-    let r = core(py.detach(|| spectral::lssa(t, y, freqs, &opts)))?;
+    let r = core(py.detach(|| spectral::lssa(&t, &y, &freqs, &opts)))?;
     let d = PyDict::new(py);
     d.set_item("spectrum", r.spectrum.into_pyarray(py))?;
     d.set_item("n_known", r.n_known)?;
@@ -56,30 +49,31 @@ fn lssa<'py>(
     Ok(d)
 }
 
-/// Pagiatakis' critical spectral value `1 − alpha^(2/(n − u − 2))`.
+/// Pagiatakis' critical spectral value `1 − alpha^(2/(n − u − 2))`
+/// (`gyrocore::spectral::critical_value`).
 #[pyfunction]
 #[pyo3(signature = (n, n_known, alpha))]
-fn lssa_critical(n: usize, n_known: usize, alpha: f64) -> PyResult<f64> {
+fn critical_value(n: usize, n_known: usize, alpha: f64) -> PyResult<f64> {
     core(spectral::critical_value(n, n_known, alpha))
 }
 
-/// Default LSSA frequency grid of the times `t`.
+/// Default LSSA frequency grid of the times `t` (`gyrocore::spectral::default_frequencies`).
 #[pyfunction]
 #[pyo3(signature = (t,))]
 #[allow(clippy::needless_pass_by_value)]
-fn lssa_frequencies<'py>(
+fn default_frequencies<'py>(
     py: Python<'py>,
     t: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let t = t.as_slice()?;
-    Ok(core(spectral::default_frequencies(t))?.into_pyarray(py))
+    let t = c_order(&t);
+    Ok(core(spectral::default_frequencies(&t))?.into_pyarray(py))
 }
 
-/// Welch one-sided PSD: (freqs, psd).
+/// Welch one-sided PSD: (freqs, psd) (`gyrocore::spectral::welch`).
 #[pyfunction]
 #[pyo3(signature = (x, fs, nperseg, noverlap, window))]
 #[allow(clippy::needless_pass_by_value, clippy::type_complexity)]
-fn welch_psd<'py>(
+fn welch<'py>(
     py: Python<'py>,
     x: PyReadonlyArray1<'py, f64>,
     fs: f64,
@@ -87,15 +81,15 @@ fn welch_psd<'py>(
     noverlap: usize,
     window: &str,
 ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
-    let x = x.as_slice()?;
+    let x = c_order(&x);
     let window = core(Window::parse(window))?;
-    let (f, p) = core(py.detach(|| spectral::welch(x, fs, nperseg, noverlap, window)))?;
+    let (f, p) = core(py.detach(|| spectral::welch(&x, fs, nperseg, noverlap, window)))?;
     Ok((f.into_pyarray(py), p.into_pyarray(py)))
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(lssa, m)?)?;
-    m.add_function(wrap_pyfunction!(lssa_critical, m)?)?;
-    m.add_function(wrap_pyfunction!(lssa_frequencies, m)?)?;
-    m.add_function(wrap_pyfunction!(welch_psd, m)?)
+    m.add_function(wrap_pyfunction!(critical_value, m)?)?;
+    m.add_function(wrap_pyfunction!(default_frequencies, m)?)?;
+    m.add_function(wrap_pyfunction!(welch, m)?)
 }

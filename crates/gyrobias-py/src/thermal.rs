@@ -5,20 +5,21 @@ use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::array::c_order;
 use crate::error::core;
 
-/// AR(1) fit: dict with `c`, `c_std_error`, `sigma_e`, `mean`, `n`, `beta`, `process_std`.
+/// AR(1) fit (`gyrocore::thermal::fit_ar1`): dict with `c`, `c_std_error`, `sigma_e`, `mean`, `n`, `beta`, `process_std`.
 #[pyfunction]
 #[pyo3(signature = (x, dt, demean))]
 #[allow(clippy::needless_pass_by_value)]
-fn ar1_fit<'py>(
+fn fit_ar1<'py>(
     py: Python<'py>,
     x: PyReadonlyArray1<'py, f64>,
     dt: f64,
     demean: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let x = x.as_slice()?;
-    let f = core(py.detach(|| thermal::fit_ar1(x, dt, demean)))?;
+    let x = c_order(&x);
+    let f = core(py.detach(|| thermal::fit_ar1(&x, dt, demean)))?;
     let d = PyDict::new(py);
     d.set_item("c", f.c)?;
     d.set_item("c_std_error", f.c_std_error)?;
@@ -30,11 +31,12 @@ fn ar1_fit<'py>(
     Ok(d)
 }
 
-/// Interpolates `values` given at `temperatures` at `at` (`method`: linear, pchip, polynomial).
+/// Interpolates `values` given at `temperatures` at `at` (`method`: linear, pchip, polynomial)
+/// (`gyrocore::thermal::interpolate`).
 #[pyfunction]
 #[pyo3(signature = (temperatures, values, method, degree, at, extrapolate))]
 #[allow(clippy::needless_pass_by_value)]
-fn temperature_interpolate<'py>(
+fn interpolate<'py>(
     py: Python<'py>,
     temperatures: PyReadonlyArray1<'py, f64>,
     values: PyReadonlyArray1<'py, f64>,
@@ -53,13 +55,13 @@ fn temperature_interpolate<'py>(
             )));
         }
     };
-    let x = temperatures.as_slice()?;
-    let y = values.as_slice()?;
-    let at = at.as_slice()?;
-    Ok(core(thermal::interpolate(x, y, method, at, extrapolate))?.into_pyarray(py))
+    let x = c_order(&temperatures);
+    let y = c_order(&values);
+    let at = c_order(&at);
+    Ok(core(thermal::interpolate(&x, &y, method, &at, extrapolate))?.into_pyarray(py))
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(ar1_fit, m)?)?;
-    m.add_function(wrap_pyfunction!(temperature_interpolate, m)?)
+    m.add_function(wrap_pyfunction!(fit_ar1, m)?)?;
+    m.add_function(wrap_pyfunction!(interpolate, m)?)
 }

@@ -136,6 +136,34 @@ fn nodes(x: &[f64], y: &[f64]) -> Result<(Vec<f64>, Vec<f64>)> {
     ))
 }
 
+/// `e` with `2^e <= v < 2^(e+1)` for finite `v > 0` (subnormals included); 0 for `v == 0`.
+fn binary_exponent(v: f64) -> i32 {
+    if v == 0.0 {
+        return 0;
+    }
+    // Scale subnormals into the normal range first (exact), then read the biased exponent.
+    let (v, shift) = if v < f64::MIN_POSITIVE {
+        (v * 2f64.powi(64), 64)
+    } else {
+        (v, 0)
+    };
+    ((v.to_bits() >> 52) & 0x7ff) as i32 - 1023 - shift
+}
+
+/// `v · 2^e`, in steps that never overflow the scale factor itself; a single rounding at most
+/// (only the last step can leave the normal range).
+fn times_pow2(mut v: f64, mut e: i32) -> f64 {
+    while e > 512 {
+        v *= 2f64.powi(512);
+        e -= 512;
+    }
+    while e < -512 {
+        v *= 2f64.powi(-512);
+        e += 512;
+    }
+    v * 2f64.powi(e)
+}
+
 /// PCHIP derivatives at the nodes (SciPy's `PchipInterpolator._find_derivatives`).
 fn pchip_slopes(x: &[f64], y: &[f64]) -> Vec<f64> {
     let k = x.len();
@@ -147,7 +175,9 @@ fn pchip_slopes(x: &[f64], y: &[f64]) -> Vec<f64> {
     let mut d = vec![0.0; k];
     for i in 1..k - 1 {
         let (m0, m1) = (m[i - 1], m[i]);
-        if m0 * m1 <= 0.0 {
+        // Signs compared directly: the product m0·m1 underflows to 0 for tiny slopes of
+        // the same sign, which would wrongly flatten the curve there.
+        if m0 == 0.0 || m1 == 0.0 || (m0 > 0.0) != (m1 > 0.0) {
             d[i] = 0.0;
         } else {
             let w1 = 2.0 * h[i] + h[i - 1];
@@ -216,6 +246,11 @@ pub fn interpolate(
             })
             .collect()),
         Method::Pchip => {
+            // PCHIP is homogeneous in y. Work on y·2^−e with max|y·2^−e| in [1, 2): exact for
+            // normal numbers (results are bit-identical to the unscaled form), and keeps the
+            // harmonic-mean slopes w/m from overflowing on subnormal or tiny-span data.
+            let e = binary_exponent(ys.iter().fold(0.0_f64, |a, &v| a.max(v.abs())));
+            let ys: Vec<f64> = ys.iter().map(|&v| times_pow2(v, -e)).collect();
             let d = pchip_slopes(&xs, &ys);
             Ok(at
                 .iter()
@@ -227,7 +262,10 @@ pub fn interpolate(
                     let h10 = s * (1.0 - s) * (1.0 - s);
                     let h01 = s * s * (3.0 - 2.0 * s);
                     let h11 = s * s * (s - 1.0);
-                    h00 * ys[i] + h10 * h * d[i] + h01 * ys[i + 1] + h11 * h * d[i + 1]
+                    times_pow2(
+                        h00 * ys[i] + h10 * h * d[i] + h01 * ys[i + 1] + h11 * h * d[i + 1],
+                        e,
+                    )
                 })
                 .collect())
         }
@@ -270,6 +308,32 @@ mod tests {
         assert!((f.beta - (-0.8_f64.ln() / 0.01)).abs() < 1e-9);
         assert!(fit_ar1(&[1.0, 1.0, 1.0], 0.01, true).is_err());
         assert!(fit_ar1(&[1.0, 2.0], 0.01, true).is_err());
+    }
+
+    #[test]
+    fn pchip_tiny_slopes_keep_their_harmonic_mean() {
+        // Equal tiny slopes of one sign: the harmonic mean is that slope (the product test
+        // m0·m1 <= 0 used to underflow to 0 and flatten it).
+        let x = [0.0, 1.0, 2.0, 3.0];
+        let y = [0.0, 1e-170, 2e-170, 3e-170];
+        let d = pchip_slopes(&x, &y);
+        assert!((d[1] - 1e-170).abs() < 1e-184 && (d[2] - 1e-170).abs() < 1e-184);
+        assert_eq!(binary_exponent(1.0), 0);
+        assert_eq!(binary_exponent(3.0), 1);
+        assert_eq!(binary_exponent(f64::MIN_POSITIVE), -1022);
+        assert_eq!(binary_exponent(5e-324), -1074);
+        assert_eq!(times_pow2(times_pow2(2.2e-311, 1040), -1040), 2.2e-311);
+        // Subnormal data: interpolated exactly like the data scaled to O(1).
+        let y = [0.0, 0.0, 0.0, 0.0, 2.2e-311];
+        let x = [-30.0, -5.0, 0.0, 30.0, 60.0];
+        let at = [45.0, 59.0];
+        let tiny = interpolate(&x, &y, Method::Pchip, &at, false).unwrap();
+        let big: Vec<f64> = y.iter().map(|&v| times_pow2(v, 1030)).collect();
+        let unit = interpolate(&x, &big, Method::Pchip, &at, false).unwrap();
+        for (a, b) in tiny.iter().zip(&unit) {
+            assert!((a - times_pow2(*b, -1030)).abs() <= 5e-324);
+            assert!(*a > 0.0);
+        }
     }
 
     #[test]

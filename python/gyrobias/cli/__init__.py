@@ -27,6 +27,7 @@ SUBCOMMANDS: list[str] = [
     "gyrobias.cli.predict",
     "gyrobias.cli.filter",
     "gyrobias.cli.thermal",
+    "gyrobias.cli.fleet",
 ]
 
 #: Modules with ``register_experiment(exp_subparsers)`` for the ``gyrobias experiment`` group

@@ -3,10 +3,13 @@
 Example::
 
     gyrobias allan LOG.csv --columns gx,gy,gz --units deg/s --json out.json --plot out.png
+    gyrobias allan imu.bag --fit --kalibr imu.yaml
 
-The sample rate comes from ``--fs`` or from the log's time column (a header column named
-``t``/``time``/``timestamp``, or ``--time-column``); irregular sampling found in the timestamps
-is reported as warnings on stderr and in the JSON.
+The sample rate comes from ``--fs`` or from the log's timestamps (a time column, or a bag's
+``header.stamp``); irregular sampling found in the timestamps is reported as warnings on
+stderr and in the JSON. Channels with different units (a 6-axis IMU: gyro in rad/s,
+accelerometer in m/s²) are analysed per unit and labelled with it; ``--kalibr`` then writes
+both sensors' terms to one file.
 """
 
 from __future__ import annotations
@@ -16,10 +19,11 @@ import json
 import sys
 import time
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any
 
-from gyrobias import allan, io
+from gyrobias import allan
 from gyrobias.cli import noise as noise_cli
+from gyrobias.cli._common import ProgressBar, add_read_arguments, describe_source, read_log, require_fs
 
 __all__ = ["ProgressBar", "register", "run"]
 
@@ -34,23 +38,17 @@ def register(subparsers: Any) -> None:
         "allan",
         help="Allan / modified / Hadamard / total deviation of a gyro log",
         description=(
-            "Compute an Allan-family deviation of each channel of a gyro log (CSV/TSV/text or "
-            ".npy), print a table per axis with confidence intervals and the identified noise "
-            "type, and optionally write JSON and a log-log plot."
+            "Compute an Allan-family deviation of each channel of an IMU log (CSV/TSV/text, "
+            ".npy, ROS1/ROS2 bag or MCAP), print a table per sensor axis with confidence "
+            "intervals and the identified noise type, and optionally write JSON and a log-log plot."
         ),
-        epilog="example: gyrobias allan log.csv --columns gx,gy,gz --units deg/s --plot adev.png",
+        epilog="examples: gyrobias allan log.csv --columns gx,gy,gz --units deg/s --plot adev.png\n"
+        "          gyrobias allan imu.bag --fit --kalibr imu.yaml",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("log", type=Path, metavar="LOG", help="log file: .csv, .tsv, .txt (delimited text) or .npy")
-    src = p.add_argument_group("reading the log")
-    src.add_argument("--columns", metavar="A,B,…", help="channels by header name or 0-based index (default: all but time)")
-    src.add_argument("--fs", type=float, metavar="HZ", help="sample rate (default: from the time column)")
-    src.add_argument("--time-column", metavar="NAME", help="column of timestamps (default: a header column named t/time/timestamp)")
-    src.add_argument("--no-time-column", action="store_true", help="the log has no time column")
-    src.add_argument("--time-unit", choices=("auto", "s", "ms", "us", "ns"), default="auto",
-                     help="unit of the timestamps (default auto: ns if the median step ≥ 1000, else s)")
-    src.add_argument("--delimiter", metavar="SEP", help="field separator: , ; tab (or \\t) or whitespace (default: detected)")
-    src.add_argument("--skip-rows", type=int, default=0, metavar="N", help="lines to skip before the header")
-    src.add_argument("--units", metavar="UNIT", help="unit of the samples, e.g. deg/s (for labels)")
+    p.add_argument("log", type=Path, metavar="LOG",
+                   help="log: .csv/.tsv/.txt (delimited text), .npy, .bag, .mcap, .db3 or a ROS2 bag directory")
+    src = add_read_arguments(p)
     src.add_argument("--data-type", choices=("rate", "angle"), default="rate", help="rate (default) or integrated angle samples")
     ana = p.add_argument_group("analysis")
     ana.add_argument("--kind", choices=tuple(_FUNCTIONS), default="adev", help="deviation (default adev)")
@@ -66,120 +64,71 @@ def register(subparsers: Any) -> None:
     noise_cli.add_fit_arguments(p)
     out.add_argument("--json", type=Path, metavar="FILE", help="write all axes, units, fs and the sampling report as JSON")
     out.add_argument("--plot", type=Path, metavar="FILE", help="save a log-log plot (png, pdf, svg) with confidence bars")
-    out.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
-                     help="progress bar on stderr (default: on for long logs when stderr is a terminal)")
     p.set_defaults(func=run)
-
-
-class _Stream(Protocol):
-    def write(self, text: str, /) -> int: ...
-    def flush(self) -> None: ...
-
-
-class ProgressBar:
-    """A stderr progress callback for the ``progress=`` argument of :func:`gyrobias.allan.adev`.
-
-    On a terminal it redraws one bar in place; elsewhere it prints a line per update.
-    """
-
-    def __init__(self, label: str, stream: _Stream | None = None, width: int = 30) -> None:
-        self.label = label
-        self.stream: _Stream = stream if stream is not None else sys.stderr
-        self.width = width
-        self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
-        self._drawn = False
-        self._start = time.perf_counter()
-
-    def __call__(self, fraction: float) -> None:
-        fraction = min(max(float(fraction), 0.0), 1.0)
-        elapsed = time.perf_counter() - self._start
-        if self.tty:
-            filled = round(self.width * fraction)
-            bar = "#" * filled + "-" * (self.width - filled)
-            self.stream.write(f"\r{self.label} [{bar}] {100 * fraction:3.0f} % {elapsed:5.1f} s")
-        else:
-            self.stream.write(f"{self.label}: {100 * fraction:3.0f} % ({elapsed:.1f} s)\n")
-        self.stream.flush()
-        self._drawn = True
-
-    def close(self) -> None:
-        """End the bar's line."""
-        if self._drawn and self.tty:
-            self.stream.write("\n")
-            self.stream.flush()
-
-
-def _warn(message: str) -> None:
-    print(f"gyrobias: warning: {message}", file=sys.stderr)
 
 
 def run(args: argparse.Namespace) -> int:
     """Execute ``gyrobias allan``."""
     if args.non_overlapping and args.kind != "adev":
         raise ValueError("--non-overlapping applies to --kind adev only")
-    if args.no_time_column and args.time_column is not None:
-        raise ValueError("--time-column and --no-time-column contradict each other")
     confidence = None if args.no_confidence else args.confidence
-    delimiter = args.delimiter
-    if delimiter is not None:
-        delimiter = {"\\t": "\t", "tab": "\t", "whitespace": None, "space": None, " ": None}.get(delimiter, delimiter)
     show_progress = args.progress
     if show_progress is None:
         show_progress = sys.stderr.isatty()
 
-    if args.progress or (show_progress and args.log.is_file() and args.log.stat().st_size > 20_000_000):
-        print(f"reading {args.log} …", file=sys.stderr, flush=True)
     t_read = time.perf_counter()
-    log = io.load(
-        args.log,
-        columns=args.columns,
-        time_column=False if args.no_time_column else args.time_column,
-        time_unit=args.time_unit,
-        fs=args.fs,
-        delimiter=delimiter,
-        skip_rows=args.skip_rows,
-    )
+    log = read_log(args, quiet=True)
     t_read = time.perf_counter() - t_read
     report = log.sampling
-    if log.fs is None:
-        raise ValueError(
-            f"{args.log.name} has no time column: give the sample rate with --fs HZ "
-            "(or name the time column with --time-column)"
-        )
+    fs = require_fs(log, args.log)
     if report.fs_source == "timestamps":
         print(
-            f"fs = {log.fs:.9g} Hz, estimated from the time column '{log.time_column}' "
+            f"fs = {fs:.9g} Hz, estimated from the time column '{log.time_column}' "
             f"(read as {report.time_unit}; jitter {100 * (report.jitter or 0.0):.2g} %)"
         )
     for w in log.warnings:
-        _warn(w)
+        print(f"gyrobias: warning: {w}", file=sys.stderr)
 
     bar = None
     if show_progress and (args.progress or log.data.size >= PROGRESS_MIN_VALUES):
         bar = ProgressBar(f"{args.kind} of {log.n_samples} samples × {len(log.columns)}")
-    kw: dict[str, Any] = {
-        "taus": args.taus,
-        "per_decade": args.per_decade,
-        "data_type": args.data_type,
-        "confidence": confidence,
-        "units": args.units,
-        "axis_names": list(log.columns),
-        "progress": bar,
-    }
-    if args.kind == "adev":
-        kw["overlapping"] = not args.non_overlapping
+    groups = log.unit_groups()
     t_run = time.perf_counter()
+    by_column: dict[int, Any] = {}
     try:
-        results = _FUNCTIONS[args.kind](log.data, log.fs, **kw)
+        done = 0.0
+        for unit, cols in groups:
+            # one call per unit: a 6-axis IMU's gyro and accelerometer each get their own unit
+            part = log.data if len(groups) == 1 else log.data[:, cols]
+            share = len(cols) / len(log.columns)
+            kw: dict[str, Any] = {
+                "taus": args.taus,
+                "per_decade": args.per_decade,
+                "data_type": args.data_type,
+                "confidence": confidence,
+                "units": unit,
+                "axis_names": [log.columns[c] for c in cols],
+                "progress": None if bar is None else (lambda f, d=done, s=share: bar(d + s * f)),
+            }
+            if args.kind == "adev":
+                kw["overlapping"] = not args.non_overlapping
+            if log.sampling.filled_samples:
+                kw.update(_gap_option(args.kind))
+            out = _FUNCTIONS[args.kind](part, fs, **kw)
+            assert isinstance(out, tuple)
+            by_column.update(zip(cols, out))
+            done += share
     finally:
         if bar is not None:
             bar.close()
+    results = tuple(by_column[c] for c in range(len(log.columns)))
     t_run = time.perf_counter() - t_run
-    assert isinstance(results, tuple)
+    args.rostopic = log.topic
 
-    duration = log.n_samples / log.fs
-    print(f"{args.log}: {log.n_samples} samples × {len(log.columns)} channels, "
-          f"{_duration(duration)} at {log.fs:.9g} Hz")
+    duration = log.n_samples / fs
+    source = f" ({describe_source(log)})" if log.topic else ""
+    print(f"{args.log}{source}: {log.n_samples} samples × {len(log.columns)} channels, "
+          f"{_duration(duration)} at {fs:.9g} Hz")
     for r in results:
         unit = f" [{r.unit}]" if r.unit else ""
         print(f"\n{r.kind.upper()} of {r.axis}{unit}"
@@ -197,12 +146,13 @@ def run(args: argparse.Namespace) -> int:
             "kind": args.kind,
             "fs_hz": log.fs,
             "fs_source": report.fs_source,
-            "units": args.units,
+            "units": _json_units(log.units),
             "data_type": args.data_type,
             "overlapping": results[0].overlapping,
             "confidence": confidence,
             "columns": list(log.columns),
             "time_column": log.time_column,
+            "topic": log.topic,
             "sampling": report.to_dict(),
             "timing_s": {"read": t_read, "analysis": t_run},
             "axes": [r.to_dict() for r in results],
@@ -214,7 +164,7 @@ def run(args: argparse.Namespace) -> int:
     if args.plot is not None:
         from gyrobias.plotting import save_allan_plot
 
-        title = f"{args.kind.upper()} of {args.log.name} ({log.fs:.6g} Hz, {_duration(duration)})"
+        title = f"{args.kind.upper()} of {args.log.name} ({fs:.6g} Hz, {_duration(duration)})"
         fits = args.noise_coefficients or None
         if fits is not None and len(results) > 1:
             # One figure per axis for the fitted models (overlaying several models, their
@@ -229,6 +179,23 @@ def run(args: argparse.Namespace) -> int:
             save_allan_plot(results, args.plot, title=title, fits=fits)
             print(f"wrote {args.plot}")
     return 0
+
+
+def _gap_option(kind: str) -> dict[str, str]:
+    """``{"gaps": "omit"}`` for the NaN rows of ``--fill-gaps``, if the estimator supports it."""
+    import inspect
+
+    if "gaps" in inspect.signature(_FUNCTIONS[kind]).parameters:
+        return {"gaps": "omit"}
+    raise ValueError(
+        f"--fill-gaps marks missing samples with NaN, and this {kind.upper()} cannot skip gaps; "
+        "leave out --fill-gaps to analyse the samples as if contiguous"
+    )
+
+
+def _json_units(units: tuple[str | None, ...]) -> str | list[str | None] | None:
+    """One unit for all channels as a string (as before), else one per channel."""
+    return units[0] if len(set(units)) == 1 else list(units)
 
 
 def _duration(seconds: float) -> str:

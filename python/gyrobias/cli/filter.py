@@ -3,11 +3,14 @@
 Example::
 
     gyrobias filter gyro.csv --fs 200 --bandwidth 10 --arw 0.08 --rrw 7e-4 -o filtered.csv
+    gyrobias filter imu.bag --columns gyro --bandwidth 10 --arw 0.0014 -o filtered.npy
 
 ``--arw`` is in u/√s and ``--rrw`` in u/s^1.5, u being the angle unit of the log's rates
 (``--arw-unit deg/sqrt(h)`` and ``--rrw-unit deg/h^1.5`` accept the customary units for logs in
 deg/s). The output (CSV or .npy) has, for every channel, the rate estimate and the bias estimate
-(columns ``rate_<name>,bias_<name>``).
+(columns ``rate_<name>,bias_<name>``). Logs are read like every command's
+(:func:`gyrobias.cli._common.read_log`: text, .npy, bags, MCAP); the rate comes from ``--fs`` or
+the timestamps.
 """
 
 from __future__ import annotations
@@ -18,8 +21,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
+from gyrobias.cli._common import add_read_arguments, read_log, require_fs
 from gyrobias.kalman import (
     FixedGainKalman,
     arw_from_deg_per_sqrt_hour,
@@ -38,8 +41,7 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("log", type=Path, help="CSV/TSV/whitespace text or .npy file of rates")
-    p.add_argument("--fs", type=float, required=True, help="sampling rate in Hz")
+    p.add_argument("log", type=Path, help="log of rates: text, .npy, a ROS bag or an MCAP file")
     p.add_argument("--arw", type=float, required=True, help="angle random walk N (see --arw-unit)")
     p.add_argument("--rrw", type=float, default=0.0, help="rate random walk K (see --rrw-unit)")
     p.add_argument("--arw-unit", choices=sorted(_ARW_UNITS), default="u/sqrt(s)")
@@ -49,63 +51,11 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
     design.add_argument("--q-omega", type=float, help="per-step rate process noise, (u/s)^2")
     p.add_argument("--form", choices=("standard", "paper"), default="standard")
     p.add_argument(
-        "--columns",
-        help="comma-separated channels (header names or 0-based indices) to filter "
-        "(default: every column except a time column)",
-    )
-    p.add_argument(
         "-o", "--output", type=Path, help="output file (.csv or .npy); default: summary only"
     )
+    add_read_arguments(p)
     p.set_defaults(func=run)
-    return p
-
-
-def load_rates(path: Path, columns: str | None = None) -> tuple[NDArray[np.float64], list[str]]:
-    """Read the (samples × channels) rates and channel names of a log.
-
-    Uses :func:`gyrobias.io.load` where available (header names, time columns, sampling
-    checks); otherwise a small reader for ``.npy`` and comma/tab/whitespace text whose
-    leading non-numeric lines (headers) and ``#`` comments are skipped.
-    """
-    try:
-        from gyrobias import io as gio  # type: ignore[attr-defined, unused-ignore]
-    except ImportError:
-        gio = None
-    if gio is not None and hasattr(gio, "load"):
-        log = gio.load(path, columns=columns)
-        return np.asarray(log.data, dtype=np.float64), list(log.columns)
-    if not path.exists():
-        raise FileNotFoundError(f"log file not found: {path}")
-    if path.suffix == ".npy":
-        data = np.asarray(np.load(path, allow_pickle=False), dtype=np.float64)
-    else:
-        with path.open() as fh:
-            lines = [ln for ln in fh if ln.strip() and not ln.lstrip().startswith("#")]
-        last = lines[-1] if lines else ""
-        delimiter = "," if "," in last else ("\t" if "\t" in last else None)
-        skip = 0
-        for ln in lines:
-            try:
-                [float(v) for v in ln.split(delimiter)]
-                break
-            except ValueError:
-                skip += 1
-        if skip == len(lines):
-            raise ValueError(f"log file {path} has no numeric rows")
-        data = np.loadtxt(lines[skip:], delimiter=delimiter, ndmin=2)
-    if data.ndim == 1:
-        data = data[:, None]
-    names = [f"col{i}" for i in range(data.shape[1])]
-    if columns:
-        try:
-            idx = [int(c.strip().removeprefix("col")) for c in columns.split(",")]
-        except ValueError:
-            raise ValueError(f"--columns must be comma-separated indices, got {columns!r}") from None
-        if any(i < 0 or i >= data.shape[1] for i in idx):
-            raise ValueError(f"--columns {columns} out of range for {data.shape[1]} columns")
-        data = data[:, idx]
-        names = [names[i] for i in idx]
-    return data, names
+    return p  # type: ignore[no-any-return]
 
 
 def run(args: argparse.Namespace) -> int:
@@ -114,9 +64,12 @@ def run(args: argparse.Namespace) -> int:
     Bad input raises ``ValueError``/``OSError``, which the ``gyrobias`` entry point prints as
     one error line (exit code 2).
     """
-    z, names = load_rates(args.log, args.columns)
+    log = read_log(args)
+    z = np.ascontiguousarray(log.data)
+    names = list(log.columns)
+    fs = require_fs(log, args.log)
     kf = FixedGainKalman(
-        args.fs,
+        fs,
         arw=args.arw * _ARW_UNITS[args.arw_unit],
         rrw=args.rrw * _RRW_UNITS[args.rrw_unit],
         q_omega=args.q_omega,

@@ -97,7 +97,7 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
                 "write SI values"
             )
         try:
-            write_kalibr(kalibr, gyro=gyro, accel=accel)
+            write_kalibr(kalibr, gyro=gyro, accel=accel, rostopic=getattr(args, "rostopic", None) or "/imu0")
         except (ValueError, OSError) as exc:
             raise SystemExit(f"gyrobias: cannot write {kalibr}: {exc}") from None
         print(f"wrote {kalibr} (Kalibr imu.yaml, continuous-time densities in SI units)", file=sys.stderr)

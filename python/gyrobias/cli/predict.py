@@ -13,7 +13,6 @@ the moving average (MA) and the calibration mean (CM), and the Table I statistic
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 from typing import Any
 
@@ -35,9 +34,7 @@ def register(subparsers: Any) -> None:
         ),
         epilog="example: gyrobias predict log.csv --fs 100 --column gz --calibration 1000 --horizon 1000",
     )
-    p.add_argument("log", type=Path, metavar="LOG", help="log file: .npy or delimited text with a header")
-    p.add_argument("--fs", type=float, required=True, metavar="HZ", help="sample rate (for the plot's time axis)")
-    p.add_argument("--column", default=None, metavar="NAME", help="channel by header name or 0-based index (default: the only/first column)")
+    p.add_argument("log", type=Path, metavar="LOG", help="log: text, .npy, a ROS bag or an MCAP file")
     p.add_argument("--calibration", type=int, default=1000, metavar="K", help="calibration samples per section (default 1000)")
     p.add_argument("--horizon", type=int, default=1000, metavar="H", help="predicted samples per section (default 1000)")
     p.add_argument("--d", type=float, default=0.5, help="memory parameter of the 1/f model (default 0.5)")
@@ -46,20 +43,21 @@ def register(subparsers: Any) -> None:
     p.add_argument("--mean", choices=("sample", "diffuse", "none"), default="sample", help="mean-state prior (default sample)")
     p.add_argument("--plot", type=Path, metavar="PNG", help="draw one example window with the ±2σ band")
     p.add_argument("--window", type=int, default=0, metavar="I", help="section drawn by --plot (default 0)")
+    from gyrobias.cli._common import add_read_arguments
+
+    add_read_arguments(p, column_help="the channel, by name or 0-based index (default: the first)")
     p.set_defaults(func=run)
 
 
-def _read_log(path: Path, column: str | None, fs: float) -> NDArray[np.float64]:
-    """One channel of a log via :func:`gyrobias.io.load` (sampling problems are reported)."""
-    from gyrobias import io
+def _read_log(args: argparse.Namespace) -> tuple[NDArray[np.float64], float]:
+    """One channel of the log and the sample rate (shared reader; sampling problems reported)."""
+    from gyrobias.cli._common import read_log, require_fs
 
-    spec: list[str | int] | None = None
-    if column is not None:
-        spec = [int(column) if column.isdigit() else column]
-    log = io.load(path, columns=spec, fs=fs)
-    for w in log.warnings:
-        print(f"gyrobias: warning: {w}", file=sys.stderr)
-    return np.ascontiguousarray(log.data[:, 0])
+    log = read_log(args)
+    if log.data.shape[1] > 1 and args.columns is not None:
+        raise ValueError(f"predict analyses one channel; --column selected {len(log.columns)}: {', '.join(log.columns)}")
+    return np.ascontiguousarray(log.data[:, 0]), require_fs(log, args.log)
+
 
 def plot_window(
     section: NDArray[np.float64], calibration: int, fs: float, predictor: Any, path: Path, title: str = ""
@@ -94,11 +92,9 @@ def plot_window(
 
 def run(args: argparse.Namespace) -> int:
     """Execute ``gyrobias predict``."""
-    from gyrobias._validation import positive_float
     from gyrobias.predict import FractionalKalmanPredictor, evaluate
 
-    fs = positive_float("--fs", args.fs)
-    y = _read_log(args.log, args.column, fs)
+    y, fs = _read_log(args)
     predictor = FractionalKalmanPredictor(d=args.d, q=args.q, r=args.r, mean=args.mean)
     ev = evaluate(y, calibration=args.calibration, horizon=args.horizon, predictor=predictor)
     print(f"{args.log}: {y.size} samples at {fs:g} Hz")

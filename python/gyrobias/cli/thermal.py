@@ -6,8 +6,9 @@ Usage::
         [--fpass 14 --fstop 18 --apass-db 0.0001 --astop-db 100 | --no-filter]
         [--method pchip] [--json model.json]
 
-Each ``LOG@T`` is a rate log (``.npy``, or CSV/TSV/whitespace text, read by
-:func:`gyrobias.io.load`; ``--column`` selects the channel) recorded at ``T`` °C.
+Each ``LOG@T`` is a rate log (text, ``.npy``, a ROS bag or an MCAP file, read like every
+command's logs by :func:`gyrobias.cli._common.read_log`; ``--column`` selects the channel)
+recorded at ``T`` °C.
 """
 
 from __future__ import annotations
@@ -24,16 +25,12 @@ from numpy.typing import NDArray
 __all__ = ["register", "run"]
 
 
-def _load_log(path: Path, column: str | None, fs: float) -> NDArray[np.float64]:
-    """One rate channel of a log file (``gyrobias.io.load``: .npy, CSV/TSV/whitespace text).
+def _load_log(args: argparse.Namespace, path: Path) -> NDArray[np.float64]:
+    """One rate channel of a log file (default the first channel after the time column)."""
+    from gyrobias.cli._common import read_log
 
-    ``column`` is a header name or 0-based index; default the first channel after the time
-    column (if any).
-    """
-    from gyrobias import io
-
-    log = io.load(path, columns=None if column is None else [column], fs=fs)
-    return np.ascontiguousarray(log.data[:, 0] if log.data.ndim == 2 else log.data)
+    log = read_log(args, path)
+    return np.ascontiguousarray(log.data[:, 0])
 
 
 def _parse_tag(tag: str) -> tuple[Path, float]:
@@ -61,10 +58,6 @@ def register(subparsers: Any) -> None:
         ),
     )
     p.add_argument("logs", nargs="+", metavar="LOG@T", help="log file and its temperature in °C")
-    p.add_argument("--fs", type=float, required=True, help="sample rate in Hz")
-    p.add_argument(
-        "--column", default=None, help="rate channel: header name or 0-based index (default: first channel)"
-    )
     p.add_argument("--units", default="deg/s", help="unit of the samples (default deg/s)")
     p.add_argument("--fpass", type=float, default=None, help="FIR pass-band edge, Hz (default 0.14·fs)")
     p.add_argument("--fstop", type=float, default=None, help="FIR stop-band edge, Hz (default 0.18·fs)")
@@ -74,6 +67,10 @@ def register(subparsers: Any) -> None:
     p.add_argument("--method", choices=("linear", "pchip", "polynomial"), default="pchip")
     p.add_argument("--degree", type=int, default=2, help="polynomial degree (--method polynomial)")
     p.add_argument("--json", type=Path, default=None, help="write the temperature model here")
+    from gyrobias.cli._common import add_read_arguments
+
+    add_read_arguments(p, fs_required=True, units=False,
+                       column_help="rate channel: name or 0-based index (default: the first channel)")
     p.set_defaults(func=run)
 
 
@@ -87,7 +84,7 @@ def run(args: argparse.Namespace) -> int:
         if len(set(temps)) != len(temps):
             dup = next(t for t in temps if temps.count(t) > 1)
             raise ValueError(f"temperatures must be distinct: {dup:g} °C is given twice")
-        logs = [(t, _load_log(path, args.column, args.fs)) for path, t in tagged]
+        logs = [(t, _load_log(args, path)) for path, t in tagged]
         analyses = thermal.analyse_logs(
             logs,
             args.fs,

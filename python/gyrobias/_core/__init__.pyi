@@ -1,0 +1,17 @@
+"""Type stubs of the Rust extension module ``gyrobias._core``.
+
+One submodule per gyrocore module, with gyrocore's function names (checked by
+``python -m mypy.stubtest gyrobias._core``). Array arguments may have any memory layout: the
+binding borrows C-contiguous float64 arrays and copies any other layout into C order once.
+"""
+
+from gyrobias._core import allan as allan
+from gyrobias._core import fir as fir
+from gyrobias._core import fractional as fractional
+from gyrobias._core import kalman as kalman
+from gyrobias._core import noise as noise
+from gyrobias._core import predict as predict
+from gyrobias._core import spectral as spectral
+from gyrobias._core import thermal as thermal
+
+class GyroLinAlgError(ValueError): ...

@@ -1,0 +1,91 @@
+"""Bindings of ``gyrocore::noise``."""
+
+from typing import Any, TypedDict, type_check_only
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["diagnose", "fit", "gauss_markov_variance", "gmwm", "model", "read_off", "simulate"]
+
+@type_check_only
+class TermEstimate(TypedDict):
+    """One noise term (Q, N, B, K or R) in the base unit of the curve."""
+
+    symbol: str
+    value: float | None
+    uncertainty: float | None
+    tau_range: tuple[float, float] | None
+    marker: tuple[float, float] | None
+    missing: str | None
+
+@type_check_only
+class ReadOff(TypedDict):
+    """IEEE-952 read-off of the noise terms."""
+
+    terms: list[TermEstimate]
+    local_slopes: NDArray[np.float64]
+
+def simulate(
+    n: int,
+    fs: float,
+    quantization: float,
+    arw: float,
+    bias_instability: float,
+    rrw: float,
+    rate_ramp: float,
+    ar1: tuple[float, float] | None,
+    bias: float,
+    axes: int,
+    seed: int,
+) -> NDArray[np.float64]: ...
+def read_off(
+    taus: NDArray[np.float64],
+    variance: NDArray[np.float64],
+    m: NDArray[np.uint64],
+    n_terms: NDArray[np.uint64],
+    overlapping: bool,
+    edf: NDArray[np.float64] | None,
+    terms: list[str],
+    regions: list[tuple[float, float] | None],
+    tolerance: float,
+    min_points: int,
+) -> ReadOff: ...
+def model(
+    squared: list[float] | tuple[float, float, float, float, float],
+    taus: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], list[NDArray[np.float64]]]: ...
+def fit(
+    taus: NDArray[np.float64],
+    variance: NDArray[np.float64],
+    m: NDArray[np.uint64],
+    n_terms: NDArray[np.uint64],
+    overlapping: bool,
+    edf: NDArray[np.float64] | None,
+    terms: list[str],
+    tau_range: tuple[float, float] | None,
+    correlation_time: tuple[float, float] | None,
+    automatic_range: bool,
+) -> dict[str, Any]: ...
+def diagnose(
+    taus: NDArray[np.float64],
+    variance: NDArray[np.float64],
+    m: NDArray[np.uint64],
+    n_terms: NDArray[np.uint64],
+    overlapping: bool,
+    edf: NDArray[np.float64] | None,
+    squared: list[float] | tuple[float, float, float, float, float],
+    gauss_markov: list[tuple[float, float]],
+    n_params: int,
+) -> dict[str, Any]: ...
+def gauss_markov_variance(
+    gauss_markov: list[tuple[float, float]], taus: NDArray[np.float64]
+) -> list[NDArray[np.float64]]: ...
+def gmwm(
+    data: NDArray[np.float64],
+    t0: float,
+    terms: list[str],
+    select: bool,
+    bootstrap: int,
+    seed: int,
+    min_blocks: int,
+) -> dict[str, Any]: ...

@@ -1,0 +1,64 @@
+"""Bindings of ``gyrocore::predict``."""
+
+from typing import TypedDict, final, type_check_only
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["CompiledPredictor", "calibration_mean", "fractional_kalman", "moving_average"]
+
+@type_check_only
+class BatchPrediction(TypedDict):
+    """Forecasts of every calibration row (``bias`` flat windows·h)."""
+
+    bias: NDArray[np.float64]
+    std: NDArray[np.float64]
+    std_observation: NDArray[np.float64]
+    mean: NDArray[np.float64]
+    mean_std: float
+
+def fractional_kalman(
+    calibration: NDArray[np.float64],
+    horizon: int,
+    d: float,
+    q: float,
+    r: float,
+    mean: str,
+    mu0: float,
+    p0: float,
+    algorithm: str,
+    n_threads: int,
+) -> BatchPrediction: ...
+def calibration_mean(calibration: NDArray[np.float64], horizon: int) -> NDArray[np.float64]: ...
+def moving_average(calibration: NDArray[np.float64], horizon: int) -> NDArray[np.float64]: ...
+@final
+class CompiledPredictor:
+    def __new__(
+        cls,
+        calibration_length: int,
+        horizon: int,
+        d: float,
+        q: float,
+        r: float,
+        mean: str,
+        mu0: float,
+        p0: float,
+        n_threads: int,
+    ) -> CompiledPredictor: ...
+    def predict(
+        self, batch: NDArray[np.float64], n_threads: int
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+    @property
+    def calibration_length(self) -> int: ...
+    @property
+    def horizon(self) -> int: ...
+    @property
+    def weights(self) -> NDArray[np.float64]: ...
+    @property
+    def offset(self) -> NDArray[np.float64]: ...
+    @property
+    def std(self) -> NDArray[np.float64]: ...
+    @property
+    def std_observation(self) -> NDArray[np.float64]: ...
+    @property
+    def mean_std(self) -> float: ...

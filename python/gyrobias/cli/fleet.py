@@ -1,0 +1,164 @@
+"""``gyrobias fleet``: the noise terms of many IMU logs as one table, a summary and a figure.
+
+Example::
+
+    gyrobias fleet 'logs/*.csv' --units deg/s --out fleet.parquet --plot fleet.png
+    gyrobias fleet 'logs/*.npy' --fs 200 --scheduler tcp://scheduler:8786
+
+Every log is analysed by :func:`gyrobias.fleet.analyse` on Dask (the local threaded scheduler,
+or the cluster at ``--scheduler``). A log that cannot be read is reported, not fatal.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+from pathlib import Path
+from typing import Any
+
+from gyrobias import fleet
+from gyrobias.cli._common import add_read_arguments, load_options
+
+__all__ = ["register", "run"]
+
+#: Rows of the per-unit table printed before "…" (the Parquet file has all of them).
+MAX_PRINTED_ROWS = 60
+
+
+def register(subparsers: Any) -> None:
+    """Add the ``fleet`` subcommand."""
+    p = subparsers.add_parser(
+        "fleet",
+        help="noise terms of a fleet of IMU logs on Dask: table, summary, out-of-family units, figure",
+        description=(
+            "Analyse many logs (one per unit) in parallel on Dask: Allan deviation with confidence "
+            "intervals and the IEEE-952 noise terms of every axis, robust out-of-family flags, a "
+            "summary of the fleet's spread, a Parquet table and a figure."
+        ),
+        epilog="example: gyrobias fleet 'logs/*.csv' --units deg/s --out fleet.parquet --plot fleet.png",
+    )
+    p.add_argument("sources", nargs="+", metavar="LOG",
+                   help="log files or quoted glob patterns ('logs/*.csv', 'runs/**/*.npy')")
+    src = add_read_arguments(p)
+    src.add_argument("--axis-names", metavar="X,Y,…",
+                     help="names for the channels of every log (compares logs whose headers differ, e.g. CSV and NPY)")
+    ana = p.add_argument_group("analysis")
+    ana.add_argument("--fit-method", choices=("joint", "ieee"), default="joint",
+                     help="joint weighted NNLS fit (default) or IEEE-952 slope read-off")
+    ana.add_argument("--taus", choices=("octave", "decade", "log", "all"), default="octave", help="τ grid (default octave)")
+    ana.add_argument("--threshold", type=float, default=fleet.OUT_OF_FAMILY_THRESHOLD, metavar="Z",
+                     help=f"robust |z| above which a term is out of family (default {fleet.OUT_OF_FAMILY_THRESHOLD})")
+    run_group = p.add_argument_group("where it runs")
+    run_group.add_argument("--scheduler", metavar="ADDRESS",
+                           help="Dask scheduler address (tcp://host:8786); default: local threads")
+    run_group.add_argument("--workers", type=int, metavar="N", help="threads of the local scheduler (default: one per core)")
+    out = p.add_argument_group("output")
+    out.add_argument("--out", type=Path, metavar="FILE",
+                     help="write the table: .parquet (pyarrow, with the Allan curves) or .csv (without them)")
+    out.add_argument("--plot", type=Path, metavar="FILE", help="save the fleet figure (png, pdf, svg)")
+    p.set_defaults(func=run)
+
+
+def _fmt(value: Any, digits: int = 4) -> str:
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "—"
+    return f"{value:.{digits}g}"
+
+
+def _print_table(table: Any) -> None:
+    terms = [t for t in fleet.TERMS if table[t].notna().any()]
+    ok = table[table["error"].isna()]
+    units = {t: next((u for u in ok[f"{t}_unit"] if isinstance(u, str)), None) for t in terms}
+    head = f"{'source':<28} {'axis':<6}" + "".join(
+        f" {t + (f' [{units[t]}]' if units[t] else ''):>22}" for t in terms
+    ) + "  flag"
+    print(head)
+    for i, (_, row) in enumerate(table.iterrows()):
+        if i == MAX_PRINTED_ROWS:
+            print(f"… {len(table) - MAX_PRINTED_ROWS} more rows (see --out)")
+            break
+        name = os.path.basename(str(row["source"]))[:28]
+        if isinstance(row["error"], str):
+            print(f"{name:<28} {'—':<6} error: {row['error']}")
+            continue
+        cells = "".join(
+            f" {_fmt(row[t]) + ' ± ' + _fmt(row[f'{t}_uncertainty'], 2):>22}" for t in terms
+        )
+        terms_out = row["out_of_family_terms"]
+        flag = f"OUT ({terms_out})" if isinstance(terms_out, str) else ""
+        print(f"{name:<28} {row['axis']!s:<6}{cells}  {flag}")
+
+
+def _print_summary(summ: Any) -> None:
+    pd = fleet._require("pandas")
+    print(
+        f"{'axis':<6} {'term':<4} {'unit':<10} {'n':>4} {'median':>11} {'spread':>10} {'mean 1σ':>10} "
+        f"{'Birge':>6} {'p':>8}  spread real?"
+    )
+    for _, r in summ.iterrows():
+        real = r["spread_real"]
+        verdict = "—" if pd.isna(real) else ("yes" if bool(real) else "no")
+        print(
+            f"{r['axis']!s:<6} {r['term']:<4} {r['unit'] or ''!s:<10} {r['n']:>4} {_fmt(r['median']):>11} "
+            f"{_fmt(r['spread'], 3):>10} {_fmt(r['mean_uncertainty'], 3):>10} {_fmt(r['birge_ratio'], 3):>6} "
+            f"{_fmt(r['p_value'], 2):>8}  {verdict}"
+        )
+
+
+def run(args: argparse.Namespace) -> int:
+    """Execute ``gyrobias fleet``."""
+    if args.workers is not None and args.workers < 1:
+        raise ValueError(f"--workers must be >= 1, got {args.workers}")
+    if args.out is not None and args.out.suffix.lower() not in (".parquet", ".csv"):
+        raise ValueError(f"--out must end in .parquet or .csv, got '{args.out}'")
+    options = load_options(args)
+    fs, units = options.pop("fs"), options.pop("units")
+    table = fleet.analyse(
+        args.sources,
+        fs=fs,
+        units=units,
+        fit=args.fit_method,
+        client=args.scheduler,
+        axis_names=None if args.axis_names is None else [a.strip() for a in args.axis_names.split(",") if a.strip()],
+        load_options=options,
+        taus=args.taus,
+        threshold=args.threshold,
+        num_workers=args.workers,
+    )
+    failed = table[table["error"].notna()]
+    ok = table[table["error"].isna()]
+    n_sources = table["source"].nunique()
+    print(f"{n_sources} logs, {len(ok)} unit-axes analysed, {len(failed)} failed"
+          f"{f' (scheduler {args.scheduler})' if args.scheduler else ''}\n")
+    _print_table(table)
+    summ = fleet.summary(table)
+    if not summ.empty:
+        print("\nFleet summary (spread = 1.4826·MAD; mean 1σ = RMS of the reported uncertainties; the spread is "
+              f"real when the χ² homogeneity test gives p < {fleet.SPREAD_ALPHA:g} and the Birge ratio "
+              f"√(χ²/ν) ≥ {fleet.SPREAD_MIN_RATIO:g}):")
+        _print_summary(summ)
+    flagged = ok[ok["out_of_family"].fillna(False).astype(bool)]
+    print(f"\nout of family (|z| > {args.threshold:g}): "
+          + (", ".join(f"{os.path.basename(str(s))}:{a} ({t})" for s, a, t in
+                       zip(flagged["source"], flagged["axis"], flagged["out_of_family_terms"])) or "none"))
+    for _, row in failed.iterrows():
+        print(f"gyrobias: warning: {row['source']}: {row['error']}", file=sys.stderr)
+    if args.out is not None:
+        if args.out.suffix.lower() == ".csv":
+            tmp = args.out.with_name(f".{args.out.name}.tmp{os.getpid()}")
+            table.drop(columns=["adev_tau", "adev"]).to_csv(tmp, index=False)
+            os.replace(tmp, args.out)
+        else:
+            fleet.write_table(table, args.out)
+        print(f"wrote {args.out}")
+    if args.plot is not None:
+        if ok.empty:
+            print("gyrobias: warning: no unit was analysed: no plot", file=sys.stderr)
+        else:
+            from gyrobias.plotting import save_fleet_plot
+
+            save_fleet_plot(table, args.plot, title=f"Fleet of {n_sources} logs")
+            print(f"wrote {args.plot}")
+    return 0 if not ok.empty else 1
