@@ -27,7 +27,7 @@ N = 4096
 def _simulated(kind: str, seed: int) -> np.ndarray:
     """Rate samples of one power-law noise (AllanTools' generators; rate = first difference
     of the angle for the angle noises)."""
-    np.random.seed(seed)  # allantools.noise uses the global NumPy generator
+    np.random.seed(seed)  # noqa: NPY002 (allantools.noise uses the global NumPy generator)
     if kind == "white angle":
         return np.diff(allantools.noise.white(N + 1))
     if kind == "flicker angle":

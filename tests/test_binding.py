@@ -111,12 +111,14 @@ ENTRY_POINTS: list[tuple[str, Callable[[np.ndarray], Any], tuple[int, int]]] = [
     ),
     (
         "kalman.FixedGainKalman.filter_into z",
-        lambda a: KF.filter_into(
-            a,
-            np.empty(a.shape),
-            np.empty(a.shape),
-            KF.initial_state([0.0] * a.shape[1], [0.0] * a.shape[1]),
-        ).rate,
+        lambda a: (
+            KF.filter_into(
+                a,
+                np.empty(a.shape),
+                np.empty(a.shape),
+                KF.initial_state([0.0] * a.shape[1], [0.0] * a.shape[1]),
+            ).rate
+        ),
         (100, 3),
     ),
 ]
@@ -137,10 +139,19 @@ def test_any_memory_layout_reads_row_major(
 def test_allan_fortran_order_gives_each_axis_its_own_variance() -> None:
     # The case: three axes with very different scales.
     a = _rng_matrix(1000, 3) * np.array([1.0, 100.0, 1e4])
-    raw = _core.allan.analyse(np.asfortranarray(a), 1.0, "rate", "overlapping", "octave", 10, None, None)
+    raw = _core.allan.analyse(
+        np.asfortranarray(a), 1.0, "rate", "overlapping", "octave", 10, None, None
+    )
     for axis, r in enumerate(raw):
         single = _core.allan.analyse(
-            np.ascontiguousarray(a[:, axis : axis + 1]), 1.0, "rate", "overlapping", "octave", 10, None, None
+            np.ascontiguousarray(a[:, axis : axis + 1]),
+            1.0,
+            "rate",
+            "overlapping",
+            "octave",
+            10,
+            None,
+            None,
         )[0]
         np.testing.assert_array_equal(r["variance"], single["variance"])
 

@@ -467,7 +467,7 @@ def test_experiment_reproduces_what_a_filter_can_do():
     paper = exp.static["paper form, eq. 18 '10 Hz'"]
     assert paper["bandwidth"] < 1 / (2 * math.pi)
     assert paper["arw"] < raw["arw"] / 10
-    for f, row in exp.swing.items():
+    for row in exp.swing.values():
         assert row["amplitude_filtered"] == pytest.approx(20.0 * row["gain_at_f"], rel=0.02)
         assert row["std_filtered"] < row["std_raw"]
     assert exp.swing[0.5]["amplitude_paper_form"] < 2.0

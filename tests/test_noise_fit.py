@@ -21,7 +21,9 @@ FS = 100.0
 # --- Gauss–Markov closed form ---------------------------------------------------------------------
 
 
-@pytest.mark.parametrize(("t", "tau"), [(1.0, 0.01), (1.0, 0.5), (1.0, 1.89), (1.0, 7.0), (30.0, 2000.0)])
+@pytest.mark.parametrize(
+    ("t", "tau"), [(1.0, 0.01), (1.0, 0.5), (1.0, 1.89), (1.0, 7.0), (30.0, 2000.0)]
+)
 def test_gauss_markov_avar_matches_psd_integral(t: float, tau: float) -> None:
     got = float(noise.gauss_markov_avar(1.5, t, [tau])[0])
     expect = gauss_markov_avar_reference(1.5**2, t, tau)
@@ -105,7 +107,9 @@ def test_p_values_are_not_extreme_under_the_model() -> None:
     # p < 0.001 has probability 0.001; allow at most one p < 0.01 among 12).
     small = 0
     for seed in range(12):
-        rate = noise.simulate(100_000, FS, arw=0.2 / 60, bias_instability=3 / 3600, rrw=10 / 216000, seed=seed)
+        rate = noise.simulate(
+            100_000, FS, arw=0.2 / 60, bias_instability=3 / 3600, rrw=10 / 216000, seed=seed
+        )
         c = noise.fit(adev(rate, FS), terms=("N", "B", "K"))
         assert c.diagnostics is not None
         assert c.diagnostics.p_value > 1e-3, seed
@@ -150,7 +154,9 @@ def test_two_gauss_markov_terms_are_sorted_and_reported() -> None:
 
 def test_sensor_like_log_excludes_the_filter_bend() -> None:
     """The README example: an ADIS16405-like static log (100 Hz, 2.8 h)."""
-    rate = sensor_like_log(1_000_000, FS, arw=0.044, gm_sigma=0.005, gm_time=100.0, lsb=0.05, cutoff=6.0, seed=0)
+    rate = sensor_like_log(
+        1_000_000, FS, arw=0.044, gm_sigma=0.005, gm_time=100.0, lsb=0.05, cutoff=6.0, seed=0
+    )
     r = adev(rate, FS, units="deg/s")
     assert isinstance(r, AllanResult)
     c = noise.fit(r, terms=("N", "K", "GM"))
@@ -204,13 +210,43 @@ def test_cli_prints_diagnostics_and_rejection(tmp_path, capsys) -> None:  # type
     from gyrobias.cli import main
 
     np.save(tmp_path / "g.npy", _white_plus_gm(seed=2, n=200_000))
-    assert main(["allan", str(tmp_path / "g.npy"), "--fs", "100", "--units", "deg/s", "--fit", "--fit-terms", "N,GM"]) == 0
+    assert (
+        main(
+            [
+                "allan",
+                str(tmp_path / "g.npy"),
+                "--fs",
+                "100",
+                "--units",
+                "deg/s",
+                "--fit",
+                "--fit-terms",
+                "N,GM",
+            ]
+        )
+        == 0
+    )
     captured = capsys.readouterr()
     assert "goodness of fit" in captured.out and "Gauss–Markov" in captured.out
     # Quantisation noise lifts the shortest τ above a white-noise-only model: no range selection
     # can remove that (it only trims σ *below* the model at short τ), so the fit is rejected.
     np.save(tmp_path / "q.npy", noise.simulate(200_000, FS, arw=0.01, quantization=0.002, seed=2))
-    assert main(["allan", str(tmp_path / "q.npy"), "--fs", "100", "--units", "deg/s", "--fit", "--fit-terms", "N"]) == 0
+    assert (
+        main(
+            [
+                "allan",
+                str(tmp_path / "q.npy"),
+                "--fs",
+                "100",
+                "--units",
+                "deg/s",
+                "--fit",
+                "--fit-terms",
+                "N",
+            ]
+        )
+        == 0
+    )
     captured = capsys.readouterr()
     assert "REJECTED" in captured.out and "does not fit" in captured.err
     with pytest.raises(SystemExit, match="terms"):

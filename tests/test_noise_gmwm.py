@@ -57,7 +57,9 @@ def test_gmwm_agrees_with_the_joint_fit_on_clean_logs() -> None:
 def test_gmwm_gauss_markov_and_selection() -> None:
     t = 10.0
     phi = math.exp(-1.0 / (FS * t))
-    rate = noise.simulate(400_000, FS, arw=0.01, ar1=(phi, 0.003 * math.sqrt(1 - phi * phi)), seed=3)
+    rate = noise.simulate(
+        400_000, FS, arw=0.01, ar1=(phi, 0.003 * math.sqrt(1 - phi * phi)), seed=3
+    )
     c = noise.gmwm(rate, FS, terms=("N", "GM"), units="deg/s")
     assert isinstance(c, noise.NoiseCoefficients)
     gm = c.gauss_markov[0]

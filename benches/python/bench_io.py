@@ -5,8 +5,7 @@ Run: ``python benches/python/bench_io.py [--rows N] [--quick]`` (needs ``pip ins
 Targets (issue 12): reading a 1e7-row, 4-column CSV (time + 3 gyro axes) ≥ 4× faster than
 ``numpy.loadtxt`` of the same file; reading a ROS bag of IMU messages, per message; the peak
 resident memory of loading a CSV with ``spill=True`` (the data in a memory-mapped temporary
-file) against loading it into memory, each in a fresh process (``/usr/bin/time``-style
-``ru_maxrss``).
+file) against loading it into memory, each in a fresh process (its ``VmHWM``).
 """
 
 from __future__ import annotations
@@ -66,11 +65,15 @@ def write_bag(path: Path, n: int) -> None:
 
 
 def peak_rss_mb(statement: str) -> float:
-    """Peak resident memory (MB) of a fresh Python that imports gyrobias and runs ``statement``."""
+    """Peak resident memory (VmHWM, MB) of a fresh Python that imports gyrobias and runs ``statement``.
+
+    VmHWM belongs to the new address space of the exec'd process (``ru_maxrss`` would carry the
+    forking parent's peak over the exec).
+    """
     code = (
-        "import resource, gyrobias, pyarrow.csv\n"
+        "import gyrobias, pyarrow.csv\n"
         f"{statement}\n"
-        "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)"
+        "print([l for l in open('/proc/self/status') if l.startswith('VmHWM')][0].split()[1])"
     )
     out = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True)
     return int(out.stdout.split()[-1]) / 1024.0

@@ -717,7 +717,7 @@ class NoiseCoefficients:
         colours = {"Q": "tab:purple", "N": "tab:blue", "B": "tab:green", "K": "tab:orange", "R": "tab:red"}
         ax.loglog(grid, total, "-", color="k", lw=1.5, label=f"{self.method} model")
         unit = self.data_unit or ""
-        for t, b in zip(self.terms, base.terms):
+        for t, _b in zip(self.terms, base.terms):
             if t.value is None:
                 continue
             curve = parts[t.symbol]
@@ -958,7 +958,7 @@ def fit(
         if isinstance(allan, (str, bytes)) or not isinstance(allan, Sequence):
             raise TypeError(f"allan must be an AllanResult or a sequence of them, got {type(allan).__name__}")
         return tuple(
-            fit(  # type: ignore[misc]
+            fit(
                 a,
                 method=method,
                 terms=terms,
@@ -1005,6 +1005,7 @@ def fit(
     n_terms = np.ascontiguousarray(result.n_terms, dtype=np.uint64)
     edf = None if result.edf is None else np.ascontiguousarray(result.edf, dtype=np.float64)
     gm_raw: list[dict[str, Any]] = []
+    raw: Mapping[str, Any]
     if method == "joint":
         if regions is not None:
             raise ValueError("regions applies to method='ieee' only; use tau_range for the joint fit")
@@ -1238,7 +1239,7 @@ def gmwm(
         m = np.asarray(wv["m"]).astype(np.int64)
         name = None if axis_names is None else str(axis_names[a])
         allan = AllanResult(
-            taus=m * t0,
+            taus=np.asarray(m * t0, dtype=np.float64),
             avar=2.0 * np.asarray(wv["variance"], dtype=np.float64),
             n_terms=np.asarray(wv["n_coefficients"]).astype(np.int64),
             fs=fs,

@@ -29,6 +29,7 @@ References
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -399,7 +400,7 @@ class NoiseDensity:
     @property
     def arw(self) -> float:
         """IEEE-952 white-noise coefficient ``N = density/√2`` (unit·√s, e.g. deg/√s)."""
-        return self.density / np.sqrt(2.0)
+        return self.density / math.sqrt(2.0)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain-Python representation (without the spectrum)."""

@@ -220,9 +220,9 @@ def conversion_factor(from_unit: str, to_unit: str) -> float:
 def sensor_kind(data_unit: str) -> str:
     """``"gyro"`` for an angular-rate unit, ``"accel"`` for an acceleration unit."""
     dims = parse_unit(data_unit).dims
-    if dims == (1, 0, -1):
+    if dims == (Fraction(1), Fraction(0), Fraction(-1)):
         return "gyro"
-    if dims == (0, 1, -2):
+    if dims == (Fraction(0), Fraction(1), Fraction(-2)):
         return "accel"
     raise ValueError(
         f"data unit {data_unit!r} is neither an angular rate (e.g. 'deg/s', 'rad/s') nor an "

@@ -1,7 +1,12 @@
 //! Bindings of `gyrocore::allan`.
 
-use gyrocore::allan::{self, DataType, Estimator, TauSpec, Taus};
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use std::sync::Mutex;
+
+use gyrocore::allan::{self, Config, DataType, Estimator, Gaps, Progress, TauSpec, Taus};
+use numpy::{
+    IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
+    PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -26,14 +31,113 @@ fn taus_from(spec: &str, per_decade: usize, explicit: Option<Vec<f64>>) -> PyRes
     Ok(Taus::Spec(spec))
 }
 
+/// The analysis options, parsed by the core.
+#[allow(clippy::too_many_arguments)]
+fn config(
+    t0: f64,
+    data_type: &str,
+    estimator: &str,
+    tau_spec: &str,
+    per_decade: usize,
+    taus: Option<&PyReadonlyArray1<'_, f64>>,
+    confidence: Option<f64>,
+    gaps: &str,
+) -> PyResult<Config> {
+    let explicit = taus.map(|t| c_order(t).into_owned());
+    Ok(Config {
+        t0,
+        data_type: core(DataType::parse(data_type))?,
+        estimator: core(Estimator::parse(estimator))?,
+        taus: taus_from(tau_spec, per_decade, explicit)?,
+        confidence,
+        gaps: core(Gaps::parse(gaps))?,
+    })
+}
+
+/// A Python callable as the core's progress hook: called with the GIL re-attached (from
+/// whichever worker thread finished the work); an exception it raises cancels the analysis
+/// and is re-raised to the caller.
+struct PyHook {
+    callback: Option<Py<PyAny>>,
+    error: Mutex<Option<PyErr>>,
+}
+
+impl PyHook {
+    fn new(callback: Option<Py<PyAny>>) -> Self {
+        PyHook {
+            callback,
+            error: Mutex::new(None),
+        }
+    }
+
+    fn call(&self, fraction: f64) -> bool {
+        let Some(callback) = &self.callback else {
+            return true;
+        };
+        Python::attach(|py| match callback.call1(py, (fraction,)) {
+            Ok(_) => true,
+            Err(e) => {
+                *self
+                    .error
+                    .lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner) = Some(e);
+                false
+            }
+        })
+    }
+
+    /// Runs `work` without the GIL with this hook as its progress; the callback's exception
+    /// (if any) takes precedence over the core's `Cancelled`.
+    fn run<T: Send>(
+        &self,
+        py: Python<'_>,
+        work: impl FnOnce(&Progress<'_>) -> gyrocore::Result<T> + Send,
+    ) -> PyResult<T> {
+        let hook = |f: f64| self.call(f);
+        let result = py.detach(|| {
+            let progress = if self.callback.is_some() {
+                Progress::new(Some(&hook))
+            } else {
+                Progress::new(None)
+            };
+            work(&progress)
+        });
+        if let Some(e) = self
+            .error
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .take()
+        {
+            return Err(e);
+        }
+        core(result)
+    }
+}
+
+fn to_dict(py: Python<'_>, r: allan::AllanAnalysis) -> PyResult<Bound<'_, PyDict>> {
+    let d = PyDict::new(py);
+    let m: Vec<u64> = r.m.iter().map(|&m| m as u64).collect();
+    let n: Vec<u64> = r.n_terms.iter().map(|&n| n as u64).collect();
+    d.set_item("m", m.into_pyarray(py))?;
+    d.set_item("variance", r.variance.into_pyarray(py))?;
+    d.set_item("n_terms", n.into_pyarray(py))?;
+    if let Some(c) = r.confidence {
+        d.set_item("alpha", c.alpha.into_pyarray(py))?;
+        d.set_item("edf", c.edf.into_pyarray(py))?;
+        d.set_item("low", c.low.into_pyarray(py))?;
+        d.set_item("high", c.high.into_pyarray(py))?;
+    }
+    Ok(d)
+}
+
 /// Allan-family analysis of each column of a (samples × axes) float64 array
-/// (`gyrocore::allan::analyse_axes`).
+/// (`gyrocore::allan::analyse_matrix`).
 ///
 /// Returns one dict per axis with keys `m`, `variance`, `n_terms` and, when `confidence` is
-/// given, `alpha`, `edf`, `low`, `high`.
+/// given, `alpha`, `edf`, `low`, `high`. `progress(fraction)` is called from the kernel.
 #[pyfunction]
-#[pyo3(signature = (data, t0, data_type, estimator, tau_spec, per_decade, taus, confidence))]
-#[allow(clippy::needless_pass_by_value)]
+#[pyo3(signature = (data, t0, data_type, estimator, tau_spec, per_decade, taus, confidence, gaps="error", progress=None))]
+#[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
 fn analyse<'py>(
     py: Python<'py>,
     data: PyReadonlyArray2<'py, f64>,
@@ -44,33 +148,66 @@ fn analyse<'py>(
     per_decade: usize,
     taus: Option<PyReadonlyArray1<'py, f64>>,
     confidence: Option<f64>,
+    gaps: &str,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
     let n_axes = data.shape()[1];
     let slice = c_order(&data);
-    let data_type = core(DataType::parse(data_type))?;
-    let estimator = core(Estimator::parse(estimator))?;
-    let explicit = taus.map(|t| c_order(&t).into_owned());
-    let taus = taus_from(tau_spec, per_decade, explicit)?;
-    let results = core(py.detach(|| {
-        allan::analyse_axes(&slice, n_axes, t0, data_type, estimator, &taus, confidence)
-    }))?;
+    let cfg = config(
+        t0,
+        data_type,
+        estimator,
+        tau_spec,
+        per_decade,
+        taus.as_ref(),
+        confidence,
+        gaps,
+    )?;
+    let results =
+        PyHook::new(progress).run(py, |p| allan::analyse_matrix(&slice, n_axes, &cfg, p))?;
+    results.into_iter().map(|r| to_dict(py, r)).collect()
+}
+
+/// Allan-family analysis of a (units × samples × axes) float64 batch in one call
+/// (`gyrocore::allan::batch::analyse_batch`: GIL released for the whole batch, scratch buffers
+/// reused across units).
+///
+/// Returns `[unit][axis]` dicts as [`allan_analysis`].
+#[pyfunction]
+#[pyo3(signature = (data, t0, data_type, estimator, tau_spec, per_decade, taus, confidence, gaps="error", progress=None))]
+#[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
+fn analyse_batch<'py>(
+    py: Python<'py>,
+    data: PyReadonlyArray3<'py, f64>,
+    t0: f64,
+    data_type: &str,
+    estimator: &str,
+    tau_spec: &str,
+    per_decade: usize,
+    taus: Option<PyReadonlyArray1<'py, f64>>,
+    confidence: Option<f64>,
+    gaps: &str,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Vec<Vec<Bound<'py, PyDict>>>> {
+    let shape = data.shape();
+    let (n_units, n_axes) = (shape[0], shape[2]);
+    let slice = c_order(&data);
+    let cfg = config(
+        t0,
+        data_type,
+        estimator,
+        tau_spec,
+        per_decade,
+        taus.as_ref(),
+        confidence,
+        gaps,
+    )?;
+    let results = PyHook::new(progress).run(py, |p| {
+        allan::batch::analyse_batch(&slice, n_units, n_axes, &cfg, p)
+    })?;
     results
         .into_iter()
-        .map(|r| {
-            let d = PyDict::new(py);
-            let m: Vec<u64> = r.m.iter().map(|&m| m as u64).collect();
-            let n: Vec<u64> = r.n_terms.iter().map(|&n| n as u64).collect();
-            d.set_item("m", m.into_pyarray(py))?;
-            d.set_item("variance", r.variance.into_pyarray(py))?;
-            d.set_item("n_terms", n.into_pyarray(py))?;
-            if let Some(c) = r.confidence {
-                d.set_item("alpha", c.alpha.into_pyarray(py))?;
-                d.set_item("edf", c.edf.into_pyarray(py))?;
-                d.set_item("low", c.low.into_pyarray(py))?;
-                d.set_item("high", c.high.into_pyarray(py))?;
-            }
-            Ok(d)
-        })
+        .map(|unit| unit.into_iter().map(|r| to_dict(py, r)).collect())
         .collect()
 }
 
@@ -105,5 +242,6 @@ fn factors<'py>(
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analyse, m)?)?;
+    m.add_function(wrap_pyfunction!(analyse_batch, m)?)?;
     m.add_function(wrap_pyfunction!(factors, m)?)
 }

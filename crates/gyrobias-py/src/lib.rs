@@ -6,7 +6,7 @@
 //! `from gyrobias._core import allan` and `import gyrobias._core.allan` both work (and
 //! stubtest checks the stub package `gyrobias/_core/`).
 //!
-//! This crate only converts arguments (every input array through [`array::c_order`]: zero-copy
+//! This crate only converts arguments (every input array through `array::c_order`: zero-copy
 //! for C-contiguous float64 arrays), releases the GIL around the numerical work and maps
 //! [`gyrocore::Error`] to Python exceptions. It contains no numerics and no checks of its own.
 

@@ -48,6 +48,9 @@ pub enum Error {
         /// What failed and where.
         reason: String,
     },
+    /// The caller's progress hook asked to stop (see `allan::progress`).
+    #[error("cancelled by the progress callback")]
+    Cancelled,
 }
 
 /// Result alias used throughout gyrocore.

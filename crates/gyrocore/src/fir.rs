@@ -1,11 +1,11 @@
-//! Kaiser-window FIR low-pass design and filtering ([TS] eqs. 14–20, Orfanidis §10.2).
+//! Kaiser-window FIR low-pass design and filtering (\[TS\] eqs. 14–20, Orfanidis §10.2).
 //!
 //! **Design.** From the sample rate $f_s$ and the specification
 //! $\{f_{pass}, f_{stop}, A_{pass}, A_{stop}\}$:
 //!
 //! * $f_c = (f_{pass} + f_{stop})/2$ (the −6 dB point), $\Delta f = f_{stop} - f_{pass}$;
 //! * $\delta_{pass} = (10^{A_{pass}/20} - 1)/(10^{A_{pass}/20} + 1)$,
-//!   $\delta_{stop} = 10^{-A_{stop}/20}$ ([TS] eq. 16 prints $A_{pass}$ in the second formula: a
+//!   $\delta_{stop} = 10^{-A_{stop}/20}$ (\[TS\] eq. 16 prints $A_{pass}$ in the second formula: a
 //!   misprint), $A = -20\log_{10}\min(\delta_{pass}, \delta_{stop})$;
 //! * $\alpha = 0.1102(A - 8.7)$ for $A \ge 50$, $0.5842(A-21)^{0.4} + 0.07886(A-21)$ for
 //!   $21 < A < 50$, else 0;
@@ -15,7 +15,7 @@
 //!   $g(k) = \sin(\omega_c k)/(\pi k)$, $g(0) = \omega_c/\pi$, $\omega_c = 2\pi f_c/f_s$,
 //!   $h(n) = w(n)\,g(n - M)$.
 //!
-//! [TS]'s "$f_{pass}$ = 1000 dB" is Skaloud's $A_{pass}$ = 0.0001 dB. Check values (SPEC §7): for
+//! \[TS\]'s "$f_{pass}$ = 1000 dB" is Skaloud's $A_{pass}$ = 0.0001 dB. Check values (SPEC §7): for
 //! $f_s$ = 100 Hz, 14/18 Hz, 0.0001/100 dB: $A$ = 104.796886 dB, $\alpha$ = 10.589877, $N$ = 171.
 //! The taps are computed with the same arithmetic as `scipy.signal.firwin(N, fc, window=("kaiser",
 //! α), fs=fs, scale=False)`.
@@ -111,7 +111,7 @@ pub fn kaiser_alpha(a: f64) -> f64 {
     }
 }
 
-/// Designs the Kaiser-window low-pass filter of [TS] eqs. 14–20 (see the module docs).
+/// Designs the Kaiser-window low-pass filter of \[TS\] eqs. 14–20 (see the module docs).
 ///
 /// Errors: `fs`, attenuations not finite and > 0; `fpass` not in (0, `fstop`); `fstop` above
 /// the Nyquist frequency `fs/2`; a filter longer than [`MAX_TAPS`].

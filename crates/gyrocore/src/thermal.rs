@@ -1,13 +1,13 @@
 //! First-order autoregressive drift fits and temperature interpolation of noise parameters
-//! ([TS] §4, SPEC §9).
+//! (\[TS\] §4, SPEC §9).
 //!
 //! **AR(1).** $b_{k+1} = c\,b_k + e_k$ fitted by least squares without intercept (after the
 //! optional removal of the mean):
 //! $$ \hat c = \frac{\sum_k b_k b_{k+1}}{\sum_k b_k^2},\quad s_e^2 = \frac{RSS}{n-2},\quad
 //!    se(\hat c) = \sqrt{s_e^2/\textstyle\sum_k b_k^2} \approx \sqrt{(1-c^2)/n}, $$
-//! with the sums over the $n-1$ pairs and $n$ the number of samples. **Sign convention**: [TS]'s
+//! with the sums over the $n-1$ pairs and $n$ the number of samples. **Sign convention**: \[TS\]'s
 //! tables follow $b_{k+1} + C_{AR} b_k = e$ (its white noise low-passed by its own Kaiser filters
-//! gives $c$ = +0.961/+0.844/+0.671 where [TS] prints ≈ −0.96/−0.9/−0.7), so
+//! gives $c$ = +0.961/+0.844/+0.671 where \[TS\] prints ≈ −0.96/−0.9/−0.7), so
 //! $C_{AR} = -c$; both are reported. For $0 < c < 1$ the equivalent first-order Gauss–Markov
 //! process has $\beta = -\ln(c)/\Delta t$ (correlation time $1/\beta$) and stationary standard
 //! deviation $s_e/\sqrt{1-c^2}$.

@@ -1,11 +1,12 @@
 """Bindings of ``gyrocore::allan``."""
 
+from collections.abc import Callable
 from typing import NotRequired, TypedDict, type_check_only
 
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["analyse", "factors"]
+__all__ = ["analyse", "analyse_batch", "factors"]
 
 @type_check_only
 class Analysis(TypedDict):
@@ -28,7 +29,21 @@ def analyse(
     per_decade: int,
     taus: NDArray[np.float64] | None,
     confidence: float | None,
+    gaps: str = "error",
+    progress: Callable[[float], object] | None = None,
 ) -> list[Analysis]: ...
+def analyse_batch(
+    data: NDArray[np.float64],
+    t0: float,
+    data_type: str,
+    estimator: str,
+    tau_spec: str,
+    per_decade: int,
+    taus: NDArray[np.float64] | None,
+    confidence: float | None,
+    gaps: str = "error",
+    progress: Callable[[float], object] | None = None,
+) -> list[list[Analysis]]: ...
 def factors(
     n_samples: int,
     t0: float,

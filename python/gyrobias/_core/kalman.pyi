@@ -5,7 +5,13 @@ from typing import final
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["FixedGainKalman", "KalmanState", "q_omega_for_bandwidth", "riccati_gain", "steady_state_gain"]
+__all__ = [
+    "FixedGainKalman",
+    "KalmanState",
+    "q_omega_for_bandwidth",
+    "riccati_gain",
+    "steady_state_gain",
+]
 
 @final
 class FixedGainKalman:

@@ -225,7 +225,7 @@ def format_report(exp: KalmanExperiment) -> str:
 
 def register_experiment(exp_subparsers: Any) -> argparse.ArgumentParser:
     """Add ``kalman`` under the ``experiment`` subcommand group."""
-    p = exp_subparsers.add_parser(
+    p: argparse.ArgumentParser = exp_subparsers.add_parser(
         "kalman",
         help="reproduce [NR]'s static, constant-rate and swing tests on simulated data",
         description=__doc__,

@@ -35,7 +35,7 @@ _RRW_UNITS = {"u/s^1.5": 1.0, "deg/h^1.5": rrw_from_deg_per_hour_1p5(1.0)}
 
 def register(subparsers: Any) -> argparse.ArgumentParser:
     """Add the ``filter`` subcommand to an argparse subparsers object."""
-    p = subparsers.add_parser(
+    p: argparse.ArgumentParser = subparsers.add_parser(
         "filter",
         help="denoise a gyro log with the fixed-gain [rate, bias] Kalman filter ([NR])",
         description=__doc__,
@@ -55,7 +55,7 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
     )
     add_read_arguments(p)
     p.set_defaults(func=run)
-    return p  # type: ignore[no-any-return]
+    return p
 
 
 def run(args: argparse.Namespace) -> int:

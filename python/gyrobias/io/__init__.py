@@ -45,7 +45,7 @@ from numpy.typing import NDArray
 
 from gyrobias._validation import choice, positive_float
 from gyrobias.io import _bag
-from gyrobias.io._store import Store, blocks
+from gyrobias.io._store import Sink, Store, blocks
 
 __all__ = ["GyroLog", "SamplingReport", "load", "topics"]
 
@@ -412,9 +412,10 @@ def load(
     estimated rate is ``fs = 1 / mean(regular Δt)`` and the jitter ``std(regular Δt) /
     median(Δt)``. Integer timestamps are read as int64, so epoch nanoseconds keep their
     exact intervals. Delimited text is parsed by pyarrow's streaming CSV reader when pyarrow
-    is installed (``gyrobias[io]``; 10⁷ rows × 4 columns in about 1.5 s, memory bounded by
-    the blocks), with :func:`numpy.loadtxt` for whitespace-separated or compressed files and
-    for any file pyarrow rejects (comment lines between the rows, bad cells: the error then
+    is installed (``gyrobias[io]``; about 4× faster than :func:`numpy.loadtxt`, see
+    ``benches/python/bench_io.py``; 4 MB blocks, written into one preallocated array),
+    with :func:`numpy.loadtxt` for whitespace-separated or compressed files and for any
+    file pyarrow rejects (comment lines between the rows, bad cells: the error then
     names the line and column). Bags are read in batches of 65 536 messages; messages of
     the standard layout are decoded at fixed byte offsets, others by ``rosbags``.
     """
@@ -523,6 +524,7 @@ def load(
         time, intervals, time_start, unit_used, guessed = _time_seconds(
             p, t_raw, t_name, time_unit, line_of
         )
+        t_raw = None  # the raw stamps are no longer needed (long logs: free them now)
         report = _sampling_report(
             len(table),
             time,
@@ -534,6 +536,7 @@ def load(
             source_format=fmt,
             filling=fill_gaps,
         )
+        del intervals
         if fill_gaps and report.n_gaps:
             table, time, report = _fill_gaps(table, time, report, store)
     return GyroLog(
@@ -971,7 +974,7 @@ def _read_arrow(
     if t_idx is not None:
         types[names[t_idx]] = pa.int64() if int_time else pa.float64()
     include = ([names[t_idx]] if t_idx is not None else []) + [names[i] for i in idx]
-    read_opts = pacsv.ReadOptions(column_names=names, block_size=1 << 24, use_threads=True)
+    read_opts = pacsv.ReadOptions(column_names=names, block_size=1 << 22, use_threads=True)
     parse_opts = pacsv.ParseOptions(delimiter=delimiter, ignore_empty_lines=True)
     convert_opts = pacsv.ConvertOptions(
         column_types=types,
@@ -983,7 +986,7 @@ def _read_arrow(
         quoted_strings_can_be_null=False,
     )
     sink = store.sink(len(idx), estimated_rows)
-    stamps: list[NDArray[Any]] = []
+    stamps = Sink(store, 1, False, estimated_rows, np.int64 if int_time else np.float64)
     try:
         source = pa.OSFile(str(p), "r")  # plain reads: a mapping would count the file as resident
         try:
@@ -1016,7 +1019,7 @@ def _read_arrow(
         progress(1.0)
     t_raw = None
     if t_idx is not None:
-        t_raw = np.concatenate(stamps) if len(stamps) != 1 else np.array(stamps[0])
+        t_raw = stamps.finish().reshape(-1)
     return t_raw, table
 
 
@@ -1078,9 +1081,11 @@ def _loadtxt(
 def _time_seconds(
     p: Path, t_raw: NDArray[Any], t_name: str, time_unit: str, line_of: Any
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], float, str, bool]:
-    """Timestamps (finite, in order: see :func:`_repair`) → seconds since the first sample."""
-    rel = t_raw - t_raw[0]  # exact in int64 for integer stamps
-    steps = np.diff(rel)
+    """Timestamps (finite, in order: see :func:`_repair`) → seconds since the first sample.
+
+    Works with one or two temporary arrays of the log's length at a time (long logs).
+    """
+    steps = np.diff(t_raw)  # exact in int64 for integer stamps
     unit = time_unit
     guessed = False
     if unit == "auto":
@@ -1089,20 +1094,21 @@ def _time_seconds(
             unit = m.group(1)
         else:
             positive = steps[steps > 0]
-            median = float(np.median(positive)) if positive.size else 0.0
+            median = float(np.median(positive, overwrite_input=True)) if positive.size else 0.0
+            del positive
             unit = "ns" if median >= NS_THRESHOLD else "s"
             guessed = True
     per_second = _PER_SECOND[unit]  # dividing by an exact power of ten rounds correctly
     # the intervals from the raw differences: exact for integer stamps, so a perfectly
     # regular nanosecond log has exactly zero jitter
-    intervals = steps.astype(np.float64) / per_second
-    return (
-        rel.astype(np.float64) / per_second,
-        intervals,
-        float(t_raw[0]) / per_second,
-        unit,
-        guessed,
-    )
+    intervals = steps.astype(np.float64)
+    del steps
+    intervals /= per_second
+    rel = t_raw - t_raw[0]  # exact in int64 for integer stamps
+    time = rel.astype(np.float64) if rel.dtype != np.float64 else rel
+    del rel
+    time /= per_second
+    return time, intervals, float(t_raw[0]) / per_second, unit, guessed
 
 
 def _sampling_report(
@@ -1126,16 +1132,23 @@ def _sampling_report(
         raise ValueError(
             f"the time column does not advance ({n} samples, all with the same timestamp)"
         )
-    median = float(np.median(positive))
+    mean_positive = float(np.mean(positive))
+    median = float(np.median(positive, overwrite_input=True))  # partitions in place: no copy
+    del positive
     gap_mask = steps > GAP_FACTOR * median
     gap_rows = np.flatnonzero(gap_mask) + 1
     gap_durations = steps[gap_mask]
-    regular = steps[(steps > 0) & ~gap_mask]
+    regular_mask = steps > 0
+    regular_mask &= ~gap_mask
+    del gap_mask
+    regular = steps[regular_mask]
+    del regular_mask
     jitter = float(np.std(regular) / median) if regular.size > 1 else 0.0
     # the mean of the regular intervals: unaffected by gaps like the median, but not stuck on
     # one quantised interval value; 9 significant digits drop the decimal-rounding noise of
     # timestamps written as text (0.0100 → 100.00000000000213 Hz)
-    fs_est = float(f"{1.0 / float(np.mean(regular if regular.size else positive)):.9g}")
+    fs_est = float(f"{1.0 / (float(np.mean(regular)) if regular.size else mean_positive):.9g}")
+    del regular
     missing = int(np.sum(np.rint(gap_durations / median) - 1)) if gap_rows.size else 0
 
     if gap_rows.size:

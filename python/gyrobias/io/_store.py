@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 import tempfile
 from collections.abc import Iterator
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -86,10 +87,18 @@ class Sink:
     Spilled, they are appended to an anonymous temporary file that is then memory-mapped.
     """
 
-    def __init__(self, store: Store, cols: int, spill: bool, estimated_rows: int = 0) -> None:
+    def __init__(
+        self,
+        store: Store,
+        cols: int,
+        spill: bool,
+        estimated_rows: int = 0,
+        dtype: type[np.generic] = np.float64,
+    ) -> None:
         self.cols = cols
         self.rows = 0
-        self._buf = np.empty((0, cols))
+        self.dtype = np.dtype(dtype)
+        self._buf: NDArray[Any] = np.empty((0, cols), dtype=self.dtype)
         self._estimate = max(int(estimated_rows * 1.05) + 16, 16)
         self._file = None
         if spill:
@@ -98,32 +107,32 @@ class Sink:
             )
             store.spilled = True
 
-    def append(self, block: NDArray[np.float64]) -> None:
+    def append(self, block: NDArray[Any]) -> None:
         """Add rows (copied)."""
-        block = np.ascontiguousarray(block, dtype=np.float64).reshape(-1, self.cols)
+        block = np.ascontiguousarray(block, dtype=self.dtype).reshape(-1, self.cols)
         m = block.shape[0]
         if self._file is not None:
             self._file.write(block.tobytes())
         else:
             if self.rows + m > self._buf.shape[0]:
                 size = max(self._estimate, int(1.5 * self._buf.shape[0]), self.rows + m)
-                bigger = np.empty((size, self.cols))
+                bigger = np.empty((size, self.cols), dtype=self.dtype)
                 bigger[: self.rows] = self._buf[: self.rows]
                 self._buf = bigger
             self._buf[self.rows : self.rows + m] = block
         self.rows += m
 
-    def finish(self) -> NDArray[np.float64]:
+    def finish(self) -> NDArray[Any]:
         """All rows as an ``(n, cols)`` array (a memmap of the anonymous temporary file if spilled)."""
         if self._file is None:
-            out, self._buf = self._buf, np.empty((0, self.cols))
+            out, self._buf = self._buf, np.empty((0, self.cols), dtype=self.dtype)
             if out.shape[0] != self.rows:
                 out.resize((self.rows, self.cols), refcheck=False)  # in place: frees the tail
             return out
         self._file.flush()
         if self.rows == 0:
             self._file.close()
-            return np.empty((0, self.cols))
-        mapped = np.memmap(self._file, dtype=np.float64, mode="r+", shape=(self.rows, self.cols))
+            return np.empty((0, self.cols), dtype=self.dtype)
+        mapped = np.memmap(self._file, dtype=self.dtype, mode="r+", shape=(self.rows, self.cols))
         self._file.close()  # the mapping keeps its own reference to the file
         return mapped

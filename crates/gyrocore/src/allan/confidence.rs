@@ -44,6 +44,17 @@ pub fn chi2_bounds(variance: f64, edf: f64, level: f64) -> Result<(f64, f64)> {
     ))
 }
 
+/// Identified noise exponent α per factor, clamped to the estimator's convergent range (the
+/// value the EDF is computed with).
+pub fn alphas(x: &[f64], estimator: Estimator, ms: &[usize]) -> Vec<i32> {
+    let dmax = edf::differences(estimator);
+    let alpha_min = edf::min_alpha(estimator);
+    noise_id::identify(x, ms, dmax)
+        .into_iter()
+        .map(|a| a.clamp(alpha_min, 2))
+        .collect()
+}
+
 /// Confidence intervals at `level` for `variances` estimated at factors `ms` from angle series `x`.
 pub fn intervals(
     x: &[f64],
@@ -68,12 +79,7 @@ pub fn intervals(
             ),
         });
     }
-    let dmax = edf::differences(estimator);
-    let alpha_min = edf::min_alpha(estimator);
-    let alpha: Vec<i32> = noise_id::identify(x, ms, dmax)
-        .into_iter()
-        .map(|a| a.clamp(alpha_min, 2))
-        .collect();
+    let alpha = alphas(x, estimator, ms);
     let n_phase = x.len();
     let rows: Vec<Result<(f64, f64, f64)>> = ms
         .par_iter()

@@ -11,6 +11,8 @@
 
 use rayon::prelude::*;
 
+use super::Progress;
+
 const BLOCK: usize = 1024;
 const CHUNK: usize = BLOCK * 256;
 const LANES: usize = 8;
@@ -121,8 +123,16 @@ impl pulp::WithSimd for ChunkSums<'_> {
 
 /// `Σ_{k < n_terms(m)} diff(x, k, m)²` for every `m` in `ms`, with `n_terms = len − span·m`.
 ///
-/// Every `m` must satisfy `span·m < x.len()` (checked by the caller).
-pub(crate) fn difference_sums(x: &[f64], ms: &[usize], diff: Difference) -> Vec<f64> {
+/// Every `m` must satisfy `span·m < x.len()` (checked by the caller). `weight` progress units
+/// are reported as chunks complete; once cancelled, the remaining chunks are skipped (the
+/// caller checks [`Progress::check`]).
+pub(crate) fn difference_sums(
+    x: &[f64],
+    ms: &[usize],
+    diff: Difference,
+    progress: &Progress<'_>,
+    weight: f64,
+) -> Vec<f64> {
     let span = diff.span();
     let terms: Vec<usize> = ms.iter().map(|&m| x.len() - span * m).collect();
     let longest = terms.iter().copied().max().unwrap_or(0);
@@ -138,6 +148,7 @@ pub(crate) fn difference_sums(x: &[f64], ms: &[usize], diff: Difference) -> Vec<
         .iter()
         .flat_map(|&c0| (0..groups).map(move |g| (c0, g)))
         .collect();
+    let stage = progress.stage(weight, items.len());
     let partials: Vec<(usize, usize, Vec<f64>)> = items
         .par_iter()
         .map(|&(c0, g)| {
@@ -146,6 +157,9 @@ pub(crate) fn difference_sums(x: &[f64], ms: &[usize], diff: Difference) -> Vec<
             let sub_ms: Vec<usize> = sel.iter().map(|&j| ms[j]).collect();
             let sub_terms: Vec<usize> = sel.iter().map(|&j| terms[j]).collect();
             let mut sums = vec![0.0_f64; sel.len()];
+            if stage.is_cancelled() {
+                return (c0, g, sums);
+            }
             // Runtime CPU dispatch (AVX2 where available): the lane loops vectorise 4-wide
             // instead of SSE2's 2-wide. The lane layout fixes the order of every addition and
             // nothing is fused, so the result is bit-identical on every CPU.
@@ -157,6 +171,7 @@ pub(crate) fn difference_sums(x: &[f64], ms: &[usize], diff: Difference) -> Vec<
                 diff,
                 sums: &mut sums,
             });
+            stage.item_done();
             (c0, g, sums)
         })
         .collect();

@@ -25,14 +25,19 @@
 //! computed in parallel. Confidence intervals (noise identification, equivalent degrees of
 //! freedom, chi-square bounds) live in [`confidence`].
 
+pub mod batch;
 pub mod confidence;
 pub mod edf;
 mod fused;
+pub mod gaps;
 pub mod noise_id;
+pub mod progress;
 
 use std::borrow::Cow;
 
 use rayon::prelude::*;
+
+pub use progress::Progress;
 
 use crate::validate;
 use crate::{Error, Result};
@@ -284,6 +289,21 @@ impl<'a> Column<'a> {
         }
     }
 
+    /// Samples `s..e` of this column (`s ≤ e ≤ len`).
+    pub(crate) fn sub(&self, s: usize, e: usize) -> Column<'a> {
+        let start = self.offset + s * self.stride;
+        let end = if e > s {
+            self.offset + (e - 1) * self.stride + 1
+        } else {
+            start
+        };
+        Column {
+            data: &self.data[start..end],
+            stride: self.stride,
+            offset: 0,
+        }
+    }
+
     /// True when the column has no samples.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
@@ -340,19 +360,30 @@ fn lane_sum(a: usize, b: usize, f: impl Fn(usize) -> f64) -> f64 {
     lanes.iter().sum::<f64>() + tail
 }
 
-/// Integrated mean-removed rate, `x_0 = 0`, `x_k = t0·Σ_{i<k}(Ω_i − Ω̄)`, in three parallel
-/// passes over fixed blocks: (1) block sums for the mean and the finiteness check, (2) block
-/// sums of the centred rate, whose compensated prefix sums give each block's starting angle,
-/// (3) the running sum inside each block, written in parallel.
-fn integrate_rate(column: Column<'_>, t0: f64) -> Result<Vec<f64>> {
+/// Integrated mean-removed rate, `x_0 = 0`, `x_k = t0·Σ_{i<k}(Ω_i − Ω̄)`, written into `out`
+/// (resized to `n + 1`; a buffer of the right length is reused without being cleared), in
+/// three parallel passes over fixed blocks: (1) block sums for the mean and the finiteness
+/// check, (2) block sums of the centred rate, whose compensated prefix sums give each block's
+/// starting angle, (3) the running sum inside each block, written in parallel.
+fn integrate_rate_into(
+    column: Column<'_>,
+    t0: f64,
+    out: &mut Vec<f64>,
+    progress: &Progress<'_>,
+) -> Result<()> {
     let n = column.len();
     let blocks: Vec<(usize, usize)> = (0..n)
         .step_by(INTEGRATION_BLOCK)
         .map(|a| (a, (a + INTEGRATION_BLOCK).min(n)))
         .collect();
+    let stage = progress.stage(WORK_INTEGRATION * n as f64, 3 * blocks.len());
     let sums: Vec<f64> = blocks
         .par_iter()
-        .map(|&(a, b)| lane_sum(a, b, |i| column.get(i)))
+        .map(|&(a, b)| {
+            let s = lane_sum(a, b, |i| column.get(i));
+            stage.item_done();
+            s
+        })
         .collect();
     for (&(a, b), s) in blocks.iter().zip(&sums) {
         // NaN/inf propagate into the block sum (finite data can only overflow it, which the
@@ -373,9 +404,14 @@ fn integrate_rate(column: Column<'_>, t0: f64) -> Result<Vec<f64>> {
             "values too large: their sum overflows float64",
         ));
     }
+    progress.check()?;
     let centred: Vec<f64> = blocks
         .par_iter()
-        .map(|&(a, b)| lane_sum(a, b, |i| column.get(i) - mean))
+        .map(|&(a, b)| {
+            let s = lane_sum(a, b, |i| column.get(i) - mean);
+            stage.item_done();
+            s
+        })
         .collect();
     // Compensated prefix sums: the starting (unscaled) angle of every block.
     let mut starts = Vec::with_capacity(blocks.len());
@@ -390,8 +426,14 @@ fn integrate_rate(column: Column<'_>, t0: f64) -> Result<Vec<f64>> {
         }
         sum = t;
     }
-    let mut x = vec![0.0; n + 1];
-    x[1..]
+    progress.check()?;
+    if out.len() == n + 1 {
+        out[0] = 0.0;
+    } else {
+        // Zeroed allocation: pages are faulted in by the parallel writers below.
+        *out = vec![0.0; n + 1];
+    }
+    out[1..]
         .par_chunks_mut(INTEGRATION_BLOCK)
         .zip(blocks.par_iter().zip(starts.par_iter()))
         .for_each(|(out, (&(a, _), &start))| {
@@ -400,13 +442,21 @@ fn integrate_rate(column: Column<'_>, t0: f64) -> Result<Vec<f64>> {
                 acc += column.get(a + k) - mean;
                 *slot = acc * t0;
             }
+            stage.item_done();
         });
-    Ok(x)
+    progress.check()
 }
 
-/// The angle series the estimators work on (SPEC §2): integrated mean-removed rate with `x_0 = 0`,
-/// or the angle input itself (borrowed when contiguous).
-pub fn angle_series(column: Column<'_>, t0: f64, data_type: DataType) -> Result<Cow<'_, [f64]>> {
+/// The angle series of `column` in `scratch` (or borrowed from the column when it already is
+/// a contiguous angle series): SPEC §2's integrated mean-removed rate with `x_0 = 0`, or the
+/// angle input itself. Non-finite input is an error naming its index.
+fn angle_into<'a>(
+    column: Column<'a>,
+    t0: f64,
+    data_type: DataType,
+    scratch: &'a mut Vec<f64>,
+    progress: &Progress<'_>,
+) -> Result<&'a [f64]> {
     validate::positive("fs", 1.0 / t0)?;
     match data_type {
         DataType::Angle => {
@@ -416,18 +466,36 @@ pub fn angle_series(column: Column<'_>, t0: f64, data_type: DataType) -> Result<
                     index,
                 });
             }
-            Ok(match column.as_slice() {
-                Some(s) => Cow::Borrowed(s),
-                None => Cow::Owned(column.iter().collect()),
-            })
+            if let Some(s) = column.as_slice() {
+                return Ok(s);
+            }
+            scratch.clear();
+            scratch.extend(column.iter());
+            Ok(scratch)
         }
         DataType::Rate => {
             if column.is_empty() {
-                return Ok(Cow::Owned(vec![0.0]));
+                scratch.clear();
+                scratch.push(0.0);
+            } else {
+                integrate_rate_into(column, t0, scratch, progress)?;
             }
-            Ok(Cow::Owned(integrate_rate(column, t0)?))
+            Ok(scratch)
         }
     }
+}
+
+/// The angle series the estimators work on (SPEC §2): integrated mean-removed rate with `x_0 = 0`,
+/// or the angle input itself (borrowed when contiguous).
+pub fn angle_series(column: Column<'_>, t0: f64, data_type: DataType) -> Result<Cow<'_, [f64]>> {
+    let mut scratch = Vec::new();
+    angle_into(column, t0, data_type, &mut scratch, &Progress::none())?;
+    if data_type == DataType::Angle {
+        if let Some(s) = column.as_slice() {
+            return Ok(Cow::Borrowed(s));
+        }
+    }
+    Ok(Cow::Owned(scratch))
 }
 
 /// Block size for the compensated summation of squared differences: lanes accumulate within a
@@ -523,47 +591,102 @@ fn sum_total(x: &[f64], m: usize) -> f64 {
     })
 }
 
+/// `variance = sum / (c·τ²·terms)` with the estimator's constant `c` (SP1065 eqs. 7, 11, 14,
+/// 18, 25); `sum` is the raw sum of squared differences.
+pub(crate) fn normalise(estimator: Estimator, sum: f64, m: usize, t0: f64, terms: usize) -> f64 {
+    let tau = m as f64 * t0;
+    match estimator {
+        Estimator::Overlapping | Estimator::NonOverlapping | Estimator::Total => {
+            sum / (2.0 * tau * tau * terms as f64)
+        }
+        Estimator::Modified => sum / (2.0 * (m * m) as f64 * tau * tau * terms as f64),
+        Estimator::Hadamard => sum / (6.0 * tau * tau * terms as f64),
+    }
+}
+
+/// The `TooShort` error of a factor outside `1..=estimator.max_factor(n_angle)`.
+fn factor_too_large(estimator: Estimator, m: usize, n_angle: usize) -> Error {
+    Error::TooShort {
+        name: "data",
+        needed: match estimator {
+            Estimator::Overlapping | Estimator::NonOverlapping | Estimator::Total => 2 * m,
+            Estimator::Modified => 3 * m - 1,
+            Estimator::Hadamard => 3 * m,
+        },
+        got: n_angle.saturating_sub(1),
+    }
+}
+
+/// Raw sum of one estimator at one factor by the per-τ kernels (all but the fused ones).
+fn single_sum(x: &[f64], m: usize, estimator: Estimator, terms: usize) -> f64 {
+    match estimator {
+        Estimator::Overlapping => {
+            fused::difference_sums(x, &[m], fused::Difference::Second, &Progress::none(), 0.0)[0]
+        }
+        Estimator::Hadamard => {
+            fused::difference_sums(x, &[m], fused::Difference::Third, &Progress::none(), 0.0)[0]
+        }
+        Estimator::NonOverlapping => sum_squares(terms, |i| {
+            let k = i * m;
+            x[k + 2 * m] - 2.0 * x[k + m] + x[k]
+        }),
+        Estimator::Modified => sum_modified(x, m, terms),
+        Estimator::Total => sum_total(x, m),
+    }
+}
+
 /// The variance of one estimator at one averaging factor, from an angle series.
 ///
 /// Returns `(variance, n_terms)`. `m` must satisfy `1 ≤ m ≤ estimator.max_factor(x.len())`.
 pub fn variance(x: &[f64], t0: f64, m: usize, estimator: Estimator) -> Result<(f64, usize)> {
     let max_m = estimator.max_factor(x.len());
     if m == 0 || m > max_m {
-        return Err(Error::TooShort {
-            name: "data",
-            needed: match estimator {
-                Estimator::Overlapping | Estimator::NonOverlapping | Estimator::Total => 2 * m,
-                Estimator::Modified => 3 * m - 1,
-                Estimator::Hadamard => 3 * m,
-            },
-            got: x.len().saturating_sub(1),
-        });
+        return Err(factor_too_large(estimator, m, x.len()));
     }
     let terms = estimator.n_terms(x.len(), m);
-    let tau = m as f64 * t0;
-    let var = match estimator {
-        // Same kernel as the many-τ path, so one τ and a τ list give identical numbers.
+    // Same kernels as the many-τ path, so one τ and a τ list give identical numbers.
+    let sum = single_sum(x, m, estimator, terms);
+    Ok((normalise(estimator, sum, m, t0, terms), terms))
+}
+
+/// Raw sums of squared differences at every factor in `ms` (the fused all-τ pass for the
+/// overlapping Allan and Hadamard variances, τ in parallel otherwise); `weight` units of
+/// progress are reported as the work completes.
+pub(crate) fn raw_sums(
+    x: &[f64],
+    ms: &[usize],
+    estimator: Estimator,
+    progress: &Progress<'_>,
+    weight: f64,
+) -> Result<Vec<f64>> {
+    let n = x.len();
+    if let Some(&bad) = ms.iter().find(|&&m| m == 0 || m > estimator.max_factor(n)) {
+        return Err(factor_too_large(estimator, bad, n));
+    }
+    let sums = match estimator {
         Estimator::Overlapping => {
-            fused::difference_sums(x, &[m], fused::Difference::Second)[0]
-                / (2.0 * tau * tau * terms as f64)
-        }
-        Estimator::NonOverlapping => {
-            let s = sum_squares(terms, |i| {
-                let k = i * m;
-                x[k + 2 * m] - 2.0 * x[k + m] + x[k]
-            });
-            s / (2.0 * tau * tau * terms as f64)
-        }
-        Estimator::Modified => {
-            sum_modified(x, m, terms) / (2.0 * (m * m) as f64 * tau * tau * terms as f64)
+            fused::difference_sums(x, ms, fused::Difference::Second, progress, weight)
         }
         Estimator::Hadamard => {
-            fused::difference_sums(x, &[m], fused::Difference::Third)[0]
-                / (6.0 * tau * tau * terms as f64)
+            fused::difference_sums(x, ms, fused::Difference::Third, progress, weight)
         }
-        Estimator::Total => sum_total(x, m) / (2.0 * tau * tau * terms as f64),
+        _ => {
+            let stage = progress.stage(weight, ms.len());
+            ms.par_iter()
+                .with_max_len(1)
+                .map(|&m| {
+                    if stage.is_cancelled() {
+                        return 0.0;
+                    }
+                    let s = single_sum(x, m, estimator, estimator.n_terms(n, m));
+                    stage.item_done();
+                    s
+                })
+                .collect()
+        }
     };
-    Ok((var, terms))
+    progress.check()?;
+    Ok(sums)
 }
 
 /// Variances at several averaging factors, computed in parallel.
@@ -583,35 +706,11 @@ pub fn variances_into(
             reason: "output buffers must have one slot per averaging factor".into(),
         });
     }
-    let n = x.len();
-    if let Some(&bad) = ms.iter().find(|&&m| m == 0 || m > estimator.max_factor(n)) {
-        // Reuse the single-τ path for its error message.
-        variance(x, t0, bad, estimator)?;
-    }
-    let fused = match estimator {
-        Estimator::Overlapping => Some((fused::Difference::Second, 2.0)),
-        Estimator::Hadamard => Some((fused::Difference::Third, 6.0)),
-        _ => None,
-    };
-    if let Some((diff, scale)) = fused {
-        let sums = fused::difference_sums(x, ms, diff);
-        for (i, (&m, s)) in ms.iter().zip(sums).enumerate() {
-            let terms = estimator.n_terms(n, m);
-            let tau = m as f64 * t0;
-            variances[i] = s / (scale * tau * tau * terms as f64);
-            n_terms[i] = terms;
-        }
-        return Ok(());
-    }
-    let results: Vec<Result<(f64, usize)>> = ms
-        .par_iter()
-        .with_max_len(1)
-        .map(|&m| variance(x, t0, m, estimator))
-        .collect();
-    for (i, r) in results.into_iter().enumerate() {
-        let (v, n) = r?;
-        variances[i] = v;
-        n_terms[i] = n;
+    let sums = raw_sums(x, ms, estimator, &Progress::none(), 0.0)?;
+    for (i, (&m, s)) in ms.iter().zip(sums).enumerate() {
+        let terms = estimator.n_terms(x.len(), m);
+        variances[i] = normalise(estimator, s, m, t0, terms);
+        n_terms[i] = terms;
     }
     Ok(())
 }
@@ -676,6 +775,108 @@ pub fn resolve_factors(
     Ok(ms)
 }
 
+/// What to do with NaN samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Gaps {
+    /// NaN (like inf) is an error naming its index.
+    Error,
+    /// NaN marks a missing sample: every term whose span touches one is left out (see
+    /// [`gaps`]); inf is still an error.
+    Omit,
+}
+
+impl Gaps {
+    /// Parses `"error"` or `"omit"`.
+    pub fn parse(name: &str) -> Result<Self> {
+        match name {
+            "error" => Ok(Gaps::Error),
+            "omit" => Ok(Gaps::Omit),
+            other => Err(Error::invalid(
+                "gaps",
+                format!("expected 'error' or 'omit', got {other:?}"),
+            )),
+        }
+    }
+}
+
+/// Everything an analysis needs besides the data.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Config {
+    /// Sample period in seconds (1/fs).
+    pub t0: f64,
+    /// Rate or angle samples.
+    pub data_type: DataType,
+    /// Which variance.
+    pub estimator: Estimator,
+    /// Which τ.
+    pub taus: Taus,
+    /// Two-sided confidence level of the intervals; `None` skips noise identification.
+    pub confidence: Option<f64>,
+    /// NaN handling.
+    pub gaps: Gaps,
+}
+
+impl Config {
+    /// Checks the parameters that do not depend on the data.
+    pub fn validate(&self) -> Result<()> {
+        validate::positive("fs", 1.0 / self.t0)?;
+        if let Some(level) = self.confidence {
+            if !(level > 0.0 && level < 1.0) {
+                return Err(Error::invalid(
+                    "confidence",
+                    format!("must lie strictly between 0 and 1, got {level}"),
+                ));
+            }
+        }
+        if self.gaps == Gaps::Omit && self.estimator == Estimator::Total {
+            return Err(Error::invalid(
+                "gaps",
+                "'omit' is not defined for the total deviation: it reflects the record at its \
+                 two ends, and a record with gaps has no single pair of ends (use the \
+                 overlapping Allan, modified Allan or Hadamard deviation)",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Progress units of one column of `n` samples (integration, variances, intervals), in
+    /// sample passes. Only proportions matter.
+    pub(crate) fn work(&self, n: usize) -> f64 {
+        let n = n as f64;
+        let integration = match self.data_type {
+            DataType::Rate => WORK_INTEGRATION * n,
+            DataType::Angle => 0.0,
+        };
+        let ci = if self.confidence.is_some() {
+            WORK_CONFIDENCE * n
+        } else {
+            0.0
+        };
+        integration + WORK_VARIANCES * n + ci
+    }
+}
+
+/// Progress weights per sample of the three stages (their rough cost in memory passes).
+const WORK_INTEGRATION: f64 = 3.0;
+const WORK_VARIANCES: f64 = 4.0;
+const WORK_CONFIDENCE: f64 = 3.0;
+
+/// Reusable scratch memory of one column's analysis (the angle series, N + 1 values). A batch
+/// keeps one per concurrently analysed column, so a new unit reuses pages that are already
+/// mapped instead of faulting in a fresh N-sized buffer.
+#[derive(Debug, Default)]
+pub struct Workspace {
+    angle: Vec<f64>,
+    segments: Vec<f64>,
+}
+
+impl Workspace {
+    /// An empty workspace (buffers grow on first use).
+    pub fn new() -> Self {
+        Self::default()
+    }
+}
+
 /// Full analysis of one column: angle series, variances at the requested τ and, when
 /// `confidence_level` is given, noise identification, EDF and chi-square intervals.
 pub fn analyse(
@@ -686,27 +887,66 @@ pub fn analyse(
     taus: &Taus,
     confidence_level: Option<f64>,
 ) -> Result<AllanAnalysis> {
-    validate::positive("fs", 1.0 / t0)?;
-    if let Some(level) = confidence_level {
-        if !(level > 0.0 && level < 1.0) {
-            return Err(Error::invalid(
-                "confidence",
-                format!("must lie strictly between 0 and 1, got {level}"),
-            ));
-        }
+    let config = Config {
+        t0,
+        data_type,
+        estimator,
+        taus: taus.clone(),
+        confidence: confidence_level,
+        gaps: Gaps::Error,
+    };
+    analyse_column(column, &config, &mut Workspace::new(), &Progress::none())
+}
+
+/// [`analyse`] with all options, reusing `workspace` and reporting to `progress`.
+///
+/// The result does not depend on the workspace's previous contents or on `progress`.
+pub fn analyse_column(
+    column: Column<'_>,
+    config: &Config,
+    workspace: &mut Workspace,
+    progress: &Progress<'_>,
+) -> Result<AllanAnalysis> {
+    config.validate()?;
+    if config.gaps == Gaps::Omit && column.iter().any(f64::is_nan) {
+        return gaps::analyse(column, config, workspace, progress);
     }
-    let ms = resolve_factors(taus, column.len(), t0, data_type, estimator)?;
-    let x = angle_series(column, t0, data_type)?;
-    let mut var = vec![0.0; ms.len()];
-    let mut n_terms = vec![0usize; ms.len()];
-    variances_into(&x, t0, &ms, estimator, &mut var, &mut n_terms)?;
-    let confidence = match confidence_level {
-        Some(level) => Some(confidence::intervals(&x, estimator, &ms, &var, level)?),
+    let ms = resolve_factors(
+        &config.taus,
+        column.len(),
+        config.t0,
+        config.data_type,
+        config.estimator,
+    )?;
+    let estimator = config.estimator;
+    let x = angle_into(
+        column,
+        config.t0,
+        config.data_type,
+        &mut workspace.angle,
+        progress,
+    )?;
+    let n = column.len() as f64;
+    let sums = raw_sums(x, &ms, estimator, progress, WORK_VARIANCES * n)?;
+    let n_terms: Vec<usize> = ms.iter().map(|&m| estimator.n_terms(x.len(), m)).collect();
+    let variance: Vec<f64> = ms
+        .iter()
+        .zip(&sums)
+        .zip(&n_terms)
+        .map(|((&m, &s), &t)| normalise(estimator, s, m, config.t0, t))
+        .collect();
+    let confidence = match config.confidence {
+        Some(level) => {
+            let ci = confidence::intervals(x, estimator, &ms, &variance, level)?;
+            progress.advance(WORK_CONFIDENCE * n);
+            progress.check()?;
+            Some(ci)
+        }
         None => None,
     };
     Ok(AllanAnalysis {
         m: ms,
-        variance: var,
+        variance,
         n_terms,
         confidence,
     })
@@ -722,22 +962,88 @@ pub fn analyse_axes(
     taus: &Taus,
     confidence_level: Option<f64>,
 ) -> Result<Vec<AllanAnalysis>> {
-    let columns: Vec<Column<'_>> = (0..n_axes)
-        .map(|a| Column::of(data, n_axes, a))
-        .collect::<Result<_>>()?;
-    columns
-        .into_par_iter()
+    let config = Config {
+        t0,
+        data_type,
+        estimator,
+        taus: taus.clone(),
+        confidence: confidence_level,
+        gaps: Gaps::Error,
+    };
+    analyse_matrix(data, n_axes, &config, &Progress::none())
+}
+
+/// Every column of a row-major (samples × axes) buffer, axes in parallel, with progress.
+///
+/// Each axis is computed by the same code whatever the number of axes or their order, so a
+/// column's result does not depend on its neighbours.
+pub fn analyse_matrix(
+    data: &[f64],
+    n_axes: usize,
+    config: &Config,
+    progress: &Progress<'_>,
+) -> Result<Vec<AllanAnalysis>> {
+    config.validate()?;
+    let columns = columns_of(data, n_axes)?;
+    let mut workspaces: Vec<Workspace> = (0..n_axes).map(|_| Workspace::new()).collect();
+    progress.add_total(columns.iter().map(|c| config.work(c.len())).sum());
+    progress.start();
+    let out = analyse_columns(&columns, config, &mut workspaces, progress)
+        .map_err(|(axis, e)| locate(e, None, axis, n_axes))?;
+    progress.finish();
+    Ok(out)
+}
+
+fn columns_of(data: &[f64], n_axes: usize) -> Result<Vec<Column<'_>>> {
+    (0..n_axes).map(|a| Column::of(data, n_axes, a)).collect()
+}
+
+/// Axes in parallel, each with its own workspace; the first failing axis (in axis order) wins.
+fn analyse_columns(
+    columns: &[Column<'_>],
+    config: &Config,
+    workspaces: &mut [Workspace],
+    progress: &Progress<'_>,
+) -> std::result::Result<Vec<AllanAnalysis>, (usize, Error)> {
+    let results: Vec<Result<AllanAnalysis>> = columns
+        .par_iter()
+        .zip(workspaces.par_iter_mut())
+        .with_max_len(1)
+        .map(|(&c, ws)| analyse_column(c, config, ws, progress))
+        .collect();
+    results
+        .into_iter()
         .enumerate()
-        .map(|(axis, c)| {
-            analyse(c, t0, data_type, estimator, taus, confidence_level).map_err(|e| match e {
-                Error::NonFinite { name, index } if n_axes > 1 => Error::invalid(
-                    name,
-                    format!("non-finite value (NaN or inf) at row {index}, column {axis}"),
-                ),
-                other => other,
-            })
-        })
+        .map(|(axis, r)| r.map_err(|e| (axis, e)))
         .collect()
+}
+
+/// Names the unit, row and column of a non-finite value in a multi-axis or batch input.
+fn locate(e: Error, unit: Option<usize>, axis: usize, n_axes: usize) -> Error {
+    match e {
+        Error::NonFinite { name, index } if n_axes > 1 || unit.is_some() => {
+            let unit = unit.map_or(String::new(), |u| format!("unit {u}, "));
+            let column = if n_axes > 1 {
+                format!(", column {axis}")
+            } else {
+                String::new()
+            };
+            Error::invalid(
+                name,
+                format!("non-finite value (NaN or inf) at {unit}row {index}{column}"),
+            )
+        }
+        other => match unit {
+            Some(u) => match other {
+                Error::TooShort { .. } | Error::Cancelled => other,
+                Error::InvalidParameter { name, reason } if name == "data" => {
+                    Error::invalid(name, format!("unit {u}: {reason}"))
+                }
+                other => other,
+            },
+            None => other,
+        },
+    }
 }
 
 #[cfg(test)]
@@ -897,6 +1203,102 @@ mod tests {
         )
         .unwrap();
         assert_eq!(a, b);
+    }
+
+    fn walk(n: usize, axes: usize) -> Vec<f64> {
+        let mut s = 7u64;
+        let mut level = 0.0;
+        (0..n * axes)
+            .map(|_| {
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let u = (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+                level += 1e-3 * u;
+                u + level
+            })
+            .collect()
+    }
+
+    fn configs() -> Vec<Config> {
+        let mut out = Vec::new();
+        for estimator in [
+            Estimator::Overlapping,
+            Estimator::NonOverlapping,
+            Estimator::Modified,
+            Estimator::Hadamard,
+            Estimator::Total,
+        ] {
+            out.push(Config {
+                t0: 0.01,
+                data_type: DataType::Rate,
+                estimator,
+                taus: Taus::Spec(TauSpec::Log { per_decade: 5 }),
+                confidence: Some(0.683),
+                gaps: Gaps::Error,
+            });
+        }
+        out
+    }
+
+    #[test]
+    fn hook_does_not_change_results() {
+        let data = walk(200_003, 2);
+        for cfg in configs() {
+            let plain = analyse_matrix(&data, 2, &cfg, &Progress::none()).unwrap();
+            let seen = std::sync::Mutex::new(Vec::new());
+            let hook = |f: f64| {
+                seen.lock().unwrap().push(f);
+                true
+            };
+            let reported = analyse_matrix(&data, 2, &cfg, &Progress::new(Some(&hook))).unwrap();
+            assert_eq!(plain, reported, "{:?}", cfg.estimator);
+            let seen = seen.into_inner().unwrap();
+            assert_eq!((seen[0], *seen.last().unwrap()), (0.0, 1.0));
+            assert!(seen.windows(2).all(|w| w[0] < w[1]));
+        }
+    }
+
+    #[test]
+    fn thread_count_does_not_change_results() {
+        let data = walk(300_001, 1);
+        for cfg in configs() {
+            let run = |threads: usize| {
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap()
+                    .install(|| analyse_matrix(&data, 1, &cfg, &Progress::none()).unwrap())
+            };
+            let one = run(1);
+            assert_eq!(one, run(3), "{:?}", cfg.estimator);
+            assert_eq!(one, run(8), "{:?}", cfg.estimator);
+        }
+    }
+
+    #[test]
+    fn cancel_stops_with_an_error() {
+        let data = walk(300_000, 1);
+        let hook = |f: f64| f < 0.3;
+        let err = analyse_matrix(&data, 1, &configs()[0], &Progress::new(Some(&hook)));
+        assert_eq!(err, Err(Error::Cancelled));
+    }
+
+    #[test]
+    fn workspace_reuse_does_not_change_results() {
+        let a = walk(100_000, 1);
+        let b = walk(70_000, 1);
+        let cfg = &configs()[0];
+        let mut ws = Workspace::new();
+        let fresh = analyse_column(
+            Column::contiguous(&b),
+            cfg,
+            &mut Workspace::new(),
+            &Progress::none(),
+        );
+        analyse_column(Column::contiguous(&a), cfg, &mut ws, &Progress::none()).unwrap();
+        let reused = analyse_column(Column::contiguous(&b), cfg, &mut ws, &Progress::none());
+        assert_eq!(fresh, reused);
     }
 
     #[test]

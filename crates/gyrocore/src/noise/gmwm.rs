@@ -14,7 +14,7 @@
 //! The model is a composite of independent processes whose wavelet variances add: quantisation,
 //! white noise, flicker (bias instability), random walk, drift (ramp) and up to two first-order
 //! Gauss–Markov terms. Since `ν²_j = σ²_A(m_j t0)/2` for the Haar filter, `ν_j(θ)` is half the
-//! Allan-variance model of [`super::fit`] at `τ = m_j t0` (the continuous-time forms; the
+//! Allan-variance model of [`super::fit`](mod@super::fit) at `τ = m_j t0` (the continuous-time forms; the
 //! discrete random walk differs by `O(1/m²)` at the first scales, where white noise dominates).
 //!
 //! **Weight matrix.** Ω is the asymptotic covariance of `ν̂`: correlations from the spectral
@@ -26,14 +26,14 @@
 //! and the estimate iterated three times with the updated Ω ("optimal weight matrix").
 //!
 //! **Optimisation.** `ν(θ)` is linear in the squared amplitudes, which are solved by exact
-//! non-negative generalized least squares ([`super::fit::nnls`] on the Cholesky-whitened
+//! non-negative generalized least squares (the NNLS of [`super::fit`](mod@super::fit) on the Cholesky-whitened
 //! problem), and the correlation times are profiled out by grid and golden-section search in
 //! `ln T` over the scale range.
 //!
 //! **Uncertainties.** Asymptotically `√n(θ̂ − θ) → N(0, (DᵀΩ⁻¹D)⁻¹)` with `D = ∂ν/∂θ` (Guerrier
 //! et al. Prop. 2 with the optimal weights), inflated by `max(1, J/(K − p))` when the model
 //! does not fit; amplitudes by the delta method. Optionally a parametric bootstrap: `B` series
-//! simulated from θ̂ with [`super::simulate`] (plus independent AR(1) series for the
+//! simulated from θ̂ with [`super::simulate()`] (plus independent AR(1) series for the
 //! Gauss–Markov terms), re-estimated with the same model; the covariance of the replicates
 //! replaces the asymptotic one.
 //!

@@ -1,5 +1,5 @@
 //! IEEE-952 noise terms of rate sensors: simulation with known coefficients and their
-//! identification from an Allan variance (SPEC §3, IEEE Std 952-1997 Annex C, [NR] Table 1).
+//! identification from an Allan variance (SPEC §3, IEEE Std 952-1997 Annex C, \[NR\] Table 1).
 //!
 //! The five-term model of the (overlapping) Allan variance of a rate signal is
 //!
@@ -11,11 +11,11 @@
 //! PSD `B²/(2π f)`, plateau factor `√(2 ln 2/π)`), rate random walk K and rate ramp R. For a rate
 //! in u/s: Q in u, N in u/√s, B in u/s, K in u/s^1.5, R in u/s².
 //!
-//! * [`simulate`]: synthetic rate noise with exactly these coefficients.
-//! * [`fit`]: joint weighted non-negative least squares of the model (the better estimator),
+//! * [`simulate()`]: synthetic rate noise with exactly these coefficients.
+//! * [`fit`](mod@fit): joint weighted non-negative least squares of the model (the better estimator),
 //!   with Gauss–Markov terms, goodness-of-fit diagnostics and automatic τ-range selection.
 //! * [`gauss_markov`]: first-order Gauss–Markov (exponentially correlated) terms.
-//! * [`gmwm`]: the generalized method of wavelet moments (Guerrier et al. 2013) on the Haar
+//! * [`gmwm`](mod@gmwm): the generalized method of wavelet moments (Guerrier et al. 2013) on the Haar
 //!   wavelet variance ([`wavelet`]).
 //! * [`ieee`]: the IEEE-952 read-off (fixed-slope lines on detected slope regions, B from the
 //!   minimum).

@@ -1,5 +1,5 @@
 //! Least-squares spectral analysis (LSSA) of unequally spaced, weighted series
-//! ([TS] §2.2 eqs. 5–12; Vaníček 1969; Pagiatakis 1999; SPEC §8).
+//! (\[TS\] §2.2 eqs. 5–12; Vaníček 1969; Pagiatakis 1999; SPEC §8).
 //!
 //! The series $f(t_i)$, $i = 1..n$ (times strictly increasing, otherwise arbitrary: gaps and
 //! irregular spacing are what LSSA is for) has weight matrix $P = C_f^{-1}$: identity, diagonal

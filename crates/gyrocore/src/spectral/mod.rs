@@ -1,7 +1,7 @@
 //! Spectral analysis: the least-squares spectrum of unequally spaced, weighted series
-//! ([`lssa`]) and the FFT power spectral density of regularly sampled series ([`psd`]).
+//! ([`lssa()`]) and the FFT power spectral density of regularly sampled series ([`psd`]).
 //!
-//! See the submodules for the formulas and references ([TS] §2.2, Vaníček 1969, Pagiatakis
+//! See the submodules for the formulas and references (\[TS\] §2.2, Vaníček 1969, Pagiatakis
 //! 1999; Welch 1967).
 
 pub mod lssa;

@@ -1,0 +1,419 @@
+//! Gap-aware Allan-family variances: NaN marks a missing sample.
+//!
+//! Missing samples are not contiguous samples: joining the pieces of a record as if nothing
+//! had been lost puts a step (the drift of the missing stretch) into the data. Here the record
+//! is cut at every NaN into gap-free **segments** and every term of an estimator whose span
+//! touches a gap is left out:
+//!
+//! * rate input `Ω`: a segment of rate samples `[s, e)` gives the angle samples `x_s..x_e`
+//!   (integrated mean-removed rate, SPEC §2, per segment — the second and third differences
+//!   cancel the segment's own mean exactly); a term is kept when every rate sample it spans
+//!   lies in one segment;
+//! * angle input `x`: a segment is a run of finite phase samples, and a term is kept when
+//!   every phase sample it spans lies in one segment.
+//!
+//! With `S_j(m)` and `n_j(m)` the raw sum of squared differences and the number of terms of
+//! segment `j`,
+//!
+//! ```text
+//! σ²(τ) = Σ_j S_j(m) / (c · τ² · Σ_j n_j(m)),   n_terms = Σ_j n_j(m)
+//! ```
+//!
+//! (`c` = 2 for the Allan variances, `2m²` modified, 6 Hadamard). This is the overlapping,
+//! modified and Hadamard estimator restricted to the terms that do not touch a gap (NIST
+//! SP1065 §5.2 defines the terms; this only removes some). The non-overlapping Allan variance
+//! keeps its global grid `k = 0, m, 2m, …` and drops the grid terms that touch a gap. The
+//! **total variance is not defined** here: it extends the record by reflection at its two ends,
+//! and a record with gaps has no single pair of ends ([`super::Config::validate`] says so).
+//!
+//! **Confidence intervals.** Segments are treated as independent records of the same noise:
+//! segment `j` has the EDF `ν_j` of its own length (Greenhall's algorithm, [`super::edf`]), and
+//! the pooled estimate `Σ n_j σ̂_j² / Σ n_j` gets Satterthwaite's EDF
+//!
+//! ```text
+//! ν = (Σ_j n_j)² / Σ_j (n_j² / ν_j)
+//! ```
+//!
+//! (F. E. Satterthwaite, "An approximate distribution of estimates of variance components",
+//! Biometrics Bulletin 2 (1946), for a weighted sum of independent scaled chi-squares). The
+//! noise type is identified on the longest segment (lag-1 autocorrelation, [`super::noise_id`]).
+//! τ is limited by the longest segment: a factor with no term in any segment is beyond the data.
+
+use super::{
+    AllanAnalysis, Column, Config, DataType, Estimator, Progress, Taus, WORK_CONFIDENCE,
+    WORK_VARIANCES, Workspace, confidence, edf, integrate_rate_into, normalise, raw_sums,
+    resolve_factors, sum_squares,
+};
+use crate::{Error, Result};
+
+/// Maximal runs `[s, e)` of non-NaN samples.
+pub fn segments(column: Column<'_>) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut start: Option<usize> = None;
+    for (i, v) in column.iter().enumerate() {
+        match (v.is_nan(), start) {
+            (true, Some(s)) => {
+                out.push((s, i));
+                start = None;
+            }
+            (false, None) => start = Some(i),
+            _ => {}
+        }
+    }
+    if let Some(s) = start {
+        out.push((s, column.len()));
+    }
+    out
+}
+
+/// Non-overlapping sum on the global grid: terms at global angle index `k ≡ 0 (mod m)` inside
+/// the segment whose first angle sample has global index `first_global`.
+fn non_overlapping_sum(x: &[f64], m: usize, first_global: usize) -> (f64, usize) {
+    let first = first_global.div_ceil(m) * m - first_global;
+    let len = x.len();
+    if len < first + 2 * m + 1 {
+        return (0.0, 0);
+    }
+    let count = (len - 1 - first - 2 * m) / m + 1;
+    let sum = sum_squares(count, |i| {
+        let k = first + i * m;
+        x[k + 2 * m] - 2.0 * x[k + m] + x[k]
+    });
+    (sum, count)
+}
+
+/// Gap-aware analysis of a column that contains NaN (see the module docs).
+pub(crate) fn analyse(
+    column: Column<'_>,
+    config: &Config,
+    workspace: &mut Workspace,
+    progress: &Progress<'_>,
+) -> Result<AllanAnalysis> {
+    if let Some(index) = column.iter().position(f64::is_infinite) {
+        return Err(Error::NonFinite {
+            name: "data",
+            index,
+        });
+    }
+    let estimator = config.estimator;
+    let segs = segments(column);
+    let longest = segs
+        .iter()
+        .enumerate()
+        .max_by_key(|&(i, &(s, e))| (e - s, std::cmp::Reverse(i)))
+        .map(|(i, _)| i);
+    let Some(longest) = longest else {
+        return Err(Error::invalid("data", "every sample is NaN (a gap)"));
+    };
+    let (ls, le) = segs[longest];
+    let mut ms = resolve_factors(
+        &config.taus,
+        le - ls,
+        config.t0,
+        config.data_type,
+        estimator,
+    )
+    .map_err(|e| match e {
+        Error::TooShort { needed, got, .. } => Error::invalid(
+            "data",
+            format!(
+                "the longest gap-free stretch has {got} samples (rows {ls}..{le}), \
+                     {needed} needed"
+            ),
+        ),
+        other => other,
+    })?;
+
+    // Angle series of every segment, concatenated in the workspace.
+    let buffer = &mut workspace.segments;
+    buffer.clear();
+    let mut ranges = Vec::with_capacity(segs.len());
+    for &(s, e) in &segs {
+        let start = buffer.len();
+        let part = column.sub(s, e);
+        match config.data_type {
+            DataType::Rate => {
+                integrate_rate_into(part, config.t0, &mut workspace.angle, &Progress::none())?;
+                buffer.extend_from_slice(&workspace.angle);
+            }
+            DataType::Angle => buffer.extend(part.iter()),
+        }
+        ranges.push((start, buffer.len()));
+    }
+    let n_total = column.len() as f64;
+
+    // Raw sums and term counts per segment and factor.
+    let mut sums: Vec<Vec<f64>> = vec![Vec::with_capacity(segs.len()); ms.len()];
+    let mut terms: Vec<Vec<usize>> = vec![Vec::with_capacity(segs.len()); ms.len()];
+    for (&(a, b), &(s, _)) in ranges.iter().zip(&segs) {
+        let x = &buffer[a..b];
+        let weight = WORK_VARIANCES * x.len() as f64;
+        if estimator == Estimator::NonOverlapping {
+            for (j, &m) in ms.iter().enumerate() {
+                let (sum, count) = non_overlapping_sum(x, m, s);
+                sums[j].push(sum);
+                terms[j].push(count);
+            }
+            progress.advance(weight);
+            continue;
+        }
+        let max_m = estimator.max_factor(x.len());
+        let fit: Vec<usize> = ms.iter().copied().filter(|&m| m <= max_m).collect();
+        let seg_sums = if fit.is_empty() {
+            progress.advance(weight);
+            Vec::new()
+        } else {
+            raw_sums(x, &fit, estimator, progress, weight)?
+        };
+        let mut it = seg_sums.into_iter();
+        for (j, &m) in ms.iter().enumerate() {
+            if m <= max_m {
+                sums[j].push(it.next().unwrap_or(0.0));
+                terms[j].push(estimator.n_terms(x.len(), m));
+            } else {
+                sums[j].push(0.0);
+                terms[j].push(0);
+            }
+        }
+    }
+    progress.check()?;
+    let mut n_terms: Vec<usize> = terms.iter().map(|t| t.iter().sum()).collect();
+    if let Some(j) = n_terms.iter().position(|&t| t == 0) {
+        // Only the non-overlapping grid can miss every segment below the longest one's limit.
+        if matches!(config.taus, Taus::Explicit(_)) {
+            return Err(Error::invalid(
+                "taus",
+                format!(
+                    "τ = {} s has no term that avoids the gaps",
+                    ms[j] as f64 * config.t0
+                ),
+            ));
+        }
+        let keep: Vec<bool> = n_terms.iter().map(|&t| t > 0).collect();
+        let mut it = keep.iter();
+        ms.retain(|_| *it.next().unwrap_or(&false));
+        let mut it = keep.iter();
+        sums.retain(|_| *it.next().unwrap_or(&false));
+        let mut it = keep.iter();
+        terms.retain(|_| *it.next().unwrap_or(&false));
+        n_terms.retain(|&t| t > 0);
+        if ms.is_empty() {
+            return Err(Error::invalid(
+                "data",
+                "no τ has a term that avoids the gaps",
+            ));
+        }
+    }
+    let variance: Vec<f64> = ms
+        .iter()
+        .zip(&sums)
+        .zip(&n_terms)
+        .map(|((&m, s), &t)| {
+            let total = crate::validate::neumaier_sum(s.iter().copied());
+            normalise(estimator, total, m, config.t0, t)
+        })
+        .collect();
+
+    let confidence = match config.confidence {
+        Some(level) => {
+            let (a, b) = ranges[longest];
+            let alpha = confidence::alphas(&buffer[a..b], estimator, &ms);
+            let mut out = confidence::Intervals {
+                alpha,
+                edf: Vec::with_capacity(ms.len()),
+                low: Vec::with_capacity(ms.len()),
+                high: Vec::with_capacity(ms.len()),
+            };
+            for (j, &m) in ms.iter().enumerate() {
+                let mut denominator = 0.0;
+                for (k, &t) in terms[j].iter().enumerate() {
+                    if t > 0 {
+                        let (a, b) = ranges[k];
+                        let nu = edf::edf(estimator, out.alpha[j], m, b - a)?;
+                        let t = t as f64;
+                        denominator += t * t / nu;
+                    }
+                }
+                let count = n_terms[j] as f64;
+                let nu = count * count / denominator;
+                let (lo, hi) = confidence::chi2_bounds(variance[j], nu, level)?;
+                out.edf.push(nu);
+                out.low.push(lo);
+                out.high.push(hi);
+            }
+            progress.advance(WORK_CONFIDENCE * n_total);
+            Some(out)
+        }
+        None => None,
+    };
+    Ok(AllanAnalysis {
+        m: ms,
+        variance,
+        n_terms,
+        confidence,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{Gaps, TauSpec, analyse_column};
+    use super::*;
+
+    fn noise(n: usize, seed: u64) -> Vec<f64> {
+        let mut s = seed;
+        (0..n)
+            .map(|_| {
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+            })
+            .collect()
+    }
+
+    fn config(estimator: Estimator, data_type: DataType) -> Config {
+        Config {
+            t0: 0.5,
+            data_type,
+            estimator,
+            taus: Taus::Spec(TauSpec::All),
+            confidence: Some(0.683),
+            gaps: Gaps::Omit,
+        }
+    }
+
+    /// Direct definition: every term whose span is gap-free, from the rate.
+    fn direct_rate(rate: &[f64], m: usize, t0: f64, estimator: Estimator) -> (f64, usize) {
+        let n = rate.len();
+        let ok = |a: usize, b: usize| rate[a..b].iter().all(|v| !v.is_nan());
+        let mean = |a: usize| rate[a..a + m].iter().sum::<f64>() / m as f64;
+        let (mut s, mut count) = (0.0, 0usize);
+        let tau = m as f64 * t0;
+        match estimator {
+            Estimator::Overlapping | Estimator::NonOverlapping => {
+                let step = if estimator == Estimator::Overlapping {
+                    1
+                } else {
+                    m
+                };
+                let mut k = 0;
+                while k + 2 * m <= n {
+                    if ok(k, k + 2 * m) {
+                        s += (mean(k + m) - mean(k)).powi(2) * tau * tau;
+                        count += 1;
+                    }
+                    k += step;
+                }
+                (s / (2.0 * tau * tau * count as f64), count)
+            }
+            Estimator::Hadamard => {
+                for k in 0..=(n.saturating_sub(3 * m)) {
+                    if k + 3 * m <= n && ok(k, k + 3 * m) {
+                        let d = mean(k + 2 * m) - 2.0 * mean(k + m) + mean(k);
+                        s += d * d * tau * tau;
+                        count += 1;
+                    }
+                }
+                (s / (6.0 * tau * tau * count as f64), count)
+            }
+            _ => unreachable!(),
+        }
+    }
+
+    #[test]
+    fn gapped_rate_equals_direct_definition() {
+        let mut rate = noise(400, 9);
+        for i in (57..63).chain(200..201).chain(330..345) {
+            rate[i] = f64::NAN;
+        }
+        for estimator in [
+            Estimator::Overlapping,
+            Estimator::NonOverlapping,
+            Estimator::Hadamard,
+        ] {
+            let cfg = config(estimator, DataType::Rate);
+            let r = analyse_column(
+                Column::contiguous(&rate),
+                &cfg,
+                &mut Workspace::new(),
+                &Progress::none(),
+            )
+            .unwrap();
+            for (j, &m) in r.m.iter().enumerate() {
+                let (v, count) = direct_rate(&rate, m, 0.5, estimator);
+                assert_eq!(r.n_terms[j], count, "{estimator:?} m={m}");
+                assert!(
+                    (r.variance[j] - v).abs() <= 1e-12 * v,
+                    "{estimator:?} m={m}: {} vs {v}",
+                    r.variance[j]
+                );
+                let ci = r.confidence.as_ref().unwrap();
+                assert!(ci.low[j] <= r.variance[j] && r.variance[j] <= ci.high[j]);
+            }
+        }
+    }
+
+    #[test]
+    fn one_segment_edf_is_the_plain_edf() {
+        // A NaN at the very end leaves one segment: Satterthwaite's EDF reduces to ν.
+        let mut rate = noise(3000, 2);
+        let plain = analyse_column(
+            Column::contiguous(&rate[..2999]),
+            &config(Estimator::Overlapping, DataType::Rate),
+            &mut Workspace::new(),
+            &Progress::none(),
+        )
+        .unwrap();
+        rate[2999] = f64::NAN;
+        let gapped = analyse_column(
+            Column::contiguous(&rate),
+            &config(Estimator::Overlapping, DataType::Rate),
+            &mut Workspace::new(),
+            &Progress::none(),
+        )
+        .unwrap();
+        assert_eq!(plain.m, gapped.m);
+        assert_eq!(plain.n_terms, gapped.n_terms);
+        let (a, b) = (plain.confidence.unwrap(), gapped.confidence.unwrap());
+        assert_eq!(a.alpha, b.alpha);
+        for j in 0..plain.m.len() {
+            assert!((a.edf[j] / b.edf[j] - 1.0).abs() < 1e-12);
+            assert!((plain.variance[j] / gapped.variance[j] - 1.0).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn bad_gaps() {
+        let mut rate = noise(100, 1);
+        rate[5] = f64::INFINITY;
+        rate[3] = f64::NAN;
+        let cfg = config(Estimator::Overlapping, DataType::Rate);
+        let err = analyse_column(
+            Column::contiguous(&rate),
+            &cfg,
+            &mut Workspace::new(),
+            &Progress::none(),
+        )
+        .unwrap_err();
+        assert_eq!(
+            err,
+            Error::NonFinite {
+                name: "data",
+                index: 5
+            }
+        );
+        let all_nan = vec![f64::NAN; 10];
+        assert!(
+            analyse_column(
+                Column::contiguous(&all_nan),
+                &cfg,
+                &mut Workspace::new(),
+                &Progress::none()
+            )
+            .is_err()
+        );
+        let mut total = config(Estimator::Total, DataType::Rate);
+        total.gaps = Gaps::Omit;
+        assert!(total.validate().is_err());
+    }
+}
