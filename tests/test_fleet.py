@@ -173,6 +173,32 @@ def test_array_sources_match_single_unit_api(client: Client) -> None:
     np.testing.assert_array_equal(single["N"].to_numpy(), table[table["axis"] == "col1"]["N"].to_numpy())
 
 
+def test_progress_is_reported_and_changes_nothing(logs: Path, client: Client) -> None:
+    for where in (None, client):
+        seen: list[float] = []
+        with_progress = fleet.analyse(str(logs / "unit[0-4]*"), fs=FS, client=where, progress=seen.append)
+        plain = fleet.analyse(str(logs / "unit[0-4]*"), fs=FS, client=where)
+        assert seen == sorted(seen) and seen[-1] == 1.0 and len(seen) >= 5
+        pd.testing.assert_frame_equal(with_progress.drop(columns=["adev_tau", "adev"]),
+                                      plain.drop(columns=["adev_tau", "adev"]))
+
+
+def test_filled_gaps_use_the_gap_aware_estimators(tmp_path: Path) -> None:
+    rate = noise.simulate(6000, FS, arw=ARW, axes=2, seed=5)
+    t = np.arange(6000) / FS
+    t[3000:] += 1.0  # a 1 s gap: 100 samples missing
+    np.savetxt(tmp_path / "gap.csv", np.column_stack([t, rate]), delimiter=",", header="t,gx,gy", comments="", fmt="%.17g")
+    table = fleet.analyse(tmp_path / "gap.csv", load_options={"fill_gaps": True}, gaps="omit")
+    assert table["error"].isna().all()
+    assert (table["n_gaps"] == 1).all() and (table["missing_samples"] == 100).all()
+    log = io.load(tmp_path / "gap.csv", fill_gaps=True)
+    for (_, row), r in zip(table.iterrows(), allan.adev(log.data, log.fs, gaps="omit", axis_names=list(log.columns))):
+        np.testing.assert_array_equal(row["adev"], r.adev)
+        assert row["N"] == noise.fit(r).N.value
+    with_nan = fleet.analyse(tmp_path / "gap.csv", load_options={"fill_gaps": True})  # gaps="error"
+    assert "NaN" in with_nan["error"].iloc[0] or "nan" in with_nan["error"].iloc[0]
+
+
 def test_grouping_of_units_into_tasks_does_not_change_results() -> None:
     data = np.stack([noise.simulate(4000, FS, arw=ARW, seed=s) for s in range(7)])
     one = fleet.analyse(data, fs=FS, num_workers=1)
@@ -226,6 +252,13 @@ def test_missing_file_and_failed_unit_are_rows(tmp_path: Path) -> None:
     assert rows["error"].isna().tolist() == [True, False]
     assert rows["error"].iloc[1].startswith("noise fit: ValueError")
     assert len(rows["adev"].iloc[1]) > 0  # the Allan curve is still there
+    # A NaN in one unit fails the batch call: that unit alone becomes an error row.
+    arr = np.stack([noise.simulate(4000, FS, arw=ARW, seed=s) for s in range(3)])
+    arr[1, 17] = np.nan
+    rows = fleet.analyse(arr, fs=FS)
+    assert rows["error"].isna().tolist() == [True, False, True]
+    assert "NaN" in rows["error"].iloc[1] or "nan" in rows["error"].iloc[1]
+    np.testing.assert_array_equal(rows["adev"].iloc[2], allan.adev(arr[2], FS).adev)
 
 
 # ------------------------------------------------------------------------ statistics
@@ -341,9 +374,12 @@ def test_cli_scheduler_address_and_csv(logs: Path, tmp_path: Path, client: Clien
                                        capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "fleet.csv"
     address = client.scheduler.address
-    code = main(["fleet", str(logs / "unit[0-2]*"), "--fs", "100", "--scheduler", address, "--out", str(out)])
+    code = main(["fleet", str(logs / "unit[0-2]*"), "--fs", "100", "--scheduler", address, "--out", str(out),
+                 "--progress"])
     assert code == 0
-    assert f"(scheduler {address})" in capsys.readouterr().out
+    captured = capsys.readouterr()
+    assert f"(scheduler {address})" in captured.out
+    assert "fleet" in captured.err  # the progress bar (tqdm, stderr)
     back = pd.read_csv(out)
     assert len(back) == 9 and "adev" not in back.columns
 

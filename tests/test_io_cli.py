@@ -178,3 +178,32 @@ def test_read_log_api_for_other_commands(tmp_path: Path) -> None:
         and require_fs(log, args.log) == 100.0
     )
     assert isinstance(log, gyrobias.io.GyroLog)
+
+
+def test_fill_gaps_feeds_the_gap_aware_allan(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    if "gaps" not in inspect.signature(gyrobias.allan.adev).parameters:
+        pytest.skip("no gap-aware Allan estimator in this build")
+    # a log with a 10 % block missing: the CLI's result is the estimator's on the full-length
+    # record with NaN exactly where the samples are missing
+    n, fs = 20_000, 100.0
+    rate = np.random.default_rng(8).normal(0.0, 0.1, n)
+    keep = np.ones(n, dtype=bool)
+    keep[9_000:11_000] = False
+    t = np.arange(n) / fs
+    path = tmp_path / "holes.csv"
+    path.write_text(
+        "t,g\n"
+        + "".join(
+            f"{a!r},{b!r}\n" for a, b in zip(t[keep].tolist(), rate[keep].tolist(), strict=True)
+        )
+    )
+    js = tmp_path / "h.json"
+    assert main(["allan", str(path), "--fill-gaps", "--no-confidence", "--json", str(js)]) == 0
+    assert "filled with NaN rows" in capsys.readouterr().err
+    marked = np.where(keep, rate, np.nan)
+    ref = gyrobias.allan.adev(marked, fs, confidence=None, gaps="omit")
+    doc = json.loads(js.read_text())
+    np.testing.assert_array_equal(doc["axes"][0]["taus"], ref.taus)
+    np.testing.assert_allclose(doc["axes"][0]["deviation"], ref.adev, rtol=1e-15)

@@ -59,7 +59,7 @@ import glob
 import importlib
 import math
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -119,6 +119,7 @@ class _Options:
     taus: str | tuple[float, ...]
     confidence: float | None
     axis_names: tuple[str, ...] | None
+    gaps: str = "error"
     load: dict[str, Any] = field(default_factory=dict)
     array_units: tuple[str | None, ...] = ()
 
@@ -149,14 +150,33 @@ def _rows_for(
     sampling: io.SamplingReport | None,
 ) -> list[dict[str, Any]]:
     """Allan analysis and fit of one unit (``data`` is ``(n,)`` or ``(n, axes)``)."""
-    taus: str | NDArray[np.float64] = opts.taus if isinstance(opts.taus, str) else np.asarray(opts.taus)
     matrix = data.reshape(-1, 1) if data.ndim == 1 else data
-    shared = axis_units[0] if len(set(axis_units)) == 1 else None
-    results = allan.adev(
-        matrix, fs, taus=taus, confidence=opts.confidence, units=shared, axis_names=list(axis_names)
-    )
+    results = allan.adev(matrix, fs, **_allan_options(axis_names, axis_units, opts))
     assert isinstance(results, tuple)
-    n = int(matrix.shape[0])
+    return _fit_rows(source, results, int(matrix.shape[0]), fs, axis_units, opts, sampling)
+
+
+def _allan_options(axis_names: Sequence[str], axis_units: Sequence[str | None], opts: _Options) -> dict[str, Any]:
+    """Keyword arguments of ``allan.adev``/``adev_batch`` (one unit label when all axes share it)."""
+    return {
+        "taus": opts.taus if isinstance(opts.taus, str) else np.asarray(opts.taus),
+        "confidence": opts.confidence,
+        "gaps": opts.gaps,
+        "units": axis_units[0] if len(set(axis_units)) == 1 else None,
+        "axis_names": list(axis_names),
+    }
+
+
+def _fit_rows(
+    source: str,
+    results: Sequence[allan.AllanResult],
+    n: int,
+    fs: float,
+    axis_units: Sequence[str | None],
+    opts: _Options,
+    sampling: io.SamplingReport | None,
+) -> list[dict[str, Any]]:
+    """The noise fit of each axis' Allan result, one row per axis."""
     common: dict[str, Any] = {
         "fs": fs,
         "duration": n / fs,
@@ -225,13 +245,29 @@ def _analyse_file(path: str, opts: _Options) -> list[dict[str, Any]]:
 
 
 def _analyse_block(block: NDArray[np.float64], start: int, opts: _Options) -> list[dict[str, Any]]:
-    """Analyse units ``start …`` of an array block ``(units, n)`` or ``(units, n, axes)``."""
-    assert opts.fs is not None
+    """Analyse units ``start …`` of an array block ``(units, n)`` or ``(units, n, axes)``.
+
+    One :func:`gyrobias.allan.adev_batch` call for the block (the core reuses its scratch
+    buffers across units; bit-identical to one ``adev`` per unit). If the batch call fails
+    (a unit with NaN, say), the units are analysed one by one so that only the bad one is an
+    error row.
+    """
+    assert opts.fs is not None and opts.axis_names is not None
+    names, units = opts.axis_names, opts.array_units
+    n = int(block.shape[1])
+    batch: tuple[tuple[allan.AllanResult, ...], ...] | None
+    try:
+        batch = allan.adev_batch(block, opts.fs, **_allan_options(names, units, opts))
+    except Exception:  # noqa: BLE001 - find the failing unit below, one at a time
+        batch = None
     rows: list[dict[str, Any]] = []
     for i in range(block.shape[0]):
         source = f"array[{start + i}]"
         try:
-            rows.extend(_rows_for(source, block[i], opts.fs, opts.axis_names or (), opts.array_units, opts, None))
+            if batch is None:
+                rows.extend(_rows_for(source, block[i], opts.fs, names, units, opts, None))
+            else:
+                rows.extend(_fit_rows(source, batch[i], n, opts.fs, units, opts, None))
         except Exception as exc:  # noqa: BLE001 - one failed unit is one error row
             row = _empty_row(source)
             row["error"] = _error_text(exc)
@@ -283,22 +319,48 @@ def _blocks(n_units: int, workers: int) -> list[tuple[int, int]]:
 # --------------------------------------------------------------------------------- Dask
 
 
-def _run(tasks: list[tuple[Any, tuple[Any, ...], str]], client: Any, num_workers: int | None) -> list[Any]:
-    """Run ``(function, args, source)`` tasks; a task lost on a worker becomes an error row."""
+def _run(
+    tasks: list[tuple[Any, tuple[Any, ...], str]],
+    client: Any,
+    num_workers: int | None,
+    progress: Callable[[float], None] | None,
+) -> list[Any]:
+    """Run ``(function, args, source)`` tasks; a task lost on a worker becomes an error row.
+
+    ``progress(fraction)`` is called as tasks finish (in any order); results keep task order.
+    """
     dask = _require("dask")
+    total = max(1, len(tasks))
     if client is None:
         delayed = [dask.delayed(fn, pure=False)(*args) for fn, args, _ in tasks]
-        return list(dask.compute(*delayed, scheduler="threads", num_workers=num_workers))
+        if progress is None:
+            return list(dask.compute(*delayed, scheduler="threads", num_workers=num_workers))
+        callbacks = _require("dask.callbacks")
+        done = 0
+
+        def posttask(*_: Any) -> None:
+            nonlocal done
+            done += 1
+            progress(min(done / total, 1.0))
+
+        with callbacks.Callback(posttask=posttask):
+            out = list(dask.compute(*delayed, scheduler="threads", num_workers=num_workers))
+        progress(1.0)
+        return out
     futures = [client.submit(fn, *args, pure=False) for fn, args, _ in tasks]
-    out: list[Any] = []
+    if progress is not None:
+        distributed = _require("distributed")
+        for done, _ in enumerate(distributed.as_completed(futures), start=1):
+            progress(done / total)
+    results: list[Any] = []
     for future, (_, _, source) in zip(futures, tasks):
         try:
-            out.append(future.result())
+            results.append(future.result())
         except Exception as exc:  # noqa: BLE001 - worker died, task cancelled: report, go on
             row = _empty_row(source)
             row["error"] = f"task failed on the cluster: {_error_text(exc)}"
-            out.append([row])
-    return out
+            results.append([row])
+    return results
 
 
 def _connect(client: Any) -> tuple[Any, bool]:
@@ -329,8 +391,10 @@ def analyse(
     axis_names: Sequence[str] | None = None,
     taus: str | ArrayLike = "octave",
     confidence: float | None = 0.683,
+    gaps: str = "error",
     threshold: float = OUT_OF_FAMILY_THRESHOLD,
     num_workers: int | None = None,
+    progress: Callable[[float], None] | None = None,
 ) -> DataFrame:
     """Noise terms of every unit of a fleet, one row per unit and axis, computed on Dask.
 
@@ -363,10 +427,17 @@ def analyse(
         τ grid of the Allan analysis (:func:`gyrobias.allan.adev`).
     confidence : float or None
         Confidence level of the Allan intervals; their EDFs weight the joint fit.
+    gaps : {"error", "omit"}
+        What NaN samples mean (:func:`gyrobias.allan.adev`): ``"omit"`` analyses logs read
+        with ``load_options={"fill_gaps": True}`` (NaN rows in the gaps of the timestamps)
+        with the gap-aware estimators.
     threshold : float
         ``|z|`` above which a term is out of family (module docs).
     num_workers : int, optional
         Threads of the local threaded scheduler (default: one per core). Ignored with ``client``.
+    progress : callable, optional
+        Called with the completed fraction (0..1) of the tasks as they finish; never changes
+        a result.
 
     Returns
     -------
@@ -401,6 +472,7 @@ def analyse(
     """
     pd = _require("pandas")
     choice("fit", fit, ("joint", "ieee"))
+    choice("gaps", gaps, ("error", "omit"))
     if fs is not None:
         fs = positive_float("fs", fs)
     if isinstance(units, str) and not set(units) & {",", "="}:
@@ -440,7 +512,14 @@ def analyse(
         names = names or tuple(f"col{i}" for i in range(n_axes))
         array_units = io._resolve_units(units, names, None, "sources")  # the reader's rules for units=
     opts = _Options(
-        fs=fs, fit=fit, taus=tau_spec, confidence=confidence, axis_names=names, load=load, array_units=array_units
+        fs=fs,
+        fit=fit,
+        taus=tau_spec,
+        confidence=confidence,
+        axis_names=names,
+        gaps=gaps,
+        load=load,
+        array_units=array_units,
     )
 
     client, owned = _connect(client)
@@ -457,7 +536,7 @@ def analyse(
             tasks = [(_analyse_block, (blk, a, opts), f"array[{a}:{b}]") for blk, (a, b) in zip(blocks, ranges)]
         else:
             tasks = [(_analyse_file, (p, opts), p) for p in expanded]
-        parts = _run(tasks, client, num_workers)
+        parts = _run(tasks, client, num_workers, progress)
     finally:
         if owned:
             client.close()

@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from gyrobias import fleet
-from gyrobias.cli._common import add_read_arguments, load_options
+from gyrobias.cli._common import add_read_arguments, load_options, progress_bar
 
 __all__ = ["register", "run"]
 
@@ -115,18 +115,26 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"--out must end in .parquet or .csv, got '{args.out}'")
     options = load_options(args)
     fs, units = options.pop("fs"), options.pop("units")
-    table = fleet.analyse(
-        args.sources,
-        fs=fs,
-        units=units,
-        fit=args.fit_method,
-        client=args.scheduler,
-        axis_names=None if args.axis_names is None else [a.strip() for a in args.axis_names.split(",") if a.strip()],
-        load_options=options,
-        taus=args.taus,
-        threshold=args.threshold,
-        num_workers=args.workers,
-    )
+    show = args.progress if args.progress is not None else sys.stderr.isatty()
+    bar = progress_bar("fleet", args) if show else None
+    try:
+        table = fleet.analyse(
+            args.sources,
+            fs=fs,
+            units=units,
+            fit=args.fit_method,
+            client=args.scheduler,
+            axis_names=None if args.axis_names is None else [a.strip() for a in args.axis_names.split(",") if a.strip()],
+            load_options=options,
+            taus=args.taus,
+            gaps="omit" if args.fill_gaps else "error",
+            threshold=args.threshold,
+            num_workers=args.workers,
+            progress=bar,
+        )
+    finally:
+        if bar is not None:
+            bar.close()
     failed = table[table["error"].notna()]
     ok = table[table["error"].isna()]
     n_sources = table["source"].nunique()
