@@ -103,8 +103,8 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     args = parser.parse_args()
     print(
-        f"| scenario | estimator | term | bias | RMS error | 68 % coverage | 95 % coverage |\n"
-        f"|---|---|---|---|---|---|---|"
+        "| scenario | estimator | term | bias | RMS error | 68 % coverage | 95 % coverage |\n"
+        "|---|---|---|---|---|---|---|"
     )
     started = time.perf_counter()
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
@@ -119,10 +119,7 @@ def main() -> None:
                         continue
                     err = np.array([(v - true) / true if v is not None else -1.0 for v, _ in rows])
                     z = np.array(
-                        [
-                            abs(v - true) / u if v is not None and u else np.inf
-                            for v, u in rows
-                        ]
+                        [abs(v - true) / u if v is not None and u else np.inf for v, u in rows]
                     )
                     print(
                         f"| {name} | {estimator} | {term} | {100 * err.mean():+.1f} % "

@@ -19,6 +19,8 @@
 //!   wavelet variance ([`wavelet`]).
 //! * [`ieee`]: the IEEE-952 read-off (fixed-slope lines on detected slope regions, B from the
 //!   minimum).
+//! * [`mod@overbound`]: conservative coefficients whose model overbounds the curve's upper
+//!   confidence bound (Lethander & Taylor 2023).
 //! * [`model`]: the basis functions, slopes, read-off times and simple EDF approximations.
 
 pub mod covariance;
@@ -28,6 +30,7 @@ pub mod gauss_markov;
 pub mod gmwm;
 pub mod ieee;
 pub mod model;
+pub mod overbound;
 pub mod simulate;
 pub mod wavelet;
 
@@ -39,5 +42,6 @@ pub use fit::{
 pub use gmwm::{GmwmFit, GmwmOptions, gmwm};
 pub use ieee::{ReadOff, ReadOffOptions, read_off};
 pub use model::{FLICKER_FACTOR, Term, approximate_edf, model_variance};
+pub use overbound::{Conservative, Overbound, conservative, overbound, overbound_above};
 pub use simulate::{Ar1, NoiseSpec, simulate, simulate_axis};
 pub use wavelet::{WaveletVariance, haar};
