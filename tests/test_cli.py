@@ -155,7 +155,7 @@ def test_allan_npy_needs_fs(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
     [
         (["allan", "{tmp}/missing.csv"], "no such file"),
         (["allan", "{log}", "--columns", "gx,wz"], "unknown column 'wz' in log.csv; available: t, gx, gy, gz"),
-        (["allan", "{log}", "--kind", "mdev", "--non-overlapping"], "--non-overlapping applies to --kind adev only"),
+        (["allan", "{log}", "--kind", "mdev", "--non-overlapping"], "--non-overlapping applies to --kind adev and hdev only"),
         (["allan", "{log}", "--confidence", "1.5"], "confidence must lie strictly between 0 and 1"),
         (["allan", "{log}", "--fs", "-3"], "fs must be finite and > 0"),
         (["allan", "{log}", "--per-decade", "0", "--taus", "log"], "per_decade must be an integer >= 1"),

@@ -39,11 +39,19 @@ from gyrobias._validation import as_float_array, choice, positive_float
 __all__ = [
     "NOISE_NAMES",
     "AllanResult",
+    "DynamicAllanResult",
     "adev",
     "adev_batch",
     "avar",
+    "dynamic_adev",
     "hdev",
+    "htotdev",
     "mdev",
+    "mtotdev",
+    "tdev",
+    "theo1",
+    "theobr",
+    "theoh",
     "totdev",
 ]
 
@@ -59,6 +67,8 @@ NOISE_NAMES: dict[int, str] = {
 }
 
 Kind = Literal["adev", "mdev", "hdev", "totdev"]
+#: Every ``AllanResult.kind``.
+KINDS = ("adev", "mdev", "hdev", "totdev", "tdev", "mtotdev", "htotdev", "theo1", "theobr", "theoh")
 _ESTIMATOR_OF_KIND = {"mdev": "modified", "hdev": "hadamard", "totdev": "total"}
 _TAU_SPECS = ("octave", "decade", "log", "all")
 
@@ -116,6 +126,7 @@ class AllanResult:
     ci_high: NDArray[np.float64] | None = None
     axis: str | None = None
     noise_type: tuple[str, ...] = field(default=())
+    factors: NDArray[np.int64] | None = None
 
     @property
     def adev(self) -> NDArray[np.float64]:
@@ -124,8 +135,15 @@ class AllanResult:
 
     @property
     def m(self) -> NDArray[np.int64]:
-        """Averaging factors m = τ·fs."""
+        """Averaging factors: m = τ·fs, except Théo1/ThéoBR points (τ = 0.75·m/fs, m even)."""
+        if self.factors is not None:
+            return self.factors
         return np.rint(self.taus * self.fs).astype(np.int64)
+
+    @property
+    def label(self) -> str:
+        """Unambiguous name of the statistic, e.g. ``"OHDEV (overlapping Hadamard)"``."""
+        return _label(self.kind, self.overlapping)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary (arrays as lists, units stated)."""
@@ -159,7 +177,7 @@ class AllanResult:
     def table(self) -> str:
         """A plain-text table: τ, deviation, confidence interval, EDF, noise type."""
         unit = f" [{self.unit}]" if self.unit else ""
-        head = f"{'tau [s]':>12} {self.kind.upper() + unit:>22}"
+        head = f"{'tau [s]':>12} {_short_label(self.kind, self.overlapping) + unit:>22}"
         if self.ci_low is not None:
             head += f" {'CI low':>12} {'CI high':>12} {'edf':>9}  noise"
         lines = [head]
@@ -175,7 +193,7 @@ class AllanResult:
 
     def __str__(self) -> str:
         name = f" axis {self.axis}" if self.axis else ""
-        return f"{self.kind.upper()}{name} (fs = {self.fs:g} Hz, {self.data_type} data)\n{self.table()}"
+        return f"{self.label}{name} (fs = {self.fs:g} Hz, {self.data_type} data)\n{self.table()}"
 
     def plot(self, ax: Any = None, *, label: str | None = None, fit: Any = None, **kwargs: Any) -> Any:
         """Log-log plot of the deviation with confidence bars (needs ``matplotlib``).
@@ -560,17 +578,41 @@ def hdev(
     taus: str | ArrayLike = "octave",
     per_decade: int = 10,
     data_type: str = "rate",
+    overlapping: bool = True,
     confidence: float | None = 0.683,
     units: str | None = None,
     axis_names: Sequence[str] | None = None,
     progress: Callable[[float], None] | None = None,
     gaps: str = "error",
 ) -> AllanResult | tuple[AllanResult, ...]:
-    """Overlapping Hadamard deviation (SP 1065 eq. 18); arguments as :func:`avar`.
+    """Hadamard deviation; overlapping (default, SP 1065 eq. 18) or not (eq. 17); arguments as :func:`avar`.
 
-    ``Hσ²(τ) = Σ_k (x_{k+3m} − 3x_{k+2m} + 3x_{k+m} − x_k)² / (6 τ² (M − 3m))``. A third
+    ``Hσ²(τ) = Σ_k (x_{k+3m} − 3x_{k+2m} + 3x_{k+m} − x_k)² / (6 τ² n)``. A third
     difference: insensitive to a constant rate ramp (linear bias drift).
+
+    **Naming.** ``overlapping=True`` (the default) sums over every ``k`` (``n = M − 3m``): this
+    is Stable32's and AllanTools' **OHDEV** (``allantools.ohdev``). ``overlapping=False`` sums
+    only over ``k = 0, m, 2m, …`` (``n = ⌊(M − 1)/m⌋ − 2``): Stable32's and AllanTools' **HDEV**
+    (``allantools.hdev``). The two estimate the same quantity with very different confidence,
+    and for white angle noise their values differ by orders of magnitude at large m, so compare
+    like with like: ``result.label`` and the tables say ``OHDEV`` or
+    ``HDEV(non-overlap)``. EDF: Greenhall's algorithm for the respective estimator.
+
+    Examples
+    --------
+    >>> import numpy as np, gyrobias
+    >>> rate = np.random.default_rng(8).normal(0.0, 0.1, 10_000)
+    >>> gyrobias.allan.hdev(rate, 100.0, overlapping=False).label
+    "HDEV (non-overlapping Hadamard, Stable32's HDEV)"
+    >>> gyrobias.allan.hdev(rate, 100.0).label
+    'OHDEV (overlapping Hadamard)'
     """
+    if not overlapping:
+        choice("gaps", gaps, ("error",))  # the disjoint-difference estimator has no gap-aware form
+        return _analyse_family(
+            "hdev", "non-overlapping-hadamard", data, fs, taus, per_decade, data_type, confidence, units,
+            axis_names, progress, overlapping=False,
+        )
     return _analyse("hdev", data, fs, taus, per_decade, data_type, True, confidence, units, axis_names, progress, gaps)
 
 
@@ -593,3 +635,502 @@ def totdev(
     divided by ``2τ²(M − 2)``; better confidence at long τ. τ is limited to half the record.
     """
     return _analyse("totdev", data, fs, taus, per_decade, data_type, True, confidence, units, axis_names, progress, gaps)
+
+
+# --- the rest of the Allan family (issue 15) -----------------------------------------------------
+
+#: gyrobias kind → core statistic of :func:`gyrobias._core.allan.family_analyse`.
+_FAMILY_STATISTIC = {
+    "tdev": "time",
+    "mtotdev": "modified-total",
+    "htotdev": "hadamard-total",
+    "theo1": "theo1",
+    "theobr": "theobr",
+    "theoh": "theoh",
+}
+_LONG_LABEL = {
+    "tdev": "TDEV (time deviation)",
+    "mtotdev": "MTOTDEV (modified total deviation)",
+    "htotdev": "HTOTDEV (Hadamard total deviation)",
+    "theo1": "THEO1 (Théo1 deviation)",
+    "theobr": "THEOBR (bias-removed Théo1 deviation)",
+    "theoh": "THEOH (hybrid ADEV / ThéoBR deviation)",
+}
+
+
+def _label(kind: str, overlapping: bool) -> str:
+    if kind == "hdev":
+        return "OHDEV (overlapping Hadamard)" if overlapping else "HDEV (non-overlapping Hadamard, Stable32's HDEV)"
+    return _LONG_LABEL.get(kind, kind.upper())
+
+
+def _short_label(kind: str, overlapping: bool) -> str:
+    if kind == "hdev":
+        return "OHDEV" if overlapping else "HDEV(non-overlap)"
+    return _label(kind, overlapping).split(" (")[0]
+
+
+def _time_unit(units: str | None, data_type: str) -> str | None:
+    """Unit of TDEV: the angle unit (``deg/s`` rate → ``deg``)."""
+    if units is None:
+        return None
+    if data_type == "angle":
+        return units
+    return units[:-2] if units.endswith("/s") else f"{units}·s"
+
+
+def _analyse_family(
+    kind: str,
+    statistic: str,
+    data: ArrayLike,
+    fs: float,
+    taus: str | ArrayLike,
+    per_decade: int,
+    data_type: str,
+    confidence: float | None,
+    units: str | None,
+    axis_names: Sequence[str] | None,
+    progress: Callable[[float], None] | None,
+    overlapping: bool = True,
+) -> AllanResult | tuple[AllanResult, ...]:
+    """Shared driver of the statistics computed by ``gyrocore::allan::family``."""
+    arr = as_float_array("data", data, ndims=(1, 2))
+    fs = positive_float("fs", fs)
+    choice("data_type", data_type, ("rate", "angle"))
+    if isinstance(per_decade, bool) or not isinstance(per_decade, (int, np.integer)) or per_decade < 1:
+        raise ValueError(f"per_decade must be an integer >= 1, got {per_decade!r}")
+    if confidence is not None:
+        c = float(confidence)
+        if not 0.0 < c < 1.0:
+            raise ValueError(f"confidence must lie strictly between 0 and 1 (or be None), got {confidence!r}")
+        confidence = c
+    explicit: NDArray[np.float64] | None = None
+    spec = "octave"
+    if isinstance(taus, str):
+        spec = choice("taus", taus, _TAU_SPECS)
+    else:
+        explicit = as_float_array("taus", taus, ndims=(1,))
+    matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
+    n_axes = matrix.shape[1]
+    if axis_names is not None and len(axis_names) != n_axes:
+        raise ValueError(f"axis_names has {len(axis_names)} names for {n_axes} axes")
+    t0 = 1.0 / fs
+    if progress is not None:
+        progress(0.0)
+    raw = _core.allan.family_analyse(
+        np.ascontiguousarray(matrix), t0, data_type, statistic, spec, int(per_decade), explicit, confidence
+    )
+    if progress is not None:
+        progress(1.0)
+    unit = units
+    if kind == "tdev":
+        unit = _time_unit(units, data_type)
+    elif units is not None and data_type == "angle":
+        unit = f"{units}/s"
+    results = []
+    for i, r in enumerate(raw):
+        kw: dict[str, Any] = {}
+        if confidence is not None:
+            alpha = np.asarray(r["alpha"]).astype(np.int64)
+            kw = {
+                "edf": np.asarray(r["edf"], dtype=np.float64),
+                "alpha": alpha,
+                "ci_low": np.sqrt(np.asarray(r["low"], dtype=np.float64)),
+                "ci_high": np.sqrt(np.asarray(r["high"], dtype=np.float64)),
+                "noise_type": tuple(NOISE_NAMES.get(int(a), f"alpha={a}") for a in alpha),
+            }
+        results.append(
+            AllanResult(
+                taus=np.asarray(r["tau_factor"], dtype=np.float64) * t0,
+                avar=np.asarray(r["variance"], dtype=np.float64),
+                n_terms=np.asarray(r["n_terms"]).astype(np.int64),
+                fs=fs,
+                data_type=data_type,
+                kind=kind,
+                overlapping=overlapping,
+                unit=unit,
+                confidence=confidence,
+                axis=None if axis_names is None else str(axis_names[i]),
+                factors=np.asarray(r["m"]).astype(np.int64),
+                **kw,
+            )
+        )
+    if arr.ndim == 1:
+        return results[0]
+    return tuple(results)
+
+
+def tdev(
+    data: ArrayLike,
+    fs: float,
+    *,
+    taus: str | ArrayLike = "octave",
+    per_decade: int = 10,
+    data_type: str = "rate",
+    confidence: float | None = 0.683,
+    units: str | None = None,
+    axis_names: Sequence[str] | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> AllanResult | tuple[AllanResult, ...]:
+    """Time deviation TDEV (SP 1065 eq. 15); arguments as :func:`avar`.
+
+    ``σ²_x(τ) = τ²/3 · Mod σ²(τ)``: the modified Allan deviation scaled to an *angle* (phase)
+    error, so its unit is the angle unit (``deg/s`` rate input → ``deg``). Confidence intervals
+    use the modified Allan variance's EDF (Greenhall). Matches Stable32's TDEV and
+    ``allantools.tdev``.
+
+    Examples
+    --------
+    >>> import numpy as np, gyrobias
+    >>> rate = np.random.default_rng(1).normal(0.0, 0.1, 20_000)        # deg/s
+    >>> r = gyrobias.allan.tdev(rate, fs=100.0, units="deg/s")
+    >>> r.unit, r.label
+    ('deg', 'TDEV (time deviation)')
+    """
+    return _analyse_family(
+        "tdev", "time", data, fs, taus, per_decade, data_type, confidence, units, axis_names, progress
+    )
+
+
+def mtotdev(
+    data: ArrayLike,
+    fs: float,
+    *,
+    taus: str | ArrayLike = "octave",
+    per_decade: int = 10,
+    data_type: str = "rate",
+    confidence: float | None = 0.683,
+    units: str | None = None,
+    axis_names: Sequence[str] | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> AllanResult | tuple[AllanResult, ...]:
+    """Modified total deviation MTOTDEV (SP 1065 eq. 27); arguments as :func:`avar`.
+
+    For each of the ``M − 3m + 1`` sub-sequences of ``3m`` angle samples: remove the linear
+    trend given by the means of its two halves, extend it by uninverted even reflection at both
+    ends to ``9m`` samples and average the ``6m`` squared second differences of ``m``-sample
+    means; ``Mod σ²_total = ⟨…⟩ / (2τ²)``. τ ≤ M/3 (M angle samples). No bias correction
+    (as Stable32 and AllanTools). EDF: SP 1065 Table 12, ``b·N/m − c``. Computed without
+    reflection copies (prefix sums), so long records take seconds, not hours.
+
+    Examples
+    --------
+    >>> import numpy as np, gyrobias
+    >>> rate = np.random.default_rng(2).normal(0.0, 0.1, 5_000)
+    >>> r = gyrobias.allan.mtotdev(rate, fs=10.0)
+    >>> int(r.m[-1]) <= 5_001 // 3
+    True
+    """
+    return _analyse_family(
+        "mtotdev", "modified-total", data, fs, taus, per_decade, data_type, confidence, units, axis_names,
+        progress,
+    )
+
+
+def htotdev(
+    data: ArrayLike,
+    fs: float,
+    *,
+    taus: str | ArrayLike = "octave",
+    per_decade: int = 10,
+    data_type: str = "rate",
+    confidence: float | None = 0.683,
+    units: str | None = None,
+    axis_names: Sequence[str] | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> AllanResult | tuple[AllanResult, ...]:
+    """Hadamard total deviation HTOTDEV (SP 1065 eq. 29); arguments as :func:`avar`.
+
+    The total recipe of :func:`mtotdev` applied to the *rate* series (``3m``-sample
+    sub-sequences, half-mean detrending, even reflection to ``9m``, second differences of
+    ``m``-sample rate means, ``/6``), averaged over the ``M − 3m`` windows; at ``m = 1`` the
+    overlapping Hadamard deviation (SP 1065's recommendation, as Stable32 and AllanTools).
+    Insensitive to a rate ramp, with better long-τ confidence than HDEV. EDF: SP 1065 Table 13.
+
+    Examples
+    --------
+    >>> import numpy as np, gyrobias
+    >>> rate = np.random.default_rng(3).normal(0.0, 0.1, 5_000)
+    >>> r = gyrobias.allan.htotdev(rate, fs=10.0, confidence=None)
+    >>> r.label
+    'HTOTDEV (Hadamard total deviation)'
+    """
+    return _analyse_family(
+        "htotdev", "hadamard-total", data, fs, taus, per_decade, data_type, confidence, units, axis_names,
+        progress,
+    )
+
+
+def theo1(
+    data: ArrayLike,
+    fs: float,
+    *,
+    taus: str | ArrayLike = "octave",
+    per_decade: int = 10,
+    data_type: str = "rate",
+    confidence: float | None = 0.683,
+    units: str | None = None,
+    axis_names: Sequence[str] | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> AllanResult | tuple[AllanResult, ...]:
+    """Théo1 deviation (Howe & Peppler 2003; SP 1065 eq. 30); arguments as :func:`avar`.
+
+    At even averaging factors ``2 ≤ m ≤ N − 1`` (N angle samples) Théo1 estimates the Allan
+    deviation at ``τ = 0.75·m/fs`` — out to 75 % of the record, where rate random walk and rate
+    ramp are read::
+
+        Théo1(m) = Σ_{i=0}^{N−m−1} Σ_{δ=0}^{m/2−1} [(x_i − x_{i−δ+m/2}) + (x_{i+m} − x_{i+δ+m/2})]²
+                   / ((m/2 − δ) · 0.75 (N − m) (m/fs)²)
+
+    ``taus``: a specification selects the even ``m`` of the octave/decade/log/all grid; explicit
+    τ must be ``0.75·m/fs`` with ``m`` even. ``result.taus`` holds τ = 0.75·m/fs and
+    ``result.m`` the Théo1 factors. Théo1 is biased for some noises: :func:`theobr` removes the
+    bias. EDF: Howe & Tasset's formulas (SP 1065 Table 14). Matches ``allantools.theo1``
+    (which reports ``m/fs`` as its τ) and Stable32.
+
+    Examples
+    --------
+    >>> import numpy as np, gyrobias
+    >>> rate = np.random.default_rng(4).normal(0.0, 0.1, 2_000)
+    >>> r = gyrobias.allan.theo1(rate, fs=1.0, taus=[1.5, 3.0, 750.0])
+    >>> r.m.tolist(), r.taus.tolist()
+    ([2, 4, 1000], [1.5, 3.0, 750.0])
+    """
+    return _analyse_family(
+        "theo1", "theo1", data, fs, taus, per_decade, data_type, confidence, units, axis_names, progress
+    )
+
+
+def theobr(
+    data: ArrayLike,
+    fs: float,
+    *,
+    taus: str | ArrayLike = "octave",
+    per_decade: int = 10,
+    data_type: str = "rate",
+    confidence: float | None = 0.683,
+    units: str | None = None,
+    axis_names: Sequence[str] | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> AllanResult | tuple[AllanResult, ...]:
+    """Bias-removed Théo1, ThéoBR (Howe & Tasset 2006; SP 1065 eq. 31); arguments as :func:`theo1`.
+
+    ``ThéoBR(m) = Théo1(m) · 1/(n+1) Σ_{i=0}^{n} AVAR(9 + 3i) / Théo1(12 + 4i)``,
+    ``n = ⌊N/30 − 3⌋``: the ratio of the overlapping Allan variance to Théo1 at the same τ over
+    the short-τ region, where AVAR is trustworthy, removes Théo1's noise-dependent bias. Needs at
+    least 90 angle samples. The ratio costs about ``N³/1000`` operations (every Théo1 up to
+    ``m ≈ 0.13·N``): seconds for 10⁴ samples, minutes beyond 3·10⁴.
+
+    Examples
+    --------
+    >>> import numpy as np, gyrobias
+    >>> rate = np.random.default_rng(5).normal(0.0, 0.1, 1_000)
+    >>> r = gyrobias.allan.theobr(rate, fs=1.0, confidence=None)
+    >>> int(r.m[-1]), float(r.taus[-1])            # octave m; τ = 0.75·m/fs
+    (512, 384.0)
+    """
+    return _analyse_family(
+        "theobr", "theobr", data, fs, taus, per_decade, data_type, confidence, units, axis_names, progress
+    )
+
+
+def theoh(
+    data: ArrayLike,
+    fs: float,
+    *,
+    taus: str | ArrayLike = "octave",
+    per_decade: int = 10,
+    data_type: str = "rate",
+    confidence: float | None = 0.683,
+    units: str | None = None,
+    axis_names: Sequence[str] | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> AllanResult | tuple[AllanResult, ...]:
+    """Hybrid ThéoH deviation (Howe & Tasset 2006; SP 1065 eq. 32); arguments as :func:`theo1`.
+
+    The overlapping Allan deviation for τ below ``k`` and ThéoBR (τ = 0.75·m/fs, m even) from
+    ``k`` up, with ``k`` the largest τ ≤ 10 % of the record ``(N − 1)/fs``: one curve with
+    AVAR's resolution at short τ and ThéoBR's reach and confidence at long τ. ``result.m`` holds
+    the AVAR factor below ``k`` and the Théo1 factor above it. Explicit τ below ``k`` must be
+    multiples of 1/fs, above ``k`` of the form ``0.75·m/fs`` with ``m`` even.
+
+    Examples
+    --------
+    >>> import numpy as np, gyrobias
+    >>> rate = np.random.default_rng(6).normal(0.0, 0.1, 1_000)
+    >>> r = gyrobias.allan.theoh(rate, fs=1.0, confidence=None)
+    >>> bool(np.all(np.diff(r.taus) > 0))
+    True
+    """
+    return _analyse_family(
+        "theoh", "theoh", data, fs, taus, per_decade, data_type, confidence, units, axis_names, progress
+    )
+
+
+@dataclass(frozen=True)
+class DynamicAllanResult:
+    """A dynamic (time-resolved) Allan deviation: one overlapping ADEV curve per window.
+
+    Attributes
+    ----------
+    times : ndarray, shape (windows,)
+        Centre of each window in seconds from the first sample.
+    starts : ndarray, shape (windows,)
+        Index of each window's first sample.
+    taus : ndarray, shape (n_tau,)
+        Averaging times τ in seconds (common to all windows).
+    avar : ndarray, shape (windows, n_tau)
+        Overlapping Allan variance of each window in ``unit``².
+    n_terms : ndarray, shape (n_tau,)
+        Terms of each window's sum.
+    window, step : int
+        Window length and window step in samples.
+    fs : float
+        Sample rate in Hz.
+    unit : str or None
+        Unit of the deviation (the rate unit).
+    data_type : {"rate", "angle"}
+        What the input samples were.
+    """
+
+    times: NDArray[np.float64]
+    starts: NDArray[np.int64]
+    taus: NDArray[np.float64]
+    avar: NDArray[np.float64]
+    n_terms: NDArray[np.int64]
+    window: int
+    step: int
+    fs: float
+    data_type: str
+    unit: str | None = None
+
+    @property
+    def adev(self) -> NDArray[np.float64]:
+        """Deviation σ(t, τ) = √σ²(t, τ) in ``unit``, shape (windows, n_tau)."""
+        return np.sqrt(self.avar)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (arrays as nested lists, units stated)."""
+        return {
+            "kind": "dynamic_adev",
+            "fs_hz": self.fs,
+            "data_type": self.data_type,
+            "unit": self.unit,
+            "time_unit": "s",
+            "tau_unit": "s",
+            "window_samples": self.window,
+            "step_samples": self.step,
+            "times": self.times.tolist(),
+            "taus": self.taus.tolist(),
+            "deviation": self.adev.tolist(),
+            "n_terms": self.n_terms.tolist(),
+        }
+
+    def plot(self, ax: Any = None, **kwargs: Any) -> Any:
+        """Heat map of log10 σ(t, τ) over time and τ with a colour bar in ``unit`` (needs matplotlib).
+
+        ``kwargs`` go to :func:`gyrobias.plotting.plot_dynamic_allan`; returns the ``Axes``.
+        """
+        from gyrobias.plotting import plot_dynamic_allan
+
+        return plot_dynamic_allan(self, ax=ax, **kwargs)
+
+
+def _positive_int(name: str, value: Any) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer number of samples, got {value!r}")
+    if value < 0:
+        raise ValueError(f"{name} must be >= 1 sample, got {value}")
+    return int(value)
+
+
+def dynamic_adev(
+    data: ArrayLike,
+    fs: float,
+    *,
+    window: int,
+    step: int,
+    taus: str | ArrayLike = "octave",
+    per_decade: int = 10,
+    data_type: str = "rate",
+    units: str | None = None,
+) -> DynamicAllanResult:
+    """Dynamic Allan deviation: overlapping ADEV in sliding windows (Galleani & Tavella 2009).
+
+    The log is cut into windows of ``window`` samples starting every ``step`` samples; each
+    window is analysed on its own exactly as :func:`adev` would analyse it (rate windows are
+    integrated after removing their own mean), at one τ set resolved for the window length.
+    A curve that changes from row to row reveals non-stationarity — warm-up, temperature steps,
+    vibration bursts — that one ADEV of the whole log averages away.
+
+    Parameters
+    ----------
+    data : array_like, shape (n,)
+        One axis of rate (or angle) samples.
+    fs : float
+        Sample rate in Hz.
+    window : int
+        Window length in samples (at most ``n``).
+    step : int
+        Distance between window starts in samples (≥ 1).
+    taus, per_decade, data_type, units
+        As in :func:`avar`; τ must fit the window.
+
+    Returns
+    -------
+    DynamicAllanResult
+        ``adev`` of shape (windows, τ) and the window centre times; ``.plot()`` draws the heat map.
+
+    Raises
+    ------
+    ValueError
+        ``window`` longer than the log or too short for one τ, ``step`` < 1, τ beyond the window,
+        NaN/inf in ``data``.
+
+    Notes
+    -----
+    Every row depends only on its own window, so results do not depend on thread count, and
+    analysing a log in pieces that overlap by ``window − step`` samples gives the same rows.
+
+    Examples
+    --------
+    >>> import numpy as np, gyrobias
+    >>> rate = np.random.default_rng(7).normal(0.0, 0.1, 10_000)
+    >>> rate[5_000:] *= 3.0                                  # noise triples halfway
+    >>> d = gyrobias.allan.dynamic_adev(rate, 100.0, window=2_000, step=1_000, units="deg/s")
+    >>> d.adev.shape
+    (9, 10)
+    >>> bool(d.adev[-1, 0] > 2.5 * d.adev[0, 0])
+    True
+    """
+    arr = as_float_array("data", data, ndims=(1,))
+    fs = positive_float("fs", fs)
+    choice("data_type", data_type, ("rate", "angle"))
+    window = _positive_int("window", window)
+    step = _positive_int("step", step)
+    if isinstance(per_decade, bool) or not isinstance(per_decade, (int, np.integer)) or per_decade < 1:
+        raise ValueError(f"per_decade must be an integer >= 1, got {per_decade!r}")
+    explicit: NDArray[np.float64] | None = None
+    spec = "octave"
+    if isinstance(taus, str):
+        spec = choice("taus", taus, _TAU_SPECS)
+    else:
+        explicit = as_float_array("taus", taus, ndims=(1,))
+    t0 = 1.0 / fs
+    raw = _core.allan.dynamic_avar(np.ascontiguousarray(arr), t0, data_type, window, step, spec, int(per_decade), explicit)
+    starts = np.asarray(raw["starts"]).astype(np.int64)
+    unit = units
+    if units is not None and data_type == "angle":
+        unit = f"{units}/s"
+    return DynamicAllanResult(
+        times=np.asarray((starts + window / 2.0) * t0, dtype=np.float64),
+        starts=starts,
+        taus=np.asarray(raw["m"]).astype(np.float64) * t0,
+        avar=np.asarray(raw["variance"], dtype=np.float64),
+        n_terms=np.asarray(raw["n_terms"]).astype(np.int64),
+        window=window,
+        step=step,
+        fs=fs,
+        data_type=data_type,
+        unit=unit,
+    )

@@ -17,10 +17,15 @@ import numpy as np
 if TYPE_CHECKING:
     from gyrobias.allan import AllanResult
 
-__all__ = ["plot_allan", "plot_fleet", "save_allan_plot", "save_fleet_plot"]
+__all__ = ["plot_allan", "plot_dynamic_allan", "plot_fleet", "save_allan_plot", "save_fleet_plot"]
 
 _SYMBOL = {"adev": "σ(τ)", "mdev": "Mod σ(τ)", "hdev": "Hadamard σ(τ)", "totdev": "Tot σ(τ)"}
 _NAME = {"adev": "Allan", "mdev": "modified Allan", "hdev": "Hadamard", "totdev": "total"}
+# The rest of the Allan family (issue 15).
+_SYMBOL.update({"tdev": "σ_x(τ)", "mtotdev": "Mod σ_total(τ)", "htotdev": "Hadamard σ_total(τ)",
+                "theo1": "Théo1 σ(τ)", "theobr": "ThéoBR σ(τ)", "theoh": "ThéoH σ(τ)"})
+_NAME.update({"tdev": "time", "mtotdev": "modified total", "htotdev": "Hadamard total",
+              "theo1": "Théo1", "theobr": "bias-removed Théo1", "theoh": "hybrid ThéoH"})
 
 
 def _require_matplotlib() -> Any:
@@ -200,7 +205,9 @@ def _draw(
         kind = items[0].kind
         title = f"{'Overlapping ' if items[0].overlapping else 'Non-overlapping '}{_NAME[kind]} deviation"
         if kind != "adev":
-            title = f"{_NAME[kind].capitalize()} deviation"
+            title = f"{_NAME[kind][0].upper()}{_NAME[kind][1:]} deviation"
+        if kind == "hdev":  # overlapping = Stable32 OHDEV, non-overlapping = Stable32 HDEV
+            title = f"{'Overlapping' if items[0].overlapping else 'Non-overlapping'} Hadamard deviation"
     if title:
         ax.set_title(title)
     if labels is not None or levels:
@@ -383,3 +390,74 @@ def _draw_fleet(fig: Any, ok: Any, title: str | None) -> None:
             ax.set_yscale("log")  # an outlier decades away would flatten the fleet into one line
         else:
             ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 4))
+
+
+def plot_dynamic_allan(
+    result: Any,
+    ax: Any = None,
+    *,
+    title: str | None = None,
+    cmap: str = "viridis",
+    colorbar: bool = True,
+) -> Any:
+    """Heat map of a dynamic Allan deviation: time on x, τ on a log y axis, σ in colour.
+
+    Parameters
+    ----------
+    result : DynamicAllanResult
+        From :func:`gyrobias.allan.dynamic_adev`.
+    ax : matplotlib Axes, optional
+        Where to draw; default a new figure.
+    title : str, optional
+        Axes title (default names the window and step).
+    cmap : str
+        Colour map.
+    colorbar : bool
+        Add a colour bar labelled with σ in the result's unit (log colour scale).
+
+    Returns the matplotlib ``Axes``.
+
+    Examples
+    --------
+    >>> import numpy as np, gyrobias
+    >>> rate = np.random.default_rng(0).normal(0.0, 0.1, 4_000)
+    >>> d = gyrobias.allan.dynamic_adev(rate, 10.0, window=1_000, step=500, units="deg/s")
+    >>> from matplotlib.figure import Figure
+    >>> from gyrobias.plotting import plot_dynamic_allan
+    >>> ax = plot_dynamic_allan(d, ax=Figure().add_subplot())
+    >>> ax.get_ylabel()
+    'τ [s]'
+    """
+    _require_matplotlib()
+    from matplotlib.colors import LogNorm
+
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        _, ax = plt.subplots(figsize=(7, 4.5))
+    dev = np.asarray(result.adev, dtype=float)
+    times = np.asarray(result.times, dtype=float)
+    taus = np.asarray(result.taus, dtype=float)
+
+    def edges(c: np.ndarray, log: bool) -> np.ndarray:
+        v = np.log(c) if log else c
+        if v.size == 1:
+            mid = np.array([v[0] - 0.5, v[0] + 0.5]) if not log else np.array([v[0] - 0.35, v[0] + 0.35])
+        else:
+            inner = (v[1:] + v[:-1]) / 2
+            mid = np.concatenate(([2 * v[0] - inner[0]], inner, [2 * v[-1] - inner[-1]]))
+        return np.exp(mid) if log else mid
+
+    positive = dev[dev > 0]
+    norm = LogNorm(vmin=positive.min(), vmax=positive.max()) if positive.size else None
+    mesh = ax.pcolormesh(edges(times, False), edges(taus, True), dev.T, cmap=cmap, norm=norm, shading="flat")
+    ax.set_yscale("log")
+    ax.set_xlabel("time (window centre) [s]")
+    ax.set_ylabel("τ [s]")
+    if title is None:
+        title = f"Dynamic Allan deviation (window {result.window / result.fs:g} s, step {result.step / result.fs:g} s)"
+    ax.set_title(title)
+    if colorbar:
+        unit = f" [{result.unit}]" if result.unit else ""
+        ax.figure.colorbar(mesh, ax=ax, label=f"σ(τ){unit}")
+    return ax

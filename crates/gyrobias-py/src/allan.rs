@@ -2,9 +2,11 @@
 
 use std::sync::Mutex;
 
-use gyrocore::allan::{self, Config, DataType, Estimator, Gaps, Progress, TauSpec, Taus};
+use gyrocore::allan::{
+    self, Config, DataType, Estimator, Gaps, Progress, TauSpec, Taus, dynamic, family,
+};
 use numpy::{
-    IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
+    IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
     PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
@@ -240,8 +242,99 @@ fn factors<'py>(
         .into_pyarray(py))
 }
 
+/// Non-overlapping Hadamard, time, total and Théo statistics of each column
+/// (`gyrocore::allan::family::analyse_axes`).
+///
+/// Returns one dict per axis with keys `m`, `tau_factor` (τ/t0), `theo`, `variance`, `n_terms`
+/// and, when `confidence` is given, `alpha`, `edf`, `low`, `high`.
+#[pyfunction]
+#[pyo3(signature = (data, t0, data_type, statistic, tau_spec, per_decade, taus, confidence))]
+#[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
+fn family_analyse<'py>(
+    py: Python<'py>,
+    data: PyReadonlyArray2<'py, f64>,
+    t0: f64,
+    data_type: &str,
+    statistic: &str,
+    tau_spec: &str,
+    per_decade: usize,
+    taus: Option<PyReadonlyArray1<'py, f64>>,
+    confidence: Option<f64>,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let n_axes = data.shape()[1];
+    let slice = c_order(&data);
+    let data_type = core(DataType::parse(data_type))?;
+    let statistic = core(family::Statistic::parse(statistic))?;
+    let explicit = taus.map(|t| c_order(&t).into_owned());
+    let taus = taus_from(tau_spec, per_decade, explicit)?;
+    let results = core(py.detach(|| {
+        family::analyse_axes(&slice, n_axes, t0, data_type, statistic, &taus, confidence)
+    }))?;
+    results
+        .into_iter()
+        .map(|r| {
+            let d = PyDict::new(py);
+            let m: Vec<u64> = r.points.iter().map(|p| p.m as u64).collect();
+            let f: Vec<f64> = r.points.iter().map(|p| p.tau_factor).collect();
+            let theo: Vec<bool> = r.points.iter().map(|p| p.theo).collect();
+            let n: Vec<u64> = r.n_terms.iter().map(|&n| n as u64).collect();
+            d.set_item("m", m.into_pyarray(py))?;
+            d.set_item("tau_factor", f.into_pyarray(py))?;
+            d.set_item("theo", theo)?;
+            d.set_item("variance", r.variance.into_pyarray(py))?;
+            d.set_item("n_terms", n.into_pyarray(py))?;
+            if let Some(c) = r.confidence {
+                d.set_item("alpha", c.alpha.into_pyarray(py))?;
+                d.set_item("edf", c.edf.into_pyarray(py))?;
+                d.set_item("low", c.low.into_pyarray(py))?;
+                d.set_item("high", c.high.into_pyarray(py))?;
+            }
+            Ok(d)
+        })
+        .collect()
+}
+
+/// Dynamic overlapping Allan variance of a 1-D float64 series
+/// (`gyrocore::allan::dynamic::dynamic_avar`).
+///
+/// Returns a dict with `starts` (first sample of each window), `m`, `n_terms` and `variance`
+/// (windows × factors).
+#[pyfunction]
+#[pyo3(signature = (data, t0, data_type, window, step, tau_spec, per_decade, taus))]
+#[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
+fn dynamic_avar<'py>(
+    py: Python<'py>,
+    data: PyReadonlyArray1<'py, f64>,
+    t0: f64,
+    data_type: &str,
+    window: usize,
+    step: usize,
+    tau_spec: &str,
+    per_decade: usize,
+    taus: Option<PyReadonlyArray1<'py, f64>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let slice = c_order(&data);
+    let data_type = core(DataType::parse(data_type))?;
+    let explicit = taus.map(|t| c_order(&t).into_owned());
+    let taus = taus_from(tau_spec, per_decade, explicit)?;
+    let r = core(py.detach(|| dynamic::dynamic_avar(&slice, t0, data_type, window, step, &taus)))?;
+    let d = PyDict::new(py);
+    let k = r.m.len();
+    let rows = r.starts.len();
+    let starts: Vec<u64> = r.starts.iter().map(|&s| s as u64).collect();
+    let m: Vec<u64> = r.m.iter().map(|&m| m as u64).collect();
+    let n: Vec<u64> = r.n_terms.iter().map(|&n| n as u64).collect();
+    d.set_item("starts", starts.into_pyarray(py))?;
+    d.set_item("m", m.into_pyarray(py))?;
+    d.set_item("n_terms", n.into_pyarray(py))?;
+    d.set_item("variance", r.variance.into_pyarray(py).reshape([rows, k])?)?;
+    Ok(d)
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analyse, m)?)?;
     m.add_function(wrap_pyfunction!(analyse_batch, m)?)?;
-    m.add_function(wrap_pyfunction!(factors, m)?)
+    m.add_function(wrap_pyfunction!(factors, m)?)?;
+    m.add_function(wrap_pyfunction!(family_analyse, m)?)?;
+    m.add_function(wrap_pyfunction!(dynamic_avar, m)?)
 }

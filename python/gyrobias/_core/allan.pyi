@@ -6,7 +6,7 @@ from typing import NotRequired, TypedDict, type_check_only
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["analyse", "analyse_batch", "factors"]
+__all__ = ["analyse", "analyse_batch", "dynamic_avar", "factors", "family_analyse"]
 
 @type_check_only
 class Analysis(TypedDict):
@@ -53,3 +53,47 @@ def factors(
     per_decade: int,
     taus: NDArray[np.float64] | None,
 ) -> NDArray[np.uint64]: ...
+
+@type_check_only
+class FamilyAnalysis(TypedDict):
+    """One axis of :func:`family_analyse`: τ/t0 per point, Théo flags, variances and bounds."""
+
+    m: NDArray[np.uint64]
+    tau_factor: NDArray[np.float64]
+    theo: list[bool]
+    variance: NDArray[np.float64]
+    n_terms: NDArray[np.uint64]
+    alpha: NotRequired[NDArray[np.int32]]
+    edf: NotRequired[NDArray[np.float64]]
+    low: NotRequired[NDArray[np.float64]]
+    high: NotRequired[NDArray[np.float64]]
+
+@type_check_only
+class DynamicAvar(TypedDict):
+    """:func:`dynamic_avar`: window starts, factors, terms and the (windows × τ) variances."""
+
+    starts: NDArray[np.uint64]
+    m: NDArray[np.uint64]
+    n_terms: NDArray[np.uint64]
+    variance: NDArray[np.float64]
+
+def family_analyse(
+    data: NDArray[np.float64],
+    t0: float,
+    data_type: str,
+    statistic: str,
+    tau_spec: str,
+    per_decade: int,
+    taus: NDArray[np.float64] | None,
+    confidence: float | None,
+) -> list[FamilyAnalysis]: ...
+def dynamic_avar(
+    data: NDArray[np.float64],
+    t0: float,
+    data_type: str,
+    window: int,
+    step: int,
+    tau_spec: str,
+    per_decade: int,
+    taus: NDArray[np.float64] | None,
+) -> DynamicAvar: ...

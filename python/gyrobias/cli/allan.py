@@ -27,7 +27,9 @@ from gyrobias.cli._common import ProgressBar, add_read_arguments, describe_sourc
 
 __all__ = ["ProgressBar", "register", "run"]
 
-_FUNCTIONS = {"adev": allan.adev, "mdev": allan.mdev, "hdev": allan.hdev, "totdev": allan.totdev}
+_FUNCTIONS = {"adev": allan.adev, "mdev": allan.mdev, "hdev": allan.hdev, "totdev": allan.totdev,
+              "tdev": allan.tdev, "mtotdev": allan.mtotdev, "htotdev": allan.htotdev, "theo1": allan.theo1,
+              "theobr": allan.theobr, "theoh": allan.theoh}
 #: Logs with at least this many samples × channels get a progress bar on a terminal.
 PROGRESS_MIN_VALUES = 1_000_000
 
@@ -51,12 +53,16 @@ def register(subparsers: Any) -> None:
     src = add_read_arguments(p)
     src.add_argument("--data-type", choices=("rate", "angle"), default="rate", help="rate (default) or integrated angle samples")
     ana = p.add_argument_group("analysis")
-    ana.add_argument("--kind", choices=tuple(_FUNCTIONS), default="adev", help="deviation (default adev)")
+    ana.add_argument("--kind", choices=tuple(_FUNCTIONS), default="adev",
+                     help="deviation (default adev): adev, mdev, hdev (overlapping = Stable32 OHDEV; with "
+                          "--non-overlapping Stable32 HDEV), totdev, tdev (time deviation, angle unit), "
+                          "mtotdev, htotdev, theo1 / theobr / theoh (τ = 0.75·m/fs out to 75 %% of the log)")
     ana.add_argument("--taus", choices=("octave", "decade", "log", "all"), default="octave",
                      help="τ grid: octave (m = 1, 2, 4, …, default), decade (1, 2, 4, 10, 20, …), log, "
                           "all (every m: slow on long logs)")
     ana.add_argument("--per-decade", type=int, default=10, metavar="N", help="points per decade for --taus log")
-    ana.add_argument("--non-overlapping", action="store_true", help="non-overlapping ADEV ([BP] eq. 2) instead of overlapping")
+    ana.add_argument("--non-overlapping", action="store_true",
+                     help="non-overlapping ADEV ([BP] eq. 2) or HDEV (Stable32 HDEV) instead of overlapping")
     ana.add_argument("--confidence", type=float, default=0.683, metavar="P",
                      help="confidence level of the intervals (default 0.683 ≈ 1σ)")
     ana.add_argument("--no-confidence", action="store_true", help="skip noise identification and confidence intervals")
@@ -69,8 +75,8 @@ def register(subparsers: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Execute ``gyrobias allan``."""
-    if args.non_overlapping and args.kind != "adev":
-        raise ValueError("--non-overlapping applies to --kind adev only")
+    if args.non_overlapping and args.kind not in ("adev", "hdev"):
+        raise ValueError("--non-overlapping applies to --kind adev and hdev only")
     confidence = None if args.no_confidence else args.confidence
     show_progress = args.progress
     if show_progress is None:
@@ -110,7 +116,7 @@ def run(args: argparse.Namespace) -> int:
                 "axis_names": [log.columns[c] for c in cols],
                 "progress": None if bar is None else (lambda f, d=done, s=share: bar(d + s * f)),
             }
-            if args.kind == "adev":
+            if args.kind in ("adev", "hdev"):
                 kw["overlapping"] = not args.non_overlapping
             if log.sampling.filled_samples:
                 kw.update(_gap_option(args.kind))
@@ -131,7 +137,7 @@ def run(args: argparse.Namespace) -> int:
           f"{_duration(duration)} at {fs:.9g} Hz")
     for r in results:
         unit = f" [{r.unit}]" if r.unit else ""
-        print(f"\n{r.kind.upper()} of {r.axis}{unit}"
+        print(f"\n{r.label.split(' (')[0] if r.kind == 'hdev' else r.kind.upper()} of {r.axis}{unit}"
               f"{' (non-overlapping)' if not r.overlapping else ''}"
               f"{f', {100 * r.confidence:.3g} % confidence intervals' if r.confidence else ''}")
         print(r.table())

@@ -419,6 +419,115 @@ pub fn total(alpha: i32, m: usize, n_phase: usize) -> Result<f64> {
     }
 }
 
+/// Modified-total-variance EDF, SP 1065 Table 12 (Greenhall's fits): `edf = b·(N/m) − c` with
+/// `(b, c) = (1.90, 2.10), (1.20, 1.40), (1.10, 1.20), (0.85, 0.50), (0.75, 0.31)` for
+/// α = 2, 1, 0, −1, −2 (`N` angle samples).
+pub fn modified_total(alpha: i32, m: usize, n_phase: usize) -> Result<f64> {
+    let (b, c) = match alpha {
+        2 => (1.90, 2.10),
+        1 => (1.20, 1.40),
+        0 => (1.10, 1.20),
+        -1 => (0.85, 0.50),
+        -2 => (0.75, 0.31),
+        other => {
+            return Err(Error::invalid(
+                "alpha",
+                format!("modified-total EDF is tabulated for -2 <= alpha <= 2, got {other}"),
+            ));
+        }
+    };
+    positive_edf(
+        b * n_phase as f64 / m as f64 - c,
+        "modified-total",
+        alpha,
+        m,
+        n_phase,
+    )
+}
+
+/// Hadamard-total-variance EDF, SP 1065 Table 13 (Howe, Beard, Greenhall, Riley):
+/// `edf = (T/τ)/(b0 + b1·τ/T)`, `T/τ = (N − 1)/m` rate samples per τ, with `(b0, b1) =
+/// (0.559, 1.004), (0.868, 1.140), (0.938, 1.696), (0.974, 2.554), (1.276, 3.149)` for
+/// α = 0 … −4. The table covers the frequency noises only: for α = 1, 2 (and at m = 1, where
+/// HTOTVAR is the overlapping Hadamard variance) Greenhall's overlapping-Hadamard EDF is used.
+pub fn hadamard_total(alpha: i32, m: usize, n_phase: usize) -> Result<f64> {
+    let (b0, b1) = match alpha {
+        0 => (0.559, 1.004),
+        -1 => (0.868, 1.140),
+        -2 => (0.938, 1.696),
+        -3 => (0.974, 2.554),
+        -4 => (1.276, 3.149),
+        _ => return greenhall(alpha, 3, m, n_phase, true, false),
+    };
+    if m == 1 {
+        return greenhall(alpha, 3, m, n_phase, true, false);
+    }
+    let ratio = n_phase.saturating_sub(1) as f64 / m as f64;
+    positive_edf(
+        ratio / (b0 + b1 / ratio),
+        "Hadamard-total",
+        alpha,
+        m,
+        n_phase,
+    )
+}
+
+/// Théo1 / ThéoBR EDF, Howe & Tasset's empirical formulas (SP 1065 Table 14) with
+/// `r = 0.75·m` and `N` angle samples:
+///
+/// ```text
+/// α =  2: 0.86 (N + 1)(N − 4r/3)/(N − r) · r/(r + 1.14)
+/// α =  1: (4.798 N² − 6.374 r N + 12.387 r)/(√(r + 36.6) (N − r)) · r/(r + 0.3)
+/// α =  0: [(4.1 N + 0.8)/r − (3.1 N + 6.5)/N] · r^1.5/(r^1.5 + 5.2)
+/// α = −1: (2 N² − 1.3 N r − 3.5 r)/(N r) · r³/(r³ + 2.3)
+/// α = −2: (4.4 N − 2)/(2.9 r) · [(4.4 N − 1)² − 8.6 r (4.4 N − 1) + 11.4 r²]/(4.4 N − 3)²
+/// ```
+///
+/// The random-walk fit turns negative near the end of the record (r > 0.63 N); the EDF is
+/// floored at 1 (one degree of freedom, the least any estimate carries).
+pub fn theo1(alpha: i32, m: usize, n_phase: usize) -> Result<f64> {
+    let r = 0.75 * m as f64;
+    let n = n_phase as f64;
+    let edf = match alpha {
+        2 => 0.86 * (n + 1.0) * (n - 4.0 * r / 3.0) / (n - r) * (r / (r + 1.14)),
+        1 => {
+            (4.798 * n * n - 6.374 * r * n + 12.387 * r) / ((r + 36.6).sqrt() * (n - r))
+                * (r / (r + 0.3))
+        }
+        0 => ((4.1 * n + 0.8) / r - (3.1 * n + 6.5) / n) * (r.powf(1.5) / (r.powf(1.5) + 5.2)),
+        -1 => (2.0 * n * n - 1.3 * n * r - 3.5 * r) / (n * r) * (r.powi(3) / (r.powi(3) + 2.3)),
+        -2 => {
+            let a = 4.4 * n - 1.0;
+            (4.4 * n - 2.0) / (2.9 * r) * ((a * a - 8.6 * r * a + 11.4 * r * r) / (a - 2.0).powi(2))
+        }
+        other => {
+            return Err(Error::invalid(
+                "alpha",
+                format!("Théo1 EDF is defined for -2 <= alpha <= 2, got {other}"),
+            ));
+        }
+    };
+    if edf.is_finite() {
+        Ok(edf.max(1.0))
+    } else {
+        Err(Error::invalid(
+            "edf",
+            format!("no valid Théo1 EDF for alpha = {alpha}, m = {m}, N = {n_phase}"),
+        ))
+    }
+}
+
+fn positive_edf(edf: f64, what: &str, alpha: i32, m: usize, n_phase: usize) -> Result<f64> {
+    if edf.is_finite() && edf > 0.0 {
+        Ok(edf)
+    } else {
+        Err(Error::invalid(
+            "edf",
+            format!("no valid {what} EDF for alpha = {alpha}, m = {m}, N = {n_phase}"),
+        ))
+    }
+}
+
 /// Number of differences `d` of an estimator's kernel (2 Allan-type, 3 Hadamard).
 pub fn differences(estimator: Estimator) -> u32 {
     match estimator {

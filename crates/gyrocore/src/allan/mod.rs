@@ -27,11 +27,16 @@
 
 pub mod batch;
 pub mod confidence;
+pub mod dynamic;
 pub mod edf;
+pub mod family;
 mod fused;
 pub mod gaps;
+pub mod hadamard;
 pub mod noise_id;
 pub mod progress;
+pub mod theo;
+pub mod total;
 
 use std::borrow::Cow;
 

@@ -1,0 +1,122 @@
+"""Allan-family benchmark (issue 15): MTOTDEV, HTOTDEV and Théo1 against AllanTools, same run.
+
+Run: ``python benches/python/bench_allan_family.py [--quick]`` (needs ``pip install '.[bench]'``).
+
+Targets: MTOTDEV and HTOTDEV on 1e4 samples at octave τ ≥ 100× faster than
+``allantools.mtotdev`` / ``allantools.htotdev``; Théo1 on 1e5 samples ≥ 20× faster than
+``allantools.theo1``.
+
+AllanTools evaluates these statistics in pure-Python loops (MTOT/HTOT: O(N·m) per τ with a 9m
+reflection copy per window; Théo1: O(N·m/2) per τ), so its full runs take minutes to hours.
+Both libraries are therefore timed on the *same* τ set, chosen so that AllanTools finishes:
+
+* MTOTDEV / HTOTDEV on 1e4 samples: m = 1 … 64 (``--quick``: … 16), ≈ 2 min per statistic for
+  AllanTools; gyrobias' time for the full octave set (m up to 2048) is printed too, with
+  AllanTools' time extrapolated from its measured cost per inner iteration (labelled).
+* Théo1 on 1e5 samples: m = 2 … 32 (AllanTools ≈ 3·10⁶ inner iterations). gyrobias' time for
+  the full octave set (m up to 65536) is printed too, with AllanTools' time for it extrapolated
+  from its measured cost per inner term (labelled as such).
+
+gyrobias times are the best of 3; AllanTools is run once (minutes). Numbers are wall-clock on
+whatever machine runs the script — say so when quoting them on a shared host.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import gyrobias
+import numpy as np
+from _timing import best_of
+
+
+def _once(fn: object) -> float:
+    t = time.perf_counter()
+    fn()  # type: ignore[operator]
+    return time.perf_counter() - t
+
+
+def bench_total(n: int, max_m_allantools: int) -> list[tuple[str, float, float]]:
+    import allantools
+
+    rng = np.random.default_rng(1)
+    rate = rng.normal(size=n) + np.cumsum(rng.normal(size=n)) * 1e-2
+    full = [m for m in (2**k for k in range(20)) if m <= (n + 1) // 3]
+    sub = [m for m in full if m <= max_m_allantools]
+    work = lambda mm: sum((n + 1 - 3 * m) * 6 * m for m in mm)
+    rows = []
+    for name, ours, theirs in (
+        ("mtotdev", gyrobias.allan.mtotdev, allantools.mtotdev),
+        ("htotdev", gyrobias.allan.htotdev, allantools.htotdev),
+    ):
+        taus = np.array(sub, dtype=float)
+        t_ours = best_of(lambda f=ours, t=taus: f(rate, 1.0, taus=t, confidence=None))
+        t_theirs = _once(
+            lambda f=theirs, t=taus: f(rate, rate=1.0, data_type="freq", taus=t)
+        )
+        rows.append((f"{name} N={n:.0e} m=1…{sub[-1]}", t_ours, t_theirs))
+        t_full = best_of(lambda f=ours: f(rate, 1.0, taus="octave", confidence=None))
+        rows.append(
+            (
+                f"{name} N={n:.0e} octave m=1…{full[-1]} (AllanTools extrapolated)",
+                t_full,
+                t_theirs / work(sub) * work(full),
+            )
+        )
+    return rows
+
+
+def bench_theo1(n: int, max_m: int) -> list[tuple[str, float, float]]:
+    import allantools
+
+    rng = np.random.default_rng(2)
+    rate = rng.normal(size=n)
+    ms = [m for m in (2**k for k in range(1, 20)) if m <= max_m]
+    taus = 0.75 * np.array(ms, dtype=float)
+    t_ours = best_of(
+        lambda: gyrobias.allan.theo1(rate, 1.0, taus=taus, confidence=None)
+    )
+    phase = allantools.frequency2phase(rate, 1.0)
+    t_theirs = _once(
+        lambda: allantools.theo1(
+            phase, rate=1.0, data_type="phase", taus=np.array(ms, float)
+        )
+    )
+    rows = [(f"theo1 N={n:.0e} m=2…{ms[-1]}", t_ours, t_theirs)]
+    # Full octave set: ours measured, AllanTools extrapolated from its cost per inner term.
+    n_ph = n + 1
+    full = [m for m in (2**k for k in range(1, 40)) if m <= n_ph - 1]
+    work = lambda mm: sum((n_ph - m) * (m // 2) for m in mm)
+    per_term = t_theirs / work(ms)
+    t_full = best_of(
+        lambda: gyrobias.allan.theo1(rate, 1.0, confidence=None), repeats=1
+    )
+    rows.append(
+        (
+            f"theo1 N={n:.0e} full octave m=2…{full[-1]} (AllanTools extrapolated)",
+            t_full,
+            per_term * work(full),
+        )
+    )
+    return rows
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument(
+        "--quick",
+        action="store_true",
+        help="time AllanTools' MTOT/HTOT up to m = 16 only",
+    )
+    args = parser.parse_args()
+    rows = bench_total(10_000, 16 if args.quick else 64)
+    rows += bench_theo1(100_000, 32)
+    print(f"{'case':<62} {'gyrobias [s]':>12} {'AllanTools [s]':>15} {'ratio':>9}")
+    for name, ours, theirs in rows:
+        print(f"{name:<62} {ours:12.4f} {theirs:15.2f} {theirs / ours:8.0f}×")
+    print("targets: mtotdev/htotdev N=1e4 octave ≥ 100×, theo1 N=1e5 ≥ 20×")
+
+
+if __name__ == "__main__":
+    main()
