@@ -19,6 +19,10 @@ MODULES = [
     "gyrobias.thermal",
     "gyrobias.plotting",
     "gyrobias.fleet",
+    "gyrobias.datasheet",
+    "gyrobias.exports",
+    "gyrobias.conservative",
+    "gyrobias.report",
 ]
 
 

@@ -18,12 +18,28 @@ unit-aware Python interfaces:
   steady-state gain, discrete fixed-gain form, bandwidth design, streaming.
 - :mod:`gyrobias.noise` — IEEE-952 noise coefficients (Q, N, B, K, R) with uncertainties:
   simulation, joint fit and read-off identification, unit conversion, Kalibr/JSON export.
+- :mod:`gyrobias.datasheet`, :mod:`gyrobias.conservative`, :mod:`gyrobias.exports` — datasheet
+  values in, conservative (overbounding) sets, estimator files (Kalibr, OpenVINS, VINS, ORB-SLAM3,
+  LIO-SAM, MATLAB, JSON) and discrete-time parameters; ``gyrobias report`` for the HTML page.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
 """
 
 from importlib.metadata import PackageNotFoundError, version
 
-from gyrobias import allan, fir, fractional, io, kalman, noise, predict, spectral, thermal
+from gyrobias import (
+    allan,
+    conservative,
+    datasheet,
+    exports,
+    fir,
+    fractional,
+    io,
+    kalman,
+    noise,
+    predict,
+    spectral,
+    thermal,
+)
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
 from gyrobias.fir import KaiserLowpass, kaiser_lowpass
@@ -53,6 +69,9 @@ __all__ = [
     "adev",
     "allan",
     "avar",
+    "conservative",
+    "datasheet",
+    "exports",
     "fir",
     "fit_ar1",
     "fractional",

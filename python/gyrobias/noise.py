@@ -38,6 +38,8 @@ from gyrobias.units import CUSTOMARY, base_unit, parse_unit, sensor_kind
 
 if TYPE_CHECKING:
     from gyrobias.allan import AllanResult
+    from gyrobias.conservative import ConservativeCoefficients
+    from gyrobias.exports import DiscreteNoise
 
 __all__ = [
     "FLICKER_FACTOR",
@@ -45,6 +47,7 @@ __all__ = [
     "NoiseCoefficients",
     "Term",
     "fit",
+    "from_datasheet",
     "simulate",
     "write_kalibr",
 ]
@@ -492,6 +495,39 @@ class NoiseCoefficients:
             return write_kalibr(path, accel=[self], update_rate=update_rate, rostopic=rostopic)
         return write_kalibr(path, gyro=[self], update_rate=update_rate, rostopic=rostopic)
 
+    # Estimator parameters (issue 13): thin delegations to gyrobias.conservative/exports.
+    def conservative(self, confidence: float = 0.95, *, terms: Iterable[str] | None = None) -> ConservativeCoefficients:
+        """Coefficients whose model overbounds the curve's upper confidence bound at every τ.
+
+        See :func:`gyrobias.conservative.conservative` (Lethander & Taylor 2023).
+        """
+        from gyrobias.conservative import conservative
+
+        return conservative(self, confidence, terms=terms)
+
+    def export(
+        self,
+        fmt: str,
+        path: str | os.PathLike[str] | None = None,
+        *,
+        accel: NoiseCoefficients | Sequence[NoiseCoefficients] | None = None,
+        rate: float | None = None,
+        rostopic: str = "/imu0",
+    ) -> str:
+        """Write an estimator parameter file (kalibr, openvins, vins, orbslam3, liosam, matlab, json).
+
+        See :func:`gyrobias.exports.export`.
+        """
+        from gyrobias.exports import export
+
+        return export(self, fmt, path, accel=accel, rate=rate, rostopic=rostopic)
+
+    def discrete(self, rate: float) -> DiscreteNoise:
+        """Per-sample noise parameters at ``rate`` Hz (see :func:`gyrobias.exports.discrete`)."""
+        from gyrobias.exports import discrete
+
+        return discrete(self, rate)
+
     def model(self, taus: Any) -> tuple[NDArray[np.float64], dict[str, NDArray[np.float64]]]:
         """Model Allan deviation at ``taus`` and each term's asymptote (data units).
 
@@ -890,3 +926,9 @@ def write_kalibr(
     with open(path, "w", encoding="utf-8") as fh:
         fh.write(text)
     return text
+
+
+# Datasheet values in (issue 13); imported last: gyrobias.datasheet builds NoiseCoefficients.
+from gyrobias.datasheet import Datasheet, from_datasheet  # noqa: E402
+
+__all__ += ["Datasheet"]

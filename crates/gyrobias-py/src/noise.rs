@@ -1,7 +1,7 @@
 //! Bindings of `gyrocore::noise`.
 
 use gyrocore::noise::{self, Ar1, Curve, NoiseSpec, ReadOffOptions, Term, TermEstimate};
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -193,9 +193,85 @@ fn model<'py>(
     (total.into_pyarray(py), parts)
 }
 
+/// Tightest overbound `A c ≥ b`, `c ≥ floor` (default 0), minimising `Σ (A c)_i / b_i`
+/// (`gyrocore::noise::overbound_above`).
+#[pyfunction]
+#[pyo3(signature = (design, bound, floor=None))]
+#[allow(clippy::needless_pass_by_value)]
+fn overbound<'py>(
+    py: Python<'py>,
+    design: PyReadonlyArray2<'py, f64>,
+    bound: PyReadonlyArray1<'py, f64>,
+    floor: Option<PyReadonlyArray1<'py, f64>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let shape = design.shape();
+    let (rows, cols) = (shape[0], shape[1]);
+    let design = c_order(&design);
+    let bound = c_order(&bound);
+    let floor = c_order_opt(floor.as_ref());
+    let zeros = vec![0.0; cols];
+    let floor: &[f64] = floor.as_deref().unwrap_or(&zeros);
+    let r = core(py.detach(|| noise::overbound_above(&design, rows, cols, &bound, floor)))?;
+    let d = PyDict::new(py);
+    d.set_item("coefficients", r.coefficients.into_pyarray(py))?;
+    d.set_item("ratio", r.ratio.into_pyarray(py))?;
+    d.set_item("objective", r.objective)?;
+    d.set_item("pivots", r.pivots)?;
+    Ok(d)
+}
+
+/// Conservative five-term coefficients overbounding the curve's upper confidence bound
+/// (`gyrocore::noise::conservative`).
+#[pyfunction]
+#[pyo3(signature = (taus, variance, m, n_terms, overlapping, edf, reference, terms, tau_range, confidence))]
+#[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
+fn conservative<'py>(
+    py: Python<'py>,
+    taus: PyReadonlyArray1<'py, f64>,
+    variance: PyReadonlyArray1<'py, f64>,
+    m: PyReadonlyArray1<'py, u64>,
+    n_terms: PyReadonlyArray1<'py, u64>,
+    overlapping: bool,
+    edf: Option<PyReadonlyArray1<'py, f64>>,
+    reference: [f64; 5],
+    terms: Vec<String>,
+    tau_range: Option<(f64, f64)>,
+    confidence: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
+    let allowed = core(noise::parse_terms(&symbols))?;
+    let m = as_usize(&c_order(&m));
+    let n_terms = as_usize(&c_order(&n_terms));
+    let edf = c_order_opt(edf.as_ref());
+    let taus = c_order(&taus);
+    let variance = c_order(&variance);
+    let curve = Curve {
+        taus: &taus,
+        variance: &variance,
+        m: &m,
+        n_terms: &n_terms,
+        overlapping,
+        edf: edf.as_deref(),
+    };
+    let r = core(
+        py.detach(|| noise::conservative(&curve, &reference, allowed, tau_range, confidence)),
+    )?;
+    let d = PyDict::new(py);
+    d.set_item("squared", r.squared.to_vec())?;
+    d.set_item("inflation", r.inflation.to_vec())?;
+    d.set_item("used", r.used.iter().map(|&u| u as u64).collect::<Vec<_>>())?;
+    d.set_item("edf", r.edf.into_pyarray(py))?;
+    d.set_item("bound", r.bound.into_pyarray(py))?;
+    d.set_item("ratio", r.ratio.into_pyarray(py))?;
+    d.set_item("tau_range", r.tau_range)?;
+    Ok(d)
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(joint, m)?)?;
     m.add_function(wrap_pyfunction!(read_off, m)?)?;
-    m.add_function(wrap_pyfunction!(model, m)?)
+    m.add_function(wrap_pyfunction!(model, m)?)?;
+    m.add_function(wrap_pyfunction!(overbound, m)?)?;
+    m.add_function(wrap_pyfunction!(conservative, m)?)
 }

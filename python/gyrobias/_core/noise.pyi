@@ -5,7 +5,7 @@ from typing import TypedDict, type_check_only
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["joint", "model", "read_off", "simulate"]
+__all__ = ["conservative", "joint", "model", "overbound", "read_off", "simulate"]
 
 @type_check_only
 class TermEstimate(TypedDict):
@@ -78,3 +78,42 @@ def model(
     squared: list[float] | tuple[float, float, float, float, float],
     taus: NDArray[np.float64],
 ) -> tuple[NDArray[np.float64], list[NDArray[np.float64]]]: ...
+
+@type_check_only
+class Overbound(TypedDict):
+    """Tightest overbound of a bound by a non-negative combination of columns."""
+
+    coefficients: NDArray[np.float64]
+    ratio: NDArray[np.float64]
+    objective: float
+    pivots: int
+
+@type_check_only
+class Conservative(TypedDict):
+    """Conservative five-term coefficients (squared, base units) and their inflation."""
+
+    squared: list[float]
+    inflation: list[float]
+    used: list[int]
+    edf: NDArray[np.float64]
+    bound: NDArray[np.float64]
+    ratio: NDArray[np.float64]
+    tau_range: tuple[float, float]
+
+def overbound(
+    design: NDArray[np.float64],
+    bound: NDArray[np.float64],
+    floor: NDArray[np.float64] | None = None,
+) -> Overbound: ...
+def conservative(
+    taus: NDArray[np.float64],
+    variance: NDArray[np.float64],
+    m: NDArray[np.uint64],
+    n_terms: NDArray[np.uint64],
+    overlapping: bool,
+    edf: NDArray[np.float64] | None,
+    reference: list[float] | tuple[float, float, float, float, float],
+    terms: list[str],
+    tau_range: tuple[float, float] | None,
+    confidence: float,
+) -> Conservative: ...

@@ -28,6 +28,7 @@ SUBCOMMANDS: list[str] = [
     "gyrobias.cli.filter",
     "gyrobias.cli.thermal",
     "gyrobias.cli.fleet",
+    "gyrobias.cli.report",
 ]
 
 #: Modules with ``register_experiment(exp_subparsers)`` for the ``gyrobias experiment`` group

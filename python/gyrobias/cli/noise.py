@@ -1,6 +1,7 @@
 """Command-line pieces of the noise-coefficient identification.
 
-``add_fit_arguments(parser)`` adds ``--fit``, ``--fit-method`` and ``--kalibr PATH`` to the
+``add_fit_arguments(parser)`` adds ``--fit``, ``--fit-method``, ``--kalibr PATH`` and
+``--export FMT=PATH`` (estimator parameter files, :mod:`gyrobias.exports`) to the
 ``gyrobias allan`` parser; ``run_fit(args, results)`` fits each Allan result, prints the
 coefficients with uncertainties and units, writes the Kalibr file, and leaves the coefficients
 in ``args.noise_coefficients`` for the plot. ``demo_section(...)`` is the demo's part.
@@ -43,6 +44,21 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         help="write a Kalibr imu.yaml (continuous-time densities, SI units; implies --fit)",
     )
+    group.add_argument(
+        "--export",
+        metavar="FMT=PATH",
+        action="append",
+        default=None,
+        help="write estimator parameters (implies --fit): FMT is kalibr, openvins, vins, orbslam3, "
+        "liosam, matlab, json, or all (PATH a directory); repeatable, e.g. --export vins=vins.yaml",
+    )
+    group.add_argument(
+        "--export-rate",
+        type=float,
+        metavar="HZ",
+        default=None,
+        help="IMU rate written into the exports (default: the log's sample rate)",
+    )
 
 
 def _display(c: NoiseCoefficients) -> NoiseCoefficients:
@@ -58,8 +74,9 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
     """
     want_fit = bool(getattr(args, "fit", False))
     kalibr = getattr(args, "kalibr", None)
+    export_specs = _parse_exports(getattr(args, "export", None))
     args.noise_coefficients = []
-    if not want_fit and kalibr is None:
+    if not want_fit and kalibr is None and not export_specs:
         return
     method = getattr(args, "fit_method", "joint")
     coefficients: list[NoiseCoefficients] = []
@@ -87,6 +104,47 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
         except (ValueError, OSError) as exc:
             raise SystemExit(f"gyrobias: cannot write {kalibr}: {exc}") from None
         print(f"wrote {kalibr} (Kalibr imu.yaml, continuous-time densities in SI units)", file=sys.stderr)
+    if export_specs:
+        _write_exports(export_specs, coefficients, getattr(args, "export_rate", None))
+
+
+def _parse_exports(specs: Sequence[str] | None) -> list[tuple[str, Path]]:
+    """``["vins=out.yaml", ...]`` → ``[("vins", Path("out.yaml")), ...]``; bad specs exit."""
+    from gyrobias.exports import FORMATS
+
+    out = []
+    for spec in specs or ():
+        fmt, sep, path = spec.partition("=")
+        fmt = fmt.strip().lower()
+        if not sep or not path.strip():
+            raise SystemExit(f"gyrobias: error: --export expects FMT=PATH, got {spec!r}")
+        if fmt not in (*FORMATS, "all"):
+            raise SystemExit(
+                f"gyrobias: error: --export format {fmt!r} is unknown; valid: {', '.join(FORMATS)}, all"
+            )
+        out.append((fmt, Path(path.strip())))
+    return out
+
+
+def _write_exports(specs: list[tuple[str, Path]], coefficients: Sequence[NoiseCoefficients], rate: float | None) -> None:
+    from gyrobias.exports import DEFAULT_FILENAMES, export, export_all
+
+    gyro = [c for c in coefficients if c.sensor == "gyro"]
+    accel = [c for c in coefficients if c.sensor == "accel"]
+    if not gyro and not accel:
+        raise SystemExit(
+            "gyrobias: error: --export needs the data unit (e.g. --units deg/s or m/s^2) to write SI values"
+        )
+    for fmt, path in specs:
+        try:
+            if fmt == "all":
+                export_all(gyro or None, path, accel=accel or None, rate=rate)
+                print(f"wrote {', '.join(str(path / n) for n in DEFAULT_FILENAMES.values())}", file=sys.stderr)
+            else:
+                export(gyro or None, fmt, path, accel=accel or None, rate=rate)
+                print(f"wrote {path} ({fmt})", file=sys.stderr)
+        except (ValueError, OSError) as exc:
+            raise SystemExit(f"gyrobias: error: --export {fmt}: {exc}") from None
 
 
 _TRUE_KEYS = {

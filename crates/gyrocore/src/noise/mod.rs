@@ -15,6 +15,8 @@
 //! * [`fit`]: joint weighted non-negative least squares of the model (the better estimator).
 //! * [`ieee`]: the IEEE-952 read-off (fixed-slope lines on detected slope regions, B from the
 //!   minimum).
+//! * [`mod@overbound`]: conservative coefficients whose model overbounds the curve's upper
+//!   confidence bound (Lethander & Taylor 2023).
 //! * [`model`]: the basis functions, slopes, read-off times and simple EDF approximations.
 
 pub mod covariance;
@@ -22,10 +24,12 @@ pub mod curve;
 pub mod fit;
 pub mod ieee;
 pub mod model;
+pub mod overbound;
 pub mod simulate;
 
 pub use curve::{Curve, TermEstimate, parse_terms};
 pub use fit::{JointFit, joint};
 pub use ieee::{ReadOff, ReadOffOptions, read_off};
 pub use model::{FLICKER_FACTOR, Term, approximate_edf, model_variance};
+pub use overbound::{Conservative, Overbound, conservative, overbound, overbound_above};
 pub use simulate::{Ar1, NoiseSpec, simulate, simulate_axis};

@@ -1,0 +1,788 @@
+"""Estimator parameter files from noise coefficients, and their discrete-time equivalents.
+
+Every estimator wants the same four numbers — white-noise and bias-random-walk strength of the
+gyroscope and of the accelerometer — under different names, units and time conventions:
+
+==========  =====================================  ==========================  ===========
+format      keys (gyro / accel)                    unit                        time
+==========  =====================================  ==========================  ===========
+kalibr      gyroscope_noise_density = N            rad/s/√Hz                   continuous
+            gyroscope_random_walk = K              rad/s²/√Hz                  continuous
+            accelerometer_noise_density = N        m/s²/√Hz                    continuous
+            accelerometer_random_walk = K          m/s³/√Hz                    continuous
+openvins    same keys under ``imu0:`` (kalibr_imu_chain.yaml, ``model: "kalibr"``)
+vins        gyr_n = N·√f, gyr_w = K/√f            rad/s, rad/s                discrete
+            acc_n = N·√f, acc_w = K/√f            m/s², m/s²                  discrete
+orbslam3    IMU.NoiseGyro = N, IMU.GyroWalk = K    rad/s/√Hz, rad/s²/√Hz       continuous
+            IMU.NoiseAcc = N, IMU.AccWalk = K      m/s²/√Hz, m/s³/√Hz          continuous
+liosam      imuGyrNoise = N, imuGyrBiasN = K       rad/s/√Hz, rad/s²/√Hz       continuous
+            imuAccNoise = N, imuAccBiasN = K       m/s²/√Hz, m/s³/√Hz          continuous
+matlab      gyroparams NoiseDensity = N,           (rad/s)/√Hz, rad/s,         continuous
+            BiasInstability = B, RandomWalk = K    (rad/s)·√Hz
+            accelparams: the same in m/s²
+json        every coefficient with uncertainty, unit and conventions
+==========  =====================================  ==========================  ===========
+
+``N`` and ``K`` are the IEEE-952 coefficients (two-sided densities: white rate noise of
+per-sample standard deviation σ_w at rate f has ``N = σ_w/√f``), ``B`` the bias instability and
+``f`` the IMU rate in Hz. Several axes: each value is the largest over the axes (the
+conservative choice for a filter that uses one value for all three).
+
+Discretisation (:func:`discrete`) at period ``Δt = 1/f``::
+
+    σ_white = N/√Δt            per-sample standard deviation of the white rate noise
+    σ_walk  = K·√Δt            standard deviation of one step of the bias random walk
+    φ = exp(−Δt/τ_c),  σ_drive = σ_GM·√(1 − φ²)   first-order Gauss–Markov bias
+
+References
+----------
+Kalibr wiki, "IMU Noise Model" (ethz-asl/kalibr); OpenVINS ``config/*/kalibr_imu_chain.yaml``;
+VINS-Mono/Fusion ``config/*.yaml`` and HKUST-Aerial-Robotics/VINS-Mono issue #280 (discrete
+values: divide densities by √Δt, multiply random walks by √Δt); ORB-SLAM3 ``Examples/*/*.yaml``
+and ``Tracking.cc`` (continuous densities, discretised with √Frequency); LIO-SAM
+``config/params.yaml`` and ``imuPreintegration.cpp`` (GTSAM continuous-time covariances);
+MathWorks ``gyroparams``/``accelparams``/``imuSensor`` documentation and the example "Inertial
+Sensor Noise Analysis Using Allan Variance" (N, K and B from the Allan deviation entered
+directly).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from gyrobias._validation import choice, positive_float
+
+if TYPE_CHECKING:
+    from gyrobias.noise import NoiseCoefficients
+
+__all__ = [
+    "DEFAULT_FILENAMES",
+    "FORMATS",
+    "DiscreteNoise",
+    "DiscreteValue",
+    "atomic_write",
+    "discrete",
+    "export",
+    "export_all",
+]
+
+#: Supported formats.
+FORMATS: tuple[str, ...] = ("kalibr", "openvins", "vins", "orbslam3", "liosam", "matlab", "json")
+
+#: File name used for each format by :func:`export_all`.
+DEFAULT_FILENAMES: dict[str, str] = {
+    "kalibr": "imu.yaml",
+    "openvins": "kalibr_imu_chain.yaml",
+    "vins": "vins_imu.yaml",
+    "orbslam3": "orbslam3_imu.yaml",
+    "liosam": "liosam_params.yaml",
+    "matlab": "imu_noise.m",
+    "json": "noise.json",
+}
+
+#: SI units of the exported quantities per sensor kind.
+_SI = {
+    "gyro": {"N": "rad/s/√Hz", "K": "rad/s²/√Hz", "B": "rad/s", "rate": "rad/s"},
+    "accel": {"N": "m/s²/√Hz", "K": "m/s³/√Hz", "B": "m/s²", "rate": "m/s²"},
+}
+
+_NAMES = {"N": "white noise N", "K": "random walk K", "B": "bias instability B"}
+
+
+def atomic_write(path: str | os.PathLike[str], text: str) -> Path:
+    """Write ``text`` (UTF-8) to ``path`` through a temporary file beside it and ``os.replace``.
+
+    A reader never sees a half-written file, and a failure leaves an existing file untouched.
+    """
+    target = Path(os.fspath(path))
+    directory = target.parent if str(target.parent) else Path(".")
+    try:
+        mode = target.stat().st_mode & 0o777
+    except FileNotFoundError:
+        umask = os.umask(0)
+        os.umask(umask)
+        mode = 0o666 & ~umask
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.chmod(tmp, mode)  # mkstemp creates 0600; keep the target's (or the umask's) mode
+        os.replace(tmp, target)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+    return target
+
+
+def _group(name: str, value: Any, kind: str) -> list[NoiseCoefficients]:
+    from gyrobias.noise import NoiseCoefficients
+
+    if value is None:
+        return []
+    items = [value] if isinstance(value, NoiseCoefficients) else list(value)
+    for c in items:
+        if not isinstance(c, NoiseCoefficients):
+            raise TypeError(
+                f"{name} must be NoiseCoefficients or a sequence of them, got {type(c).__name__}"
+            )
+        if c.data_unit is None or c.sensor is None:
+            raise ValueError(
+                f"{name}: the data unit is unknown; estimator files need SI units (pass units= to the "
+                "Allan analysis, e.g. 'deg/s' or 'm/s^2')"
+            )
+        if c.sensor != kind:
+            raise ValueError(
+                f"{name}: coefficients of data in {c.data_unit!r} are {c.sensor} coefficients, not {kind}"
+            )
+    return items
+
+
+def _split(gyro: Any, accel: Any) -> tuple[list[NoiseCoefficients], list[NoiseCoefficients]]:
+    """Sort the arguments into gyro and accel groups (an accel set passed first is accepted)."""
+    from gyrobias.noise import NoiseCoefficients
+
+    first = [gyro] if isinstance(gyro, NoiseCoefficients) else list(gyro or [])
+    if (
+        accel is None
+        and first
+        and all(isinstance(c, NoiseCoefficients) and c.sensor == "accel" for c in first)
+    ):
+        return [], _group("accel", first, "accel")
+    g = _group("gyro", first or None, "gyro")
+    a = _group("accel", accel, "accel")
+    if not g and not a:
+        raise ValueError("gyro and accel: no coefficients given to export")
+    return g, a
+
+
+def _value(group: list[NoiseCoefficients], symbol: str, kind: str, fmt: str | None) -> float | None:
+    """Largest value over the axes in SI units; ``None`` when absent and ``fmt`` is None."""
+    values = []
+    reasons = []
+    for c in group:
+        t = c[symbol]
+        if t.value is None:
+            reasons.append(f"axis {c.axis or '?'}: {t.missing or 'missing'}")
+        else:
+            values.append(float(t.to(_SI[kind][symbol]).value or 0.0))
+    if reasons:
+        if fmt is None:
+            return None
+        label = "gyro" if kind == "gyro" else "accel"
+        raise ValueError(
+            f"{label} {symbol} ({_NAMES[symbol]}): required by the {fmt} format but not available "
+            f"({'; '.join(reasons)}); identify it from a longer log (terms=/tau_range=) or give it "
+            f"with gyrobias.noise.from_datasheet"
+        )
+    return max(values) if values else None
+
+
+def _rate(
+    rate: float | None, groups: Sequence[NoiseCoefficients], fmt: str, required: bool
+) -> float | None:
+    if rate is not None:
+        return positive_float("rate", rate)
+    finite = [c.fs for c in groups if math.isfinite(c.fs) and c.fs > 0.0]
+    if finite:
+        return max(finite)
+    if required:
+        raise ValueError(f"rate: the {fmt} format needs the IMU rate in Hz (pass rate=)")
+    return None
+
+
+def _axes_note(group: list[NoiseCoefficients]) -> str:
+    if len(group) <= 1:
+        return ""
+    names = ", ".join(str(c.axis or "?") for c in group)
+    return f" (largest over axes {names})"
+
+
+def _fmt(v: float) -> str:
+    return f"{v:.6e}"
+
+
+def _yaml_pair(key: str, value: float | None, comment: str, missing: str, indent: str = "") -> str:
+    if value is None:
+        return f"{indent}# {key}: {missing}"
+    return f"{indent}{key}: {_fmt(value)}  # {comment}"
+
+
+_NOT_MEASURED = "not written: no accelerometer coefficients given"
+_NOT_MEASURED_GYRO = "not written: no gyroscope coefficients given"
+
+
+def _densities(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], fmt: str
+) -> dict[str, float | None]:
+    return {
+        "gN": _value(g, "N", "gyro", fmt) if g else None,
+        "gK": _value(g, "K", "gyro", fmt) if g else None,
+        "aN": _value(a, "N", "accel", fmt) if a else None,
+        "aK": _value(a, "K", "accel", fmt) if a else None,
+    }
+
+
+def _header(
+    fmt: str, g: list[NoiseCoefficients], a: list[NoiseCoefficients], comment: str = "#"
+) -> list[str]:
+    sources = sorted({c.method for c in g + a})
+    return [
+        f"{comment} {fmt} IMU noise parameters written by gyrobias (from: {', '.join(sources)} coefficients)",
+        f"{comment} N, K: IEEE-952 coefficients (two-sided densities); see the README's convention table.",
+    ]
+
+
+def _kalibr_like(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], fmt: str, indent: str
+) -> list[str]:
+    v = _densities(g, a, fmt)
+    lines = []
+    miss_a = _NOT_MEASURED if not a else ""
+    miss_g = _NOT_MEASURED_GYRO if not g else ""
+    lines.append(
+        _yaml_pair(
+            "accelerometer_noise_density",
+            v["aN"],
+            f"m/s^2/sqrt(Hz), continuous{_axes_note(a)}",
+            miss_a,
+            indent,
+        )
+    )
+    lines.append(
+        _yaml_pair(
+            "accelerometer_random_walk",
+            v["aK"],
+            f"m/s^3/sqrt(Hz), continuous{_axes_note(a)}",
+            miss_a,
+            indent,
+        )
+    )
+    lines.append(
+        _yaml_pair(
+            "gyroscope_noise_density",
+            v["gN"],
+            f"rad/s/sqrt(Hz), continuous{_axes_note(g)}",
+            miss_g,
+            indent,
+        )
+    )
+    lines.append(
+        _yaml_pair(
+            "gyroscope_random_walk",
+            v["gK"],
+            f"rad/s^2/sqrt(Hz), continuous{_axes_note(g)}",
+            miss_g,
+            indent,
+        )
+    )
+    return lines
+
+
+def _render_kalibr(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str
+) -> str:
+    f = _rate(rate, g + a, "kalibr", True)
+    assert f is not None
+    lines = _header("Kalibr imu.yaml", g, a)
+    lines.append(
+        "# Kalibr discretises with update_rate: sigma_d = sigma*sqrt(rate), sigma_bd = sigma_b/sqrt(rate)."
+    )
+    lines += _kalibr_like(g, a, "kalibr", "")
+    lines.append(f"rostopic: {rostopic}")
+    lines.append(f"update_rate: {f:.6g}  # Hz")
+    return "\n".join(lines) + "\n"
+
+
+def _identity(n: int, indent: str, zero: bool = False) -> list[str]:
+    rows = []
+    for i in range(n):
+        row = ", ".join("0.0" if zero or i != j else "1.0" for j in range(n))
+        rows.append(f"{indent}- [{row}]")
+    return rows
+
+
+def _render_openvins(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str
+) -> str:
+    f = _rate(rate, g + a, "openvins", True)
+    assert f is not None
+    lines = ["%YAML:1.0", *_header("OpenVINS kalibr_imu_chain.yaml", g, a)]
+    lines.append("# Continuous-time densities (OpenVINS discretises them with the IMU period).")
+    lines.append(
+        "# Intrinsics below are identity/zero: replace them with a calibration if you have one."
+    )
+    lines.append("imu0:")
+    lines.append("  T_i_b:")
+    lines += _identity(4, "    ")
+    lines += _kalibr_like(g, a, "openvins", "  ")
+    lines.append(f"  rostopic: {rostopic}")
+    lines.append("  time_offset: 0.0")
+    lines.append(f"  update_rate: {f:.6g}")
+    lines.append('  model: "kalibr"')
+    for key in ("Tw", "R_IMUtoGYRO", "Ta", "R_IMUtoACC"):
+        lines.append(f"  {key}:")
+        lines += _identity(3, "    ")
+    lines.append("  Tg:")
+    lines += _identity(3, "    ", zero=True)
+    return "\n".join(lines) + "\n"
+
+
+def _render_vins(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str
+) -> str:
+    f = _rate(rate, g + a, "vins", True)
+    assert f is not None
+    v = _densities(g, a, "vins")
+    root = math.sqrt(f)
+    lines = ["%YAML:1.0", *_header("VINS-Mono/VINS-Fusion", g, a)]
+    lines.append(f"# Discrete-time values at the IMU rate {f:.6g} Hz (VINS-Mono issue #280):")
+    lines.append(
+        "#   *_n = N*sqrt(rate) (per-sample noise std), *_w = K/sqrt(rate) (per-step bias random-walk std)."
+    )
+    lines.append(
+        "# Merge these keys into your VINS config (g_norm and the extrinsics are not noise parameters)."
+    )
+    miss_a = _NOT_MEASURED if not a else ""
+    miss_g = _NOT_MEASURED_GYRO if not g else ""
+    lines.append(
+        _yaml_pair("acc_n", None if v["aN"] is None else v["aN"] * root, "m/s^2, discrete", miss_a)
+    )
+    lines.append(
+        _yaml_pair("gyr_n", None if v["gN"] is None else v["gN"] * root, "rad/s, discrete", miss_g)
+    )
+    lines.append(
+        _yaml_pair(
+            "acc_w", None if v["aK"] is None else v["aK"] / root, "m/s^2 per step, discrete", miss_a
+        )
+    )
+    lines.append(
+        _yaml_pair(
+            "gyr_w", None if v["gK"] is None else v["gK"] / root, "rad/s per step, discrete", miss_g
+        )
+    )
+    return "\n".join(lines) + "\n"
+
+
+def _render_orbslam3(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str
+) -> str:
+    f = _rate(rate, g + a, "orbslam3", True)
+    assert f is not None
+    v = _densities(g, a, "orbslam3")
+    lines = ["%YAML:1.0", *_header("ORB-SLAM3", g, a)]
+    lines.append(
+        "# Continuous-time densities (ORB-SLAM3 discretises them with sqrt(IMU.Frequency))."
+    )
+    lines.append(
+        "# Merge these keys into your ORB-SLAM3 settings file (IMU.T_b_c1 is not a noise parameter)."
+    )
+    miss_a = _NOT_MEASURED if not a else ""
+    miss_g = _NOT_MEASURED_GYRO if not g else ""
+    lines.append(_yaml_pair("IMU.NoiseGyro", v["gN"], "rad/s/sqrt(Hz)", miss_g))
+    lines.append(_yaml_pair("IMU.NoiseAcc", v["aN"], "m/s^2/sqrt(Hz)", miss_a))
+    lines.append(_yaml_pair("IMU.GyroWalk", v["gK"], "rad/s^2/sqrt(Hz)", miss_g))
+    lines.append(_yaml_pair("IMU.AccWalk", v["aK"], "m/s^3/sqrt(Hz)", miss_a))
+    lines.append(f"IMU.Frequency: {f:.6g}  # Hz")
+    return "\n".join(lines) + "\n"
+
+
+def _render_liosam(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str
+) -> str:
+    v = _densities(g, a, "liosam")
+    lines = _header("LIO-SAM params.yaml", g, a)
+    lines.append(
+        "# Continuous-time densities (GTSAM preintegration covariances; bias sigmas scaled by sqrt(dt))."
+    )
+    lines.append(
+        "# Merge into config/params.yaml (imuGravity, imuRPYWeight and extrinsics are not noise parameters)."
+    )
+    miss_a = _NOT_MEASURED if not a else ""
+    miss_g = _NOT_MEASURED_GYRO if not g else ""
+    lines.append("lio_sam:")
+    lines.append(_yaml_pair("imuAccNoise", v["aN"], "m/s^2/sqrt(Hz)", miss_a, "  "))
+    lines.append(_yaml_pair("imuGyrNoise", v["gN"], "rad/s/sqrt(Hz)", miss_g, "  "))
+    lines.append(_yaml_pair("imuAccBiasN", v["aK"], "m/s^3/sqrt(Hz)", miss_a, "  "))
+    lines.append(_yaml_pair("imuGyrBiasN", v["gK"], "rad/s^2/sqrt(Hz)", miss_g, "  "))
+    return "\n".join(lines) + "\n"
+
+
+def _gauss_markov(group: list[NoiseCoefficients]) -> list[Any]:
+    """Gauss–Markov terms of the first axis that has them (empty when none)."""
+    for c in group:
+        terms = tuple(getattr(c, "gauss_markov", ()) or ())
+        if terms:
+            return list(terms)
+    return []
+
+
+def _render_matlab(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str
+) -> str:
+    f = _rate(rate, g + a, "matlab", False)
+    lines = _header("MATLAB imuSensor", g, a, comment="%")
+    lines.append(
+        "% NoiseDensity = N, BiasInstability = B, RandomWalk = K (MathWorks' Allan-variance example)."
+    )
+    args = ["'accel-gyro'"]
+    if f is not None:
+        args.append(f"'SampleRate', {f:.10g}")
+    for kind, group, name, ctor in (
+        ("gyro", g, "gyro", "gyroparams"),
+        ("accel", a, "accel", "accelparams"),
+    ):
+        if not group:
+            lines.append(f"% {ctor}: no {kind} coefficients given (ideal {kind})")
+            continue
+        props = [f"'NoiseDensity', {_fmt(_value(group, 'N', kind, 'matlab') or 0.0)}"]
+        for symbol, prop in (("B", "BiasInstability"), ("K", "RandomWalk")):
+            value = _value(group, symbol, kind, None)
+            if value is None:
+                lines.append(f"% {kind} {prop}: not identified, left at 0")
+            else:
+                props.append(f"'{prop}', {_fmt(value)}")
+        gm = _gauss_markov(group)
+        if gm and f is not None and _value(group, "B", kind, None) is None:
+            # First-order Gauss–Markov bias as imuSensor's bias-instability filter.
+            t = gm[0]
+            sigma = float(t.sigma.to(_SI[kind]["B"]).value)
+            tau_c = float(t.correlation_time.to("s").value)
+            phi = math.exp(-1.0 / (f * tau_c))
+            drive = sigma * math.sqrt(1.0 - phi * phi)
+            lines.append(
+                f"% Gauss-Markov bias: sigma = {sigma:.6e} {_SI[kind]['B']}, correlation time {tau_c:.6g} s,"
+                f" phi = exp(-dt/tau_c) = {phi:.9f}"
+            )
+            props.append(f"'BiasInstability', {_fmt(drive)}")
+            props.append(
+                f"'BiasInstabilityCoefficients', struct('Numerator', 1, 'Denominator', [1 {-phi:.12g}])"
+            )
+        lines.append(f"{name} = {ctor}( ...")
+        lines.append("    " + ", ...\n    ".join(props) + ");")
+        unit = _SI[kind]["rate"]
+        lines.append(
+            f"% units: NoiseDensity ({unit})/sqrt(Hz), BiasInstability {unit}, RandomWalk ({unit})*sqrt(Hz)"
+        )
+        args.append(f"'{'Gyroscope' if kind == 'gyro' else 'Accelerometer'}', {name}")
+    lines.append(f"imu = imuSensor({', '.join(args)});")
+    return "\n".join(lines) + "\n"
+
+
+def _clean(value: Any) -> Any:
+    """JSON-safe copy: non-finite floats become None."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, Mapping):
+        return {str(k): _clean(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_clean(v) for v in value]
+    return value
+
+
+def _render_json(
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str
+) -> str:
+    f = _rate(rate, g + a, "json", False)
+    doc: dict[str, Any] = {
+        "generator": "gyrobias",
+        "conventions": {
+            "model": "sigma^2(tau) = 3Q^2/tau^2 + N^2/tau + (0.664282 B)^2 + K^2 tau/3 + R^2 tau^2/2",
+            "psd": "N and K are two-sided (IEEE 952); a one-sided datasheet density is sqrt(2)*N",
+            "uncertainty": "standard (1 sigma); null when unknown (datasheet, conservative)",
+            "multiple_axes": "estimator values are the largest over the axes",
+        },
+        "rate_hz": f,
+        "gyro": [c.to_dict() for c in g],
+        "accel": [c.to_dict() for c in a],
+        "estimator_values": {},
+    }
+    for kind, group in (("gyro", g), ("accel", a)):
+        if not group:
+            continue
+        si = {}
+        for symbol in ("N", "B", "K"):
+            value = _value(group, symbol, kind, None)
+            si[symbol] = {"value": value, "unit": _SI[kind][symbol]}
+        doc["estimator_values"][kind] = si
+        if f is not None:
+            doc.setdefault("discrete", {})[kind] = [
+                d.to_dict() for d in (discrete(c, f) for c in group)
+            ]
+        gm = []
+        for c in group:
+            for t in tuple(getattr(c, "gauss_markov", ()) or ()):
+                gm.append(
+                    {
+                        "axis": c.axis,
+                        "sigma": t.sigma.to_dict(),
+                        "correlation_time": t.correlation_time.to_dict(),
+                    }
+                )
+        if gm:
+            doc.setdefault("gauss_markov", {})[kind] = gm
+    return json.dumps(_clean(doc), indent=2, allow_nan=False) + "\n"
+
+
+_RENDER = {
+    "kalibr": _render_kalibr,
+    "openvins": _render_openvins,
+    "vins": _render_vins,
+    "orbslam3": _render_orbslam3,
+    "liosam": _render_liosam,
+    "matlab": _render_matlab,
+    "json": _render_json,
+}
+
+
+def export(
+    gyro: NoiseCoefficients | Sequence[NoiseCoefficients] | None,
+    fmt: str,
+    path: str | os.PathLike[str] | None = None,
+    *,
+    accel: NoiseCoefficients | Sequence[NoiseCoefficients] | None = None,
+    rate: float | None = None,
+    rostopic: str = "/imu0",
+) -> str:
+    """Render (and optionally write) an estimator parameter file.
+
+    Parameters
+    ----------
+    gyro : NoiseCoefficients or sequence of them, or None
+        Gyroscope coefficients (one per axis; each value is the largest over the axes). An
+        accelerometer set passed here without ``accel`` is taken as ``accel``.
+    fmt : {"kalibr", "openvins", "vins", "orbslam3", "liosam", "matlab", "json"}
+        Target format (see the module table for keys, units and time conventions).
+    path : path-like, optional
+        Output file, written atomically (temporary file beside it, then ``os.replace``).
+    accel : NoiseCoefficients or sequence of them, optional
+        Accelerometer coefficients. Without them the accelerometer keys are written as
+        comments saying so (the estimator then refuses the file instead of using made-up values).
+    rate : float, optional
+        IMU rate in Hz; default: the coefficients' sample rate. Required by kalibr, openvins,
+        vins and orbslam3 when the coefficients have none (datasheet values).
+    rostopic : str
+        Topic written by kalibr and openvins.
+
+    Returns
+    -------
+    str
+        The file's text.
+
+    Raises
+    ------
+    ValueError
+        Unknown format, missing rate, coefficients without units or of the wrong sensor, or a
+        term the format needs (N, K; N for matlab) that was not identified — the message names
+        the sensor and the term.
+
+    Examples
+    --------
+    >>> import gyrobias
+    >>> ds = gyrobias.noise.from_datasheet(arw="0.3 deg/sqrt(h)", rrw="3 deg/h^1.5",
+    ...                                   vrw="0.05 m/s/sqrt(h)", accel_random_walk="1e-4 m/s^2.5")
+    >>> text = gyrobias.exports.export(ds.gyro, "orbslam3", accel=ds.accel, rate=200)
+    >>> [line.split(":")[0] for line in text.splitlines() if line.startswith("IMU.")]
+    ['IMU.NoiseGyro', 'IMU.NoiseAcc', 'IMU.GyroWalk', 'IMU.AccWalk', 'IMU.Frequency']
+    """
+    fmt = choice("fmt", fmt, FORMATS)
+    if not isinstance(rostopic, str) or not rostopic:
+        raise ValueError(f"rostopic must be a non-empty string, got {rostopic!r}")
+    g, a = _split(gyro, accel)
+    text = _RENDER[fmt](g, a, rate, rostopic)
+    if path is not None:
+        atomic_write(path, text)
+    return text
+
+
+def export_all(
+    gyro: NoiseCoefficients | Sequence[NoiseCoefficients] | None,
+    directory: str | os.PathLike[str] | None = None,
+    *,
+    accel: NoiseCoefficients | Sequence[NoiseCoefficients] | None = None,
+    rate: float | None = None,
+    rostopic: str = "/imu0",
+) -> dict[str, str]:
+    """Every format at once: ``{fmt: text}``; files named by :data:`DEFAULT_FILENAMES`.
+
+    All formats are rendered before any file is written, so an error (e.g. a missing random
+    walk) leaves ``directory`` unchanged.
+    """
+    texts = {fmt: export(gyro, fmt, accel=accel, rate=rate, rostopic=rostopic) for fmt in FORMATS}
+    if directory is not None:
+        out = Path(os.fspath(directory))
+        out.mkdir(parents=True, exist_ok=True)
+        for fmt, text in texts.items():
+            atomic_write(out / DEFAULT_FILENAMES[fmt], text)
+    return texts
+
+
+# --- discretisation ------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class DiscreteValue:
+    """One discrete-time noise parameter with its uncertainty, unit and formula."""
+
+    name: str
+    value: float | None
+    uncertainty: float | None
+    unit: str
+    formula: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {
+            "name": self.name,
+            "value": self.value,
+            "uncertainty": self.uncertainty,
+            "unit": self.unit,
+            "formula": self.formula,
+        }
+
+
+@dataclass(frozen=True)
+class DiscreteNoise:
+    """Per-sample noise parameters of one sensor axis at a given rate.
+
+    Attributes
+    ----------
+    rate : float
+        Rate in Hz (``Δt = 1/rate``).
+    white : DiscreteValue
+        Per-sample standard deviation of the white rate noise, ``σ_white = N/√Δt`` (data unit).
+    bias_walk : DiscreteValue
+        Standard deviation of one step of the bias random walk, ``σ_walk = K·√Δt`` (data unit).
+    gauss_markov : tuple of (DiscreteValue, DiscreteValue)
+        Per Gauss–Markov term: ``φ = exp(−Δt/τ_c)`` (dimensionless) and the driving standard
+        deviation ``σ_GM·√(1 − φ²)`` (data unit) of ``b_{k+1} = φ·b_k + w_k``.
+    axis : str or None
+        Axis name.
+    """
+
+    rate: float
+    white: DiscreteValue
+    bias_walk: DiscreteValue
+    gauss_markov: tuple[tuple[DiscreteValue, DiscreteValue], ...] = ()
+    axis: str | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {
+            "axis": self.axis,
+            "rate_hz": self.rate,
+            "white": self.white.to_dict(),
+            "bias_walk": self.bias_walk.to_dict(),
+            "gauss_markov": [
+                {"phi": p.to_dict(), "driving_sigma": d.to_dict()} for p, d in self.gauss_markov
+            ],
+        }
+
+
+def discrete(coefficients: NoiseCoefficients, rate: float) -> DiscreteNoise:
+    """Discrete-time (per-sample) noise parameters at ``rate`` for a hand-written filter.
+
+    Parameters
+    ----------
+    coefficients : NoiseCoefficients
+        Coefficients with a known data unit.
+    rate : float
+        Filter rate in Hz; ``Δt = 1/rate``.
+
+    Returns
+    -------
+    DiscreteNoise
+        Values in the data unit of ``coefficients`` (e.g. deg/s or m/s²).
+
+    Raises
+    ------
+    ValueError
+        ``rate`` not finite and positive, unknown data unit.
+
+    Notes
+    -----
+    White rate noise with IEEE coefficient N (two-sided PSD ``N²``) averaged over Δt has
+    variance ``N²/Δt``: ``σ_white = N/√Δt = N·√rate`` (Kalibr's ``σ_d``; SPEC §1).
+    Rate random walk ``ḃ = w``, ``E[w(t)w(s)] = K²δ(t−s)``, over one step:
+    ``σ_walk = K·√Δt`` (Kalibr's ``σ_bd``). A first-order Gauss–Markov bias with stationary
+    standard deviation σ and correlation time τ_c, sampled exactly:
+    ``b_{k+1} = φ b_k + w_k``, ``φ = exp(−Δt/τ_c)``, ``std(w) = σ√(1 − φ²)``.
+    Uncertainties scale linearly (φ's by the delta method, ``u(φ) = φ·Δt·u(τ_c)/τ_c²``).
+    Bias instability (flicker noise) has no finite-state exact discretisation and is not
+    converted.
+
+    Examples
+    --------
+    >>> import gyrobias
+    >>> ds = gyrobias.noise.from_datasheet(arw="0.6 deg/sqrt(h)", rrw="6 deg/h^1.5", gyro_unit="deg/s")
+    >>> d = ds.gyro.discrete(100.0)
+    >>> round(d.white.value, 6), d.white.unit
+    (0.1, 'deg/s')
+    """
+    from gyrobias.noise import NoiseCoefficients
+
+    if not isinstance(coefficients, NoiseCoefficients):
+        raise TypeError(
+            f"coefficients must be NoiseCoefficients, got {type(coefficients).__name__}"
+        )
+    rate = positive_float("rate", rate)
+    if coefficients.data_unit is None:
+        raise ValueError(
+            "coefficients: the data unit is unknown (pass units= to the Allan analysis)"
+        )
+    base = coefficients.to("base")
+    unit = coefficients.data_unit
+    dt = 1.0 / rate
+    root = math.sqrt(rate)
+
+    def scaled(symbol: str, factor: float, name: str, formula: str) -> DiscreteValue:
+        t = base[symbol]
+        return DiscreteValue(
+            name=name,
+            value=None if t.value is None else t.value * factor,
+            uncertainty=None
+            if t.uncertainty is None or t.value is None
+            else t.uncertainty * factor,
+            unit=unit,
+            formula=formula,
+        )
+
+    white = scaled(
+        "N", root, "white rate noise per sample", "sigma_white = N/sqrt(dt) = N*sqrt(rate)"
+    )
+    walk = scaled(
+        "K", 1.0 / root, "bias random-walk step", "sigma_walk = K*sqrt(dt) = K/sqrt(rate)"
+    )
+    gm_out = []
+    for t in tuple(getattr(coefficients, "gauss_markov", ()) or ()):
+        tau = t.correlation_time.to("s")
+        sigma = t.sigma.to(unit)
+        if tau.value is None or sigma.value is None:
+            continue
+        phi = math.exp(-dt / tau.value)
+        u_phi = None if tau.uncertainty is None else phi * dt * tau.uncertainty / tau.value**2
+        drive_factor = math.sqrt(1.0 - phi * phi)
+        gm_out.append(
+            (
+                DiscreteValue("Gauss-Markov phi", phi, u_phi, "1", "phi = exp(-dt/tau_c)"),
+                DiscreteValue(
+                    "Gauss-Markov driving noise",
+                    sigma.value * drive_factor,
+                    None if sigma.uncertainty is None else sigma.uncertainty * drive_factor,
+                    unit,
+                    "sigma_drive = sigma*sqrt(1 - phi^2)",
+                ),
+            )
+        )
+    return DiscreteNoise(
+        rate=rate, white=white, bias_walk=walk, gauss_markov=tuple(gm_out), axis=coefficients.axis
+    )
