@@ -311,19 +311,43 @@ def _analyse(
     progress: Callable[[float], None] | None,
     gaps: str = "error",
 ) -> AllanResult | tuple[AllanResult, ...]:
-    arr = as_float_array("data", data, ndims=(1, 2))
+    if _file_readers(data) is not None:
+        arr = np.asarray(data)  # validated below; not converted (that would read the whole file)
+        if arr.ndim not in (1, 2):
+            raise ValueError(f"data must be a 1-D or 2-D array, got a {arr.ndim}-D array of shape {arr.shape}")
+        if arr.size == 0:
+            raise ValueError("data is empty")
+    else:
+        arr = as_float_array("data", data, ndims=(1, 2))
     fs, estimator, spec, explicit, confidence = _options(
         kind, fs, taus, per_decade, data_type, overlapping, confidence
     )
+    if _file_readers(data) is not None and not (estimator == "overlapping" and gaps == "error"):
+        arr = as_float_array("data", data, ndims=(1, 2))  # other estimators: in memory
     matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
     n_axes = matrix.shape[1]
     if axis_names is not None and len(axis_names) != n_axes:
         raise ValueError(f"axis_names has {len(axis_names)} names for {n_axes} axes")
-    # One core call for all τ and axes; progress is reported from inside the kernel, so the
-    # numbers are the same with or without it.
-    raw: list[Any] = _core.allan.analyse(
-        matrix, 1.0 / fs, data_type, estimator, spec, int(per_decade), explicit, confidence, gaps, progress
-    )
+    readers = _file_readers(data) if estimator == "overlapping" and gaps == "error" else None
+    raw: list[Any]
+    if readers is not None:
+        # A memory-mapped file: stream it through the core in pieces read from the file (the
+        # mapping itself is never touched, so its pages do not fill the resident memory).
+        raw = []
+        for axis, reader in enumerate(readers):
+            step = None if progress is None else _axis_progress(progress, axis, len(readers))
+            raw.append(
+                _core.allan.analyse_stream(
+                    reader, reader.n_samples, 1.0 / fs, data_type, spec, int(per_decade), explicit,
+                    confidence, _STREAM_BLOCK, step,
+                )
+            )
+    else:
+        # One core call for all τ and axes; progress is reported from inside the kernel, so the
+        # numbers are the same with or without it.
+        raw = _core.allan.analyse(
+            matrix, 1.0 / fs, data_type, estimator, spec, int(per_decade), explicit, confidence, gaps, progress
+        )
     results = tuple(
         _result(
             r,
@@ -340,6 +364,80 @@ def _analyse(
     if arr.ndim == 1:
         return results[0]
     return results
+
+
+#: Samples per read when a memory-mapped file is streamed (tests set it small).
+_STREAM_BLOCK = 1 << 18
+
+
+class _ColumnReader:
+    """``read(start, count)``: samples of one column of a memory-mapped array, read from its file.
+
+    Reads the bytes of rows ``start .. start + count`` with ``readinto`` into a reused buffer
+    and converts the column to float64 (any float dtype and byte order), so the mapping's pages
+    are never touched and do not count in the resident memory.
+    """
+
+    def __init__(self, path: str, position: int, row_stride: int, dtype: np.dtype[Any], n_samples: int) -> None:
+        self.path = path
+        self.position = position
+        self.row_stride = row_stride
+        self.dtype = dtype
+        self.n_samples = n_samples
+        self._raw = bytearray()
+        self._out = np.empty(0)
+
+    def __call__(self, start: int, count: int) -> NDArray[np.float64]:
+        span = (count - 1) * self.row_stride + self.dtype.itemsize
+        if len(self._raw) < span:
+            self._raw = bytearray(span)
+        view = memoryview(self._raw)[:span]
+        with open(self.path, "rb", buffering=0) as f:
+            f.seek(self.position + start * self.row_stride)
+            done = 0
+            while done < span:
+                got = f.readinto(view[done:])
+                if not got:
+                    raise OSError(f"{self.path}: file ended while reading rows {start}..{start + count}")
+                done += got
+        column = np.ndarray((count,), dtype=self.dtype, buffer=self._raw, strides=(self.row_stride,))
+        if self._out.size < count:
+            self._out = np.empty(count)
+        out = self._out[:count]
+        out[...] = column
+        return out
+
+
+def _file_readers(data: object) -> list[_ColumnReader] | None:
+    """One reader per column when ``data`` is a float array memory-mapped from a file
+    (``np.load(path, mmap_mode="r")``, ``np.memmap``) with positive strides, else ``None``."""
+    if not isinstance(data, np.memmap) or data.ndim not in (1, 2) or data.size == 0:
+        return None
+    mapping = getattr(data, "_mmap", None)
+    path = getattr(data, "filename", None)
+    if mapping is None or path is None or data.dtype.kind != "f" or any(s <= 0 for s in data.strides):
+        return None
+    import mmap
+    import os
+
+    if not os.path.isfile(path):  # e.g. io's spill files, unlinked once mapped: read in memory
+        return None
+
+    base = np.frombuffer(mapping, dtype=np.uint8)
+    first = int(data.offset) - int(data.offset) % mmap.ALLOCATIONGRANULARITY
+    position = first + (data.__array_interface__["data"][0] - base.__array_interface__["data"][0])
+    del base
+    n_axes = 1 if data.ndim == 1 else data.shape[1]
+    col_stride = 0 if data.ndim == 1 else data.strides[1]
+    return [
+        _ColumnReader(str(path), position + axis * col_stride, data.strides[0], data.dtype, data.shape[0])
+        for axis in range(n_axes)
+    ]
+
+
+def _axis_progress(progress: Callable[[float], None], axis: int, n_axes: int) -> Callable[[float], None]:
+    """``progress`` for axis ``axis`` of ``n_axes`` analysed one after the other."""
+    return lambda fraction: progress((axis + fraction) / n_axes)
 
 
 def adev_batch(
@@ -501,6 +599,13 @@ def avar(
     Overlapping Allan variance on the angle series ``x`` (``x_0 = 0``, N + 1 points):
     ``σ²(τ) = Σ_k (x_{k+2m} − 2x_{k+m} + x_k)² / (2τ²(N + 1 − 2m))``. The interval is
     ``[σ²·edf/χ²_{edf,(1+c)/2}, σ²·edf/χ²_{edf,(1−c)/2}]``.
+
+    **Larger than memory.** A float array memory-mapped from a file (``np.load(path,
+    mmap_mode="r")``, ``np.memmap``) is not loaded: the overlapping ADEV (with its noise
+    identification and intervals) streams it through the core, reading pieces of the file
+    into a reused buffer in several passes, with a peak resident memory of a few tens of MB
+    whatever the log's size, and results identical to the in-memory call. The other estimators
+    (and ``gaps="omit"``) read the mapping into memory.
 
     With ``gaps="omit"`` the record is cut at every NaN into segments j (rate segment
     ``[s, e)`` → angle ``x_s..x_e``, integrated per segment) and

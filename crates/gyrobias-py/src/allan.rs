@@ -116,6 +116,44 @@ impl PyHook {
     }
 }
 
+/// A Python callable `read(start, count) -> float64 array` as the core's sample source; an
+/// exception it raises stops the analysis and is re-raised to the caller.
+struct PySource<'h> {
+    read: Py<PyAny>,
+    len: usize,
+    error: &'h Mutex<Option<PyErr>>,
+}
+
+impl allan::stream::Source for PySource<'_> {
+    fn len(&self) -> usize {
+        self.len
+    }
+
+    fn read(&mut self, start: usize, out: &mut [f64]) -> gyrocore::Result<()> {
+        Python::attach(|py| -> PyResult<()> {
+            let values = self.read.call1(py, (start, out.len()))?;
+            let values: PyReadonlyArray1<'_, f64> = values.extract(py)?;
+            let values = c_order(&values);
+            if values.len() != out.len() {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "read({start}, {}) returned {} values",
+                    out.len(),
+                    values.len()
+                )));
+            }
+            out.copy_from_slice(&values);
+            Ok(())
+        })
+        .map_err(|e| {
+            *self
+                .error
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner) = Some(e);
+            gyrocore::Error::Cancelled
+        })
+    }
+}
+
 fn to_dict(py: Python<'_>, r: allan::AllanAnalysis) -> PyResult<Bound<'_, PyDict>> {
     let d = PyDict::new(py);
     let m: Vec<u64> = r.m.iter().map(|&m| m as u64).collect();
@@ -211,6 +249,47 @@ fn analyse_batch<'py>(
         .into_iter()
         .map(|unit| unit.into_iter().map(|r| to_dict(py, r)).collect())
         .collect()
+}
+
+/// Overlapping Allan analysis of a series read in pieces by `read(start, count)`
+/// (`gyrocore::allan::stream::analyse_stream`: memory bounded by a few windows, results equal
+/// to [`analyse`] on the whole series). Returns one dict as [`analyse`].
+#[pyfunction]
+#[pyo3(signature = (read, n_samples, t0, data_type, tau_spec, per_decade, taus, confidence, block, progress=None))]
+#[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
+fn analyse_stream<'py>(
+    py: Python<'py>,
+    read: Py<PyAny>,
+    n_samples: usize,
+    t0: f64,
+    data_type: &str,
+    tau_spec: &str,
+    per_decade: usize,
+    taus: Option<PyReadonlyArray1<'py, f64>>,
+    confidence: Option<f64>,
+    block: usize,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let cfg = config(
+        t0,
+        data_type,
+        "overlapping",
+        tau_spec,
+        per_decade,
+        taus.as_ref(),
+        confidence,
+        "error",
+    )?;
+    let hook = PyHook::new(progress);
+    let mut source = PySource {
+        read,
+        len: n_samples,
+        error: &hook.error,
+    };
+    let result = hook.run(py, |p| {
+        allan::stream::analyse_stream(&mut source, &cfg, block, p)
+    })?;
+    to_dict(py, result)
 }
 
 /// The averaging factors an analysis of `n_samples` samples would use
@@ -334,6 +413,7 @@ fn dynamic_avar<'py>(
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analyse, m)?)?;
     m.add_function(wrap_pyfunction!(analyse_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(analyse_stream, m)?)?;
     m.add_function(wrap_pyfunction!(factors, m)?)?;
     m.add_function(wrap_pyfunction!(family_analyse, m)?)?;
     m.add_function(wrap_pyfunction!(dynamic_avar, m)?)

@@ -6,7 +6,14 @@ from typing import NotRequired, TypedDict, type_check_only
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["analyse", "analyse_batch", "dynamic_avar", "factors", "family_analyse"]
+__all__ = [
+    "analyse",
+    "analyse_batch",
+    "analyse_stream",
+    "dynamic_avar",
+    "factors",
+    "family_analyse",
+]
 
 @type_check_only
 class Analysis(TypedDict):
@@ -44,6 +51,18 @@ def analyse_batch(
     gaps: str = "error",
     progress: Callable[[float], object] | None = None,
 ) -> list[list[Analysis]]: ...
+def analyse_stream(
+    read: Callable[[int, int], NDArray[np.float64]],
+    n_samples: int,
+    t0: float,
+    data_type: str,
+    tau_spec: str,
+    per_decade: int,
+    taus: NDArray[np.float64] | None,
+    confidence: float | None,
+    block: int,
+    progress: Callable[[float], object] | None = None,
+) -> Analysis: ...
 def factors(
     n_samples: int,
     t0: float,

@@ -999,12 +999,13 @@ def _read_arrow(
             )
             for batch in reader:
                 m = batch.num_rows
-                block = np.empty((m, len(idx)))
+                block = sink.reserve(m)
                 for k, i in enumerate(idx):
                     block[:, k] = batch.column(names[i]).to_numpy()
-                sink.append(block)
+                sink.commit(m)
                 if t_idx is not None:
-                    stamps.append(batch.column(names[t_idx]).to_numpy())
+                    stamps.reserve(m)[:, 0] = batch.column(names[t_idx]).to_numpy()
+                    stamps.commit(m)
                 if progress is not None:
                     progress(min(sink.rows / estimated_rows, 0.99))
         finally:

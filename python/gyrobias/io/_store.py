@@ -101,11 +101,39 @@ class Sink:
         self._buf: NDArray[Any] = np.empty((0, cols), dtype=self.dtype)
         self._estimate = max(int(estimated_rows * 1.05) + 16, 16)
         self._file = None
+        self._block: NDArray[Any] | None = None
         if spill:
             self._file = tempfile.TemporaryFile(
                 prefix="gyrobias-", suffix=".f64", dir=store.directory
             )
             store.spilled = True
+
+    def reserve(self, m: int) -> NDArray[Any]:
+        """A writable ``(m, cols)`` view for the next ``m`` rows; :meth:`commit` adds them.
+
+        In memory it is the result array itself (no intermediate copy); spilled, a block
+        buffer reused from call to call (no fresh pages to fault in).
+        """
+        if self._file is not None:
+            if self._block is None or self._block.shape[0] < m:
+                self._block = np.empty((m, self.cols), dtype=self.dtype)
+            return self._block[:m]
+        self._grow(m)
+        return self._buf[self.rows : self.rows + m]
+
+    def commit(self, m: int) -> None:
+        """Add the ``m`` rows written into the view from :meth:`reserve`."""
+        if self._file is not None:
+            assert self._block is not None
+            self._file.write(self._block[:m].tobytes())
+        self.rows += m
+
+    def _grow(self, m: int) -> None:
+        if self.rows + m > self._buf.shape[0]:
+            size = max(self._estimate, int(1.5 * self._buf.shape[0]), self.rows + m)
+            bigger = np.empty((size, self.cols), dtype=self.dtype)
+            bigger[: self.rows] = self._buf[: self.rows]
+            self._buf = bigger
 
     def append(self, block: NDArray[Any]) -> None:
         """Add rows (copied)."""
@@ -114,11 +142,7 @@ class Sink:
         if self._file is not None:
             self._file.write(block.tobytes())
         else:
-            if self.rows + m > self._buf.shape[0]:
-                size = max(self._estimate, int(1.5 * self._buf.shape[0]), self.rows + m)
-                bigger = np.empty((size, self.cols), dtype=self.dtype)
-                bigger[: self.rows] = self._buf[: self.rows]
-                self._buf = bigger
+            self._grow(m)
             self._buf[self.rows : self.rows + m] = block
         self.rows += m
 

@@ -47,12 +47,16 @@ pub fn chi2_bounds(variance: f64, edf: f64, level: f64) -> Result<(f64, f64)> {
 /// Identified noise exponent α per factor, clamped to the estimator's convergent range (the
 /// value the EDF is computed with).
 pub fn alphas(x: &[f64], estimator: Estimator, ms: &[usize]) -> Vec<i32> {
-    let dmax = edf::differences(estimator);
+    clamp_alphas(
+        noise_id::identify(x, ms, edf::differences(estimator)),
+        estimator,
+    )
+}
+
+/// Identified α clamped to the estimator's convergent range (α ≤ 2, α ≥ [`edf::min_alpha`]).
+pub fn clamp_alphas(raw: Vec<i32>, estimator: Estimator) -> Vec<i32> {
     let alpha_min = edf::min_alpha(estimator);
-    noise_id::identify(x, ms, dmax)
-        .into_iter()
-        .map(|a| a.clamp(alpha_min, 2))
-        .collect()
+    raw.into_iter().map(|a| a.clamp(alpha_min, 2)).collect()
 }
 
 /// Confidence intervals at `level` for `variances` estimated at factors `ms` from angle series `x`.
@@ -79,8 +83,25 @@ pub fn intervals(
             ),
         });
     }
-    let alpha = alphas(x, estimator, ms);
-    let n_phase = x.len();
+    intervals_from_alphas(
+        alphas(x, estimator, ms),
+        estimator,
+        ms,
+        variances,
+        level,
+        x.len(),
+    )
+}
+
+/// [`intervals`] for already identified (clamped) α, on a record of `n_phase` angle samples.
+pub fn intervals_from_alphas(
+    alpha: Vec<i32>,
+    estimator: Estimator,
+    ms: &[usize],
+    variances: &[f64],
+    level: f64,
+    n_phase: usize,
+) -> Result<Intervals> {
     let rows: Vec<Result<(f64, f64, f64)>> = ms
         .par_iter()
         .zip(variances.par_iter())

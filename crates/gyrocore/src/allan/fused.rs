@@ -14,7 +14,8 @@ use rayon::prelude::*;
 use super::Progress;
 
 const BLOCK: usize = 1024;
-const CHUNK: usize = BLOCK * 256;
+/// Terms per parallel work item (a multiple of [`BLOCK`]); chunk sums are combined in order.
+pub(crate) const CHUNK: usize = BLOCK * 256;
 const LANES: usize = 8;
 
 /// Which finite difference of the angle series is squared and summed.
@@ -35,35 +36,47 @@ impl Difference {
     }
 }
 
+/// `Σ_k (c_k − 2b_k + a_k)²` over equally long slices, in `LANES` lanes plus a tail (the
+/// fixed order of every addition makes the result independent of the CPU's vector width).
+// inline(always): must be inlined into the feature-specific body the dispatcher selects.
+#[allow(clippy::inline_always)]
+#[inline(always)]
+fn second_sum(a: &[f64], b: &[f64], c: &[f64]) -> f64 {
+    let count = a.len();
+    let mut lanes = [0.0_f64; LANES];
+    let mut tail = 0.0_f64;
+    let whole = count - count % LANES;
+    for ((ca, cb), cc) in a[..whole]
+        .chunks_exact(LANES)
+        .zip(b[..whole].chunks_exact(LANES))
+        .zip(c[..whole].chunks_exact(LANES))
+    {
+        for l in 0..LANES {
+            let d = cc[l] - 2.0 * cb[l] + ca[l];
+            lanes[l] += d * d;
+        }
+    }
+    for k in whole..count {
+        let d = c[k] - 2.0 * b[k] + a[k];
+        tail += d * d;
+    }
+    lanes.iter().sum::<f64>() + tail
+}
+
 // inline(always): must be inlined into the feature-specific body the dispatcher selects.
 #[allow(clippy::inline_always)]
 #[inline(always)]
 fn block_sum(x: &[f64], m: usize, start: usize, end: usize, diff: Difference) -> f64 {
     let count = end - start;
-    let mut lanes = [0.0_f64; LANES];
-    let mut tail = 0.0_f64;
     match diff {
-        Difference::Second => {
-            let a = &x[start..end];
-            let b = &x[start + m..end + m];
-            let c = &x[start + 2 * m..end + 2 * m];
-            let whole = count - count % LANES;
-            for ((ca, cb), cc) in a[..whole]
-                .chunks_exact(LANES)
-                .zip(b[..whole].chunks_exact(LANES))
-                .zip(c[..whole].chunks_exact(LANES))
-            {
-                for l in 0..LANES {
-                    let d = cc[l] - 2.0 * cb[l] + ca[l];
-                    lanes[l] += d * d;
-                }
-            }
-            for k in whole..count {
-                let d = c[k] - 2.0 * b[k] + a[k];
-                tail += d * d;
-            }
-        }
+        Difference::Second => second_sum(
+            &x[start..end],
+            &x[start + m..end + m],
+            &x[start + 2 * m..end + 2 * m],
+        ),
         Difference::Third => {
+            let mut lanes = [0.0_f64; LANES];
+            let mut tail = 0.0_f64;
             let a = &x[start..end];
             let b = &x[start + m..end + m];
             let c = &x[start + 2 * m..end + 2 * m];
@@ -84,9 +97,33 @@ fn block_sum(x: &[f64], m: usize, start: usize, end: usize, diff: Difference) ->
                 let d = e[k] - 3.0 * c[k] + 3.0 * b[k] - a[k];
                 tail += d * d;
             }
+            lanes.iter().sum::<f64>() + tail
         }
     }
-    lanes.iter().sum::<f64>() + tail
+}
+
+/// One chunk of one τ of the overlapping Allan sum from three windows of the angle series
+/// (`a = x[c0..c0+len]`, `b` and `c` the same range shifted by m and 2m), block by block
+/// exactly as [`difference_sums`] does it: a chunk streamed from disk gives the same bits.
+pub(crate) fn second_chunk_sum(a: &[f64], b: &[f64], c: &[f64]) -> f64 {
+    struct Windows<'a>(&'a [f64], &'a [f64], &'a [f64]);
+    impl pulp::WithSimd for Windows<'_> {
+        type Output = f64;
+        #[allow(clippy::inline_always)] // pulp's contract
+        #[inline(always)]
+        fn with_simd<S: pulp::Simd>(self, _simd: S) -> f64 {
+            let Windows(a, b, c) = self;
+            let mut sum = 0.0_f64;
+            let mut o = 0;
+            while o < a.len() {
+                let e = (o + BLOCK).min(a.len());
+                sum += second_sum(&a[o..e], &b[o..e], &c[o..e]);
+                o = e;
+            }
+            sum
+        }
+    }
+    pulp::Arch::new().dispatch(Windows(a, b, c))
 }
 
 /// The block loop of one chunk, as a `pulp` operation so that it is compiled (fully inlined)

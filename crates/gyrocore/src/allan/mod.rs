@@ -35,6 +35,7 @@ pub mod gaps;
 pub mod hadamard;
 pub mod noise_id;
 pub mod progress;
+pub mod stream;
 pub mod theo;
 pub mod total;
 

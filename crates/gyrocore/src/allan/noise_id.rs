@@ -80,8 +80,9 @@ impl TrendSums {
         }
     }
 
-    /// Adds the decimated samples `z_k = x[k·m]`, `k in range`.
-    fn add(&mut self, x: &[f64], m: usize, range: std::ops::Range<usize>) {
+    /// Adds the decimated samples `z_k = x[k·m − base]`, `k in range` (`x` is the window of
+    /// the angle series that starts at sample `base`; 0 for the whole series).
+    fn add(&mut self, x: &[f64], base: usize, m: usize, range: std::ops::Range<usize>) {
         let (half, c) = (self.half, self.c);
         let (s0, s1, s2) = (&mut self.s0, &mut self.s1, &mut self.s2);
         let mut add = |k: usize, l: usize, z: f64| {
@@ -92,18 +93,20 @@ impl TrendSums {
         };
         let start = range.start;
         if m == 1 {
-            let chunks = x[range.clone()].chunks_exact(LANES);
+            let chunks = x[range.start - base..range.end - base].chunks_exact(LANES);
             let rest = chunks.remainder();
             for (i, chunk) in chunks.enumerate() {
                 for (l, &z) in chunk.iter().enumerate() {
                     add(start + i * LANES + l, l, z);
                 }
             }
+            // Lane i % LANES like the strided branch, so that the decimated series z = x[k·m]
+            // identified at factor 1 gives bit for bit the result at factor m.
             for (i, &z) in rest.iter().enumerate() {
-                add(range.end - rest.len() + i, 0, z);
+                add(range.end - rest.len() + i, i, z);
             }
         } else {
-            for (i, &z) in x[start * m..]
+            for (i, &z) in x[start * m - base..]
                 .iter()
                 .step_by(m)
                 .take(range.len())
@@ -138,14 +141,15 @@ impl TrendSums {
 impl Trend {
     fn fit(x: &[f64], m: usize, len: usize) -> Trend {
         let mut sums = TrendSums::new(len);
-        sums.add(x, m, 0..len);
+        sums.add(x, 0, m, 0..len);
         sums.finish(len)
     }
 
-    /// Appends the detrended decimated samples `r_k = x[k·m] − trend(k)`, `k in range`.
+    /// Appends the detrended decimated samples `r_k = x[k·m − base] − trend(k)`, `k in range`.
     fn residuals_into(
         &self,
         x: &[f64],
+        base: usize,
         m: usize,
         range: std::ops::Range<usize>,
         out: &mut Vec<f64>,
@@ -159,7 +163,7 @@ impl Trend {
         };
         if m == 1 {
             out.extend(
-                x[range]
+                x[range.start - base..range.end - base]
                     .iter()
                     .enumerate()
                     .map(|(i, &z)| value(start + i, z)),
@@ -167,7 +171,7 @@ impl Trend {
         } else {
             let count = range.len();
             out.extend(
-                x[start * m..]
+                x[start * m - base..]
                     .iter()
                     .step_by(m)
                     .take(count)
@@ -278,13 +282,21 @@ impl AcfState {
         }
     }
 
-    /// Feeds the decimated indices `range` (consecutive with the previous call).
-    fn feed(&mut self, x: &[f64], m: usize, trend: &Trend, range: std::ops::Range<usize>) {
+    /// Feeds the decimated indices `range` (consecutive with the previous call) of the window
+    /// `x` that starts at sample `base`.
+    fn feed(
+        &mut self,
+        x: &[f64],
+        base: usize,
+        m: usize,
+        trend: &Trend,
+        range: std::ops::Range<usize>,
+    ) {
         let mut start = range.start;
         while start < range.end {
             let end = (start + BLOCK).min(range.end);
             self.current.clear();
-            trend.residuals_into(x, m, start..end, &mut self.current);
+            trend.residuals_into(x, base, m, start..end, &mut self.current);
             self.sums[0].extend(&self.current);
             for j in 1..self.levels {
                 self.next.clear();
@@ -313,7 +325,7 @@ impl AcfState {
 /// Lag-1 autocorrelations of the `0..=dmax`-th differences at one factor (two passes).
 fn lag1_all_differences(x: &[f64], m: usize, len: usize, trend: &Trend, dmax: u32) -> [f64; 4] {
     let mut state = AcfState::new(dmax);
-    state.feed(x, m, trend, 0..len);
+    state.feed(x, 0, m, trend, 0..len);
     state.values()
 }
 
@@ -334,51 +346,124 @@ fn decide(r1s: &[f64; 4], dmax: u32) -> Identification {
 /// Sample block of the joint sweep over several small factors (fits in L2 with the states).
 const SWEEP: usize = 16 * 1024;
 
+/// The joint sweep of [`lag1_acf_joint`] as a state machine fed with consecutive windows of
+/// the angle series (two passes: trends, then autocorrelations), so that a series streamed from
+/// disk is identified exactly like one in memory. Windows must be the sample blocks
+/// `[s, min(s + SWEEP, n))`, `s = 0, SWEEP, 2·SWEEP, …`, in order, in each pass.
+#[derive(Debug)]
+pub struct JointSweep {
+    ms: Vec<usize>,
+    lens: Vec<usize>,
+    valid: Vec<bool>,
+    dmax: u32,
+    trend_sums: Vec<TrendSums>,
+    trends: Vec<Trend>,
+    states: Vec<AcfState>,
+}
+
+impl std::fmt::Debug for TrendSums {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("TrendSums")
+    }
+}
+
+impl std::fmt::Debug for Trend {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Trend")
+    }
+}
+
+impl std::fmt::Debug for AcfState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("AcfState")
+    }
+}
+
+impl JointSweep {
+    /// Sample block of the sweep (fits in L2 with the states).
+    pub const SWEEP: usize = SWEEP;
+
+    /// A sweep over `n` angle samples identifying the factors `ms`.
+    pub fn new(n: usize, ms: &[usize], dmax: u32) -> Self {
+        let lens: Vec<usize> = ms
+            .iter()
+            .map(|&m| if m == 0 { 0 } else { n.div_ceil(m) })
+            .collect();
+        JointSweep {
+            ms: ms.to_vec(),
+            valid: lens.iter().map(|&l| l >= MIN_POINTS).collect(),
+            trend_sums: lens.iter().map(|&l| TrendSums::new(l)).collect(),
+            lens,
+            dmax,
+            trends: Vec::new(),
+            states: ms.iter().map(|_| AcfState::new(dmax)).collect(),
+        }
+    }
+
+    /// Decimated index range of factor `m` inside the sample block `[s, e)`.
+    fn krange(m: usize, len: usize, s: usize, e: usize) -> std::ops::Range<usize> {
+        s.div_ceil(m)..e.div_ceil(m).min(len)
+    }
+
+    /// First pass: the block `window = x[s..s + window.len()]`.
+    pub fn trend_block(&mut self, window: &[f64], s: usize) {
+        let e = s + window.len();
+        for (i, &m) in self.ms.iter().enumerate() {
+            if self.valid[i] {
+                self.trend_sums[i].add(window, s, m, Self::krange(m, self.lens[i], s, e));
+            }
+        }
+    }
+
+    /// Second pass: the block `window = x[s..s + window.len()]` (the trends are fitted on the
+    /// first call).
+    pub fn acf_block(&mut self, window: &[f64], s: usize) {
+        if self.trends.is_empty() {
+            self.trends = self
+                .trend_sums
+                .iter()
+                .zip(&self.lens)
+                .map(|(t, &l)| t.finish(l))
+                .collect();
+        }
+        let e = s + window.len();
+        for (i, &m) in self.ms.iter().enumerate() {
+            if self.valid[i] {
+                self.states[i].feed(
+                    window,
+                    s,
+                    m,
+                    &self.trends[i],
+                    Self::krange(m, self.lens[i], s, e),
+                );
+            }
+        }
+    }
+
+    /// The identifications (`None` for factors with fewer than 30 decimated points).
+    pub fn finish(&self) -> Vec<Option<Identification>> {
+        self.states
+            .iter()
+            .zip(&self.valid)
+            .map(|(st, &ok)| ok.then(|| decide(&st.values(), self.dmax)))
+            .collect()
+    }
+}
+
 /// Lag-1 ACF identification at several (small) factors in one joint sweep: every block of `x`
 /// is read once from memory and used by all factors while it sits in cache, so the small
 /// factors (which all touch every cache line) cost two passes over memory together instead of
 /// two passes each. Factors with fewer than 30 decimated points give `None`.
 fn lag1_acf_joint(x: &[f64], ms: &[usize], dmax: u32) -> Vec<Option<Identification>> {
     let n = x.len();
-    let lens: Vec<usize> = ms
-        .iter()
-        .map(|&m| if m == 0 { 0 } else { n.div_ceil(m) })
-        .collect();
-    let valid: Vec<bool> = lens.iter().map(|&l| l >= MIN_POINTS).collect();
-    // Decimated index range of factor m inside the sample block [s, e).
-    let krange = |m: usize, len: usize, s: usize, e: usize| s.div_ceil(m)..e.div_ceil(m).min(len);
-    let mut trend_sums: Vec<TrendSums> = lens.iter().map(|&l| TrendSums::new(l)).collect();
-    let mut s = 0;
-    while s < n {
-        let e = (s + SWEEP).min(n);
-        for (i, &m) in ms.iter().enumerate() {
-            if valid[i] {
-                trend_sums[i].add(x, m, krange(m, lens[i], s, e));
-            }
-        }
-        s = e;
+    let mut sweep = JointSweep::new(n, ms, dmax);
+    for s in (0..n).step_by(SWEEP) {
+        sweep.trend_block(&x[s..(s + SWEEP).min(n)], s);
     }
-    let trends: Vec<Trend> = trend_sums
-        .iter()
-        .zip(&lens)
-        .map(|(t, &l)| t.finish(l))
-        .collect();
-    let mut states: Vec<AcfState> = ms.iter().map(|_| AcfState::new(dmax)).collect();
-    let mut s = 0;
-    while s < n {
-        let e = (s + SWEEP).min(n);
-        for (i, &m) in ms.iter().enumerate() {
-            if valid[i] {
-                states[i].feed(x, m, &trends[i], krange(m, lens[i], s, e));
-            }
-        }
-        s = e;
+    for s in (0..n).step_by(SWEEP) {
+        sweep.acf_block(&x[s..(s + SWEEP).min(n)], s);
     }
-    states
-        .iter()
-        .zip(&valid)
-        .map(|(st, &ok)| ok.then(|| decide(&st.values(), dmax)))
-        .collect()
+    sweep.finish()
 }
 
 /// Lag-1 ACF identification at averaging factor `m` with at most `dmax` differences.
@@ -483,22 +568,58 @@ pub fn b1_ratio(x: &[f64], m: usize) -> Option<i32> {
 /// `dmax` is 2 for the Allan-type variances and 3 for the Hadamard variance. The α values are
 /// as identified (the caller clamps them to the estimator's convergent range).
 pub fn identify(x: &[f64], ms: &[usize], dmax: u32) -> Vec<i32> {
-    let n_phase = x.len();
-    // Factors up to JOINT_MAX read every cache line of x: identify them in one joint sweep,
-    // the larger ones (cheap, strided) in parallel beside it.
+    identify_with(
+        x.len(),
+        ms,
+        // Factors up to JOINT_MAX read every cache line of x: identify them in one joint
+        // sweep, the larger ones (cheap, strided) in parallel beside it.
+        |small, large| {
+            rayon::join(
+                || lag1_acf_joint(x, small, dmax),
+                || {
+                    large
+                        .par_iter()
+                        .with_max_len(1)
+                        .map(|&m| lag1_acf(x, m, dmax))
+                        .collect::<Vec<_>>()
+                },
+            )
+        },
+        |m| lag1_acf(x, m, dmax),
+        |m| b1_ratio(x, m),
+    )
+}
+
+/// Factors identified in the joint sweep (`≤ JOINT_MAX`) and one by one, as [`identify_with`]
+/// splits them.
+pub fn split_factors(ms: &[usize]) -> (Vec<usize>, Vec<usize>) {
+    (
+        ms.iter().copied().filter(|&m| m <= JOINT_MAX).collect(),
+        ms.iter().copied().filter(|&m| m > JOINT_MAX).collect(),
+    )
+}
+
+/// The fallback factor `m_c = ⌊(M − 1)/29⌋` of a record of `n_phase` samples (module docs).
+pub fn fallback_factor(n_phase: usize) -> usize {
+    n_phase.saturating_sub(1) / (MIN_POINTS - 1)
+}
+
+/// [`identify`] with the data access supplied by the caller (used to identify a series that
+/// is streamed from disk exactly like one in memory): `sweep(small, large)` returns the
+/// joint-sweep identifications of the small factors and [`lag1_acf`] of the large ones (see
+/// [`split_factors`]); `single(m_c)` is [`lag1_acf`] at the fallback factor, `b1(m)` is
+/// [`b1_ratio`] (only called for records under 30 samples).
+pub fn identify_with(
+    n_phase: usize,
+    ms: &[usize],
+    sweep: impl FnOnce(&[usize], &[usize]) -> (Vec<Option<Identification>>, Vec<Option<Identification>>),
+    single: impl FnOnce(usize) -> Option<Identification>,
+    mut b1: impl FnMut(usize) -> Option<i32>,
+) -> Vec<i32> {
     let small: Vec<usize> = (0..ms.len()).filter(|&i| ms[i] <= JOINT_MAX).collect();
     let large: Vec<usize> = (0..ms.len()).filter(|&i| ms[i] > JOINT_MAX).collect();
-    let small_ms: Vec<usize> = small.iter().map(|&i| ms[i]).collect();
-    let (small_ids, large_ids) = rayon::join(
-        || lag1_acf_joint(x, &small_ms, dmax),
-        || {
-            large
-                .par_iter()
-                .with_max_len(1)
-                .map(|&i| lag1_acf(x, ms[i], dmax))
-                .collect::<Vec<_>>()
-        },
-    );
+    let (small_ms, large_ms) = split_factors(ms);
+    let (small_ids, large_ids) = sweep(&small_ms, &large_ms);
     let mut results: Vec<Option<i32>> = vec![None; ms.len()];
     for (&i, id) in small
         .iter()
@@ -513,7 +634,8 @@ pub fn identify(x: &[f64], ms: &[usize], dmax: u32) -> Vec<i32> {
     // Neighbour rule: a factor without 30 decimated points takes the result of the largest
     // requested factor below it that had them; failing that, of m_c (the largest factor with
     // 30 points, identified once).
-    let m_c = n_phase.saturating_sub(1) / (MIN_POINTS - 1);
+    let m_c = fallback_factor(n_phase);
+    let mut single = Some(single);
     let mut order: Vec<usize> = (0..ms.len()).collect();
     order.sort_by_key(|&i| ms[i]);
     let mut neighbour: Option<i32> = None;
@@ -528,7 +650,7 @@ pub fn identify(x: &[f64], ms: &[usize], dmax: u32) -> Vec<i32> {
             a
         } else if let Some(a) = *fallback.get_or_insert_with(|| {
             (m_c >= 1)
-                .then(|| lag1_acf(x, m_c, dmax))
+                .then(|| single.take().and_then(|f| f(m_c)))
                 .flatten()
                 .map(|id| id.alpha)
         }) {
@@ -537,7 +659,7 @@ pub fn identify(x: &[f64], ms: &[usize], dmax: u32) -> Vec<i32> {
             // Fewer than 30 phase points in the whole record: B1 ratio (and R(n)), carrying
             // the previous τ's result where B1 cannot be formed; white rate noise (α = 0) if
             // nothing can be identified at all (two or three samples).
-            let b = b1_ratio(x, ms[i]).or(last_b1);
+            let b = b1(ms[i]).or(last_b1);
             last_b1 = b;
             b.unwrap_or(0)
         };
@@ -685,6 +807,32 @@ mod tests {
             }
         }
         assert!(joint[6].is_none()); // ⌈50001/2000⌉ = 26 < 30
+    }
+
+    #[test]
+    fn decimated_series_equals_strided_factor_bit_for_bit() {
+        // The streaming path identifies large factors on z_k = x[k·m] at factor 1.
+        let x = cumsum(&noise(20_003, 29));
+        for m in [9usize, 16, 17, 100, 689] {
+            let z: Vec<f64> = x.iter().step_by(m).copied().collect();
+            assert_eq!(lag1_acf(&x, m, 3), lag1_acf(&z, 1, 3), "m={m}");
+        }
+    }
+
+    #[test]
+    fn joint_sweep_fed_by_windows_equals_in_memory() {
+        let x = cumsum(&noise(40_001, 31));
+        let ms = [1usize, 2, 4, 8];
+        let mut sweep = JointSweep::new(x.len(), &ms, 2);
+        for s in (0..x.len()).step_by(JointSweep::SWEEP) {
+            let w: Vec<f64> = x[s..(s + JointSweep::SWEEP).min(x.len())].to_vec();
+            sweep.trend_block(&w, s);
+        }
+        for s in (0..x.len()).step_by(JointSweep::SWEEP) {
+            let w: Vec<f64> = x[s..(s + JointSweep::SWEEP).min(x.len())].to_vec();
+            sweep.acf_block(&w, s);
+        }
+        assert_eq!(sweep.finish(), lag1_acf_joint(&x, &ms, 2));
     }
 
     #[test]
