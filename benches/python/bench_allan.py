@@ -2,8 +2,8 @@
 
 Run: ``python benches/python/bench_allan.py [--quick]`` (needs ``pip install '.[bench]'``).
 
-Targets (issue 2): overlapping ADEV of 1e7 samples at octave τ ≥ 20× faster than
-``allantools.oadev``; with confidence intervals ≥ 50× faster than AllanTools with its intervals
+Targets (issue 2, raised by issue 14 item 5): overlapping ADEV of 1e7 samples at octave τ ≥ 30×
+faster than ``allantools.oadev`` and at most 10 passes of ``numpy.sum`` on 2 cores; with confidence intervals ≥ 50× faster than AllanTools with its intervals
 (noise identification + Greenhall EDF); all τ on 1e5 samples ≥ 10× faster; 100 points per
 decade on 2.6e7 samples in seconds; peak memory at most the input plus one float64 copy.
 Times are the best of a few repeats; the ratio to one ``numpy.sum`` pass shows how close the
@@ -85,9 +85,9 @@ def main() -> int:
     t_at = best_of(lambda: allantools.oadev(rate, rate=fs, data_type="freq", taus="octave"), 2)
     print(f"oadev, {n:.0e} samples, octave tau")
     print(f"  numpy.sum (one pass)    {t_sum * 1e3:9.1f} ms")
-    print(f"  gyrobias                {t_ours * 1e3:9.1f} ms   = {t_ours / t_sum:5.1f} passes of numpy.sum")
+    print(f"  gyrobias                {t_ours * 1e3:9.1f} ms   = {t_ours / t_sum:5.1f} passes of numpy.sum (target <= 10)")
     print(f"  allantools.oadev        {t_at * 1e3:9.1f} ms")
-    print(f"  speedup                 {t_at / t_ours:9.1f} x   (target >= 20)")
+    print(f"  speedup                 {t_at / t_ours:9.1f} x   (target >= 30)")
     results["oadev_octave_speedup"] = t_at / t_ours
     results["oadev_octave_sum_passes"] = t_ours / t_sum
 
