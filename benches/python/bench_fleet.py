@@ -86,7 +86,7 @@ def main() -> None:
         def cluster(workers: int, kernel_threads: int | None, trim: bool = False) -> Client:
             # distributed's Nanny sets MALLOC_TRIM_THRESHOLD_=65536 in its workers, which turns off
             # glibc's adaptive mmap threshold: every large buffer is then mmapped and faulted in
-            # anew (measured ≈ 40 % slower here). None unsets it (README, fleets).
+            # anew (measured 40–54 % slower here). None unsets it (README, fleets).
             env = {} if kernel_threads is None else {"RAYON_NUM_THREADS": str(kernel_threads)}
             trim_value = 65536 if trim else None
             with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": trim_value}):
@@ -104,9 +104,21 @@ def main() -> None:
             assert table["error"].isna().all(), table["error"].dropna().tolist()[:3]
             np.testing.assert_array_equal(table["N"].to_numpy()[: len(check)], check["N"].to_numpy())
 
+        rates = np.stack([np.load(p) for p in paths])  # the same fleet as one (units, n, axes) array
+
+        def array_loop() -> None:
+            for unit in rates:
+                noise.fit(allan.adev(unit, FS, units="deg/s"))
+
+        def array_fleet() -> None:
+            table = fleet.analyse(rates, fs=FS, units="deg/s")
+            np.testing.assert_array_equal(table["N"].to_numpy()[: len(check)], check["N"].to_numpy())
+
         modes = {
             "Python loop (baseline)": lambda: loop(paths),
             "Dask threads (local scheduler)": run_fleet,
+            "array in memory: Python loop": array_loop,
+            "array in memory: Dask threads, adev_batch": array_fleet,
         }
         for label, args in (
             ("LocalCluster, 1 worker, all cores", (1, None)),
@@ -134,7 +146,9 @@ def main() -> None:
     two = times["LocalCluster, 2 workers × 1 kernel thread"]
     print(f"\nDask overhead over the loop, one worker with the same cores: {100 * (one / base - 1):+.1f} % "
           "(goal ≤ 10 %)")
-    print(f"Dask threads vs the loop: {100 * (times['Dask threads (local scheduler)'] / base - 1):+.1f} %")
+    print(f"Dask threads vs the loop: {100 * (times['Dask threads (local scheduler)'] / base - 1):+.1f} % (files), "
+          f"{100 * (times['array in memory: Dask threads, adev_batch'] / times['array in memory: Python loop'] - 1):+.1f} %"
+          " (array)")
     print(f"distributed's default MALLOC_TRIM_THRESHOLD_=65536 costs "
           f"{100 * (times['LocalCluster, 1 worker, all cores, trim 64k'] / one - 1):+.1f} %")
     print(f"speed-up from 1 to 2 single-threaded workers: {single / two:.2f}× (linear: 2×; "

@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _core
-from gyrobias._validation import choice, positive_float
+from gyrobias._validation import as_float_array, choice, positive_float
 from gyrobias.units import CUSTOMARY, base_unit, parse_unit, sensor_kind
 
 if TYPE_CHECKING:
@@ -44,10 +44,14 @@ if TYPE_CHECKING:
 __all__ = [
     "FLICKER_FACTOR",
     "TERM_NAMES",
+    "FitDiagnostics",
+    "GaussMarkovTerm",
     "NoiseCoefficients",
     "Term",
     "fit",
     "from_datasheet",
+    "gauss_markov_avar",
+    "gmwm",
     "simulate",
     "write_kalibr",
 ]
@@ -57,6 +61,10 @@ __all__ = [
 FLICKER_FACTOR: float = math.sqrt(2.0 * math.log(2.0) / math.pi)
 
 _SYMBOLS = ("Q", "N", "B", "K", "R")
+_GM_SYMBOLS = ("GM", "GM2")
+
+#: p-value below which a fit is reported as rejected by its goodness-of-fit test.
+REJECT_P: float = 0.001
 
 #: Names of the terms for gyroscopes and accelerometers.
 TERM_NAMES: dict[str, dict[str, str]] = {
@@ -281,7 +289,7 @@ class Term:
             raise ValueError(
                 f"cannot express {self.symbol} ({self.name}, in {self.unit}) in {unit!r}: different "
                 f"dimensions; customary units for it: "
-                + ", ".join(sorted({s[self.symbol] for k in CUSTOMARY.values() for s in k.values()}))
+                + ", ".join(sorted({s[self.symbol] for k in CUSTOMARY.values() for s in k.values() if self.symbol in s}))
             )
         f = source.factor / target.factor
         return replace(
@@ -308,6 +316,132 @@ class Term:
         if self.value is None:
             return f"{self.symbol} ({self.name}): missing — {self.missing}"
         return f"{self.symbol} ({self.name}) = {self.value:.4g} ± {self.uncertainty:.2g}{unit}"
+
+@dataclass(frozen=True)
+class GaussMarkovTerm:
+    """A first-order Gauss–Markov (exponentially correlated) rate term.
+
+    The process has autocovariance ``σ² exp(−|t|/T)`` and the Allan variance
+    ``σ²(τ) = (σ²T²/τ²)(2τ/T − 3 + 4e^{−τ/T} − e^{−2τ/T})`` (IEEE Std 952-1997 Annex C).
+
+    Attributes
+    ----------
+    sigma : Term
+        Standard deviation σ of the process (rate unit of the data, e.g. deg/s).
+    correlation_time : Term
+        Correlation time T in seconds (the bias correlation time of an INS filter's
+        first-order Gauss–Markov state).
+    tau_range : (float, float) or None
+        τ range (s) of the Allan points where the term is ≥ 10 % of the fitted variance.
+    missing : str or None
+        Why the term is missing.
+    """
+
+    sigma: Term
+    correlation_time: Term
+    tau_range: tuple[float, float] | None = None
+    missing: str | None = None
+
+    @property
+    def present(self) -> bool:
+        """True when the term was identified."""
+        return self.sigma.value is not None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {
+            "sigma": self.sigma.to_dict(),
+            "correlation_time": self.correlation_time.to_dict(),
+            "tau_range_s": None if self.tau_range is None else list(self.tau_range),
+            "missing": self.missing,
+        }
+
+    def __str__(self) -> str:
+        if not self.present:
+            return f"{self.sigma.symbol} (Gauss–Markov): missing — {self.missing}"
+        return f"{self.sigma} with correlation time {self.correlation_time.value:.4g} ± {self.correlation_time.uncertainty:.2g} s"
+
+
+@dataclass(frozen=True)
+class FitDiagnostics:
+    """Goodness of fit of an identification and what it left out.
+
+    Attributes
+    ----------
+    chi2 : float
+        Generalised chi-square ``zᵀR⁻¹z`` of the standardised log-ratio residuals ``z`` with the
+        model correlation ``R`` of the Allan estimates (see :func:`fit`, Notes).
+    dof : int
+        Degrees of freedom (points used − fitted parameters).
+    p_value : float
+        Probability of a χ² at least this large if the model were right (NaN without degrees of
+        freedom). Below 0.001 the fit is rejected and :attr:`warnings` says so.
+    residuals : ndarray
+        Standardised residual of each Allan point (about N(0, 1) if the model holds; NaN where
+        the point was excluded).
+    taus : ndarray
+        τ (s) of each residual.
+    tau_range : (float, float)
+        τ range (s) of the points used.
+    excluded : tuple of (float, float, str)
+        Excluded τ ranges (s) with the reason.
+    warnings : tuple of str
+        Plain sentences about anything to know before trusting the numbers.
+    """
+
+    chi2: float
+    dof: int
+    p_value: float
+    residuals: NDArray[np.float64] = field(repr=False, compare=False)
+    taus: NDArray[np.float64] = field(repr=False, compare=False)
+    tau_range: tuple[float, float]
+    excluded: tuple[tuple[float, float, str], ...] = ()
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def passed(self) -> bool:
+        """True unless the goodness-of-fit test rejects the model (p < 0.001)."""
+        return not (self.p_value < REJECT_P)
+
+    @classmethod
+    def _from_raw(cls, raw: Mapping[str, Any], taus: NDArray[np.float64]) -> FitDiagnostics:
+        return cls(
+            chi2=float(raw["chi2"]),
+            dof=int(raw["dof"]),
+            p_value=float(raw["p_value"]),
+            residuals=np.asarray(raw["residuals"], dtype=np.float64),
+            taus=np.asarray(taus, dtype=np.float64).copy(),
+            tau_range=(float(raw["tau_range"][0]), float(raw["tau_range"][1])),
+            excluded=tuple((float(a), float(b), str(r)) for a, b, r in raw["excluded"]),
+            warnings=tuple(str(w) for w in raw["warnings"]),
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (NaN residuals become ``None``)."""
+        return {
+            "chi2": self.chi2,
+            "dof": self.dof,
+            "p_value": None if not np.isfinite(self.p_value) else self.p_value,
+            "passed": self.passed,
+            "tau_range_s": list(self.tau_range),
+            "residuals": [None if not np.isfinite(v) else float(v) for v in self.residuals],
+            "taus_s": [float(t) for t in self.taus],
+            "excluded": [{"tau_low_s": a, "tau_high_s": b, "reason": r} for a, b, r in self.excluded],
+            "warnings": list(self.warnings),
+        }
+
+    def summary(self) -> str:
+        """Plain-text lines: the test, the excluded ranges and the warnings."""
+        verdict = "passed" if self.passed else "REJECTED"
+        lines = [f"  goodness of fit: χ² = {self.chi2:.4g}, ν = {self.dof}, p = {self.p_value:.3g} ({verdict})"]
+        for a, b, r in self.excluded:
+            lines.append(f"  excluded τ {a:.3g}–{b:.3g} s: {r}")
+        for w in self.warnings:
+            lines.append(f"  WARNING: {w}")
+        return "\n".join(lines)
+
+    def __str__(self) -> str:
+        return self.summary()
 
 
 @dataclass(frozen=True)
@@ -339,6 +473,12 @@ class NoiseCoefficients:
         Weighted residual sum of squares and degrees of freedom of the joint fit.
     squared : tuple of float or None
         Fitted Q², N², B², K², R² in base units (joint fit), used to draw the model.
+    gauss_markov : tuple of GaussMarkovTerm
+        First-order Gauss–Markov terms (``terms`` containing ``"GM"``/``"GM2"``), sorted by
+        correlation time.
+    diagnostics : FitDiagnostics or None
+        Goodness of fit, excluded τ ranges and warnings (always set by :func:`fit` and
+        :func:`gmwm`; ``None`` only for coefficients that did not come from data).
     allan : AllanResult or None
         The curve the coefficients came from (for plotting).
     """
@@ -358,6 +498,8 @@ class NoiseCoefficients:
     chi2: float | None = None
     dof: int | None = None
     squared: tuple[float, float, float, float, float] | None = None
+    gauss_markov: tuple[GaussMarkovTerm, ...] = ()
+    diagnostics: FitDiagnostics | None = None
     allan: AllanResult | None = field(default=None, repr=False, compare=False)
 
     @property
@@ -428,7 +570,12 @@ class NoiseCoefficients:
             for key in mapping:
                 choice("system key", key, _SYMBOLS)
         conv = {s: self[s].to(mapping[s]) if s in mapping else self[s] for s in _SYMBOLS}
-        return replace(self, Q=conv["Q"], N=conv["N"], B=conv["B"], K=conv["K"], R=conv["R"])
+        gm = self.gauss_markov
+        if "B" in mapping:  # σ of a Gauss–Markov term has the dimension of B (a rate)
+            gm = tuple(
+                replace(g, sigma=g.sigma.to(mapping["B"])) if g.sigma.unit is not None else g for g in gm
+            )
+        return replace(self, Q=conv["Q"], N=conv["N"], B=conv["B"], K=conv["K"], R=conv["R"], gauss_markov=gm)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary with units and conventions stated."""
@@ -442,10 +589,13 @@ class NoiseCoefficients:
             "edf_source": self.edf_source,
             "chi2": self.chi2,
             "dof": self.dof,
-            "model": "sigma^2(tau) = 3Q^2/tau^2 + N^2/tau + (0.664282 B)^2 + K^2 tau/3 + R^2 tau^2/2",
+            "model": "sigma^2(tau) = 3Q^2/tau^2 + N^2/tau + (0.664282 B)^2 + K^2 tau/3 + R^2 tau^2/2"
+            " + sum_k sigma_k^2 T_k^2/tau^2 (2 tau/T_k - 3 + 4 exp(-tau/T_k) - exp(-2 tau/T_k))",
             "psd_convention": "two-sided (IEEE 952): white rate noise of per-sample std s at period t0 has N = s*sqrt(t0)",
             "uncertainty": "standard (1 sigma)",
             "terms": {t.symbol: t.to_dict() for t in self.terms},
+            "gauss_markov": [g.to_dict() for g in self.gauss_markov],
+            "diagnostics": None if self.diagnostics is None else self.diagnostics.to_dict(),
         }
 
     def to_json(self, path: str | os.PathLike[str] | None = None, **kwargs: Any) -> str:
@@ -476,8 +626,18 @@ class NoiseCoefficients:
             if t.uncertainty is not None and t.value < 2.0 * t.uncertainty:
                 rng += "  not significant (< 2σ)"
             lines.append(f"{label} {t.value:12.5g} ± {unc:<8} {t.unit or '':<12}{rng}")
-        if self.chi2 is not None and self.dof:
-            lines.append(f"  weighted χ²/ν = {self.chi2 / self.dof:.3g} (ν = {self.dof})")
+        for g in self.gauss_markov:
+            label = f"  {g.sigma.symbol:<3}{'Gauss–Markov σ, T':<26}"
+            if not g.present:
+                lines.append(f"{label} missing: {g.missing}")
+                continue
+            t = g.correlation_time
+            lines.append(
+                f"{label} {g.sigma.value:12.5g} ± {g.sigma.uncertainty or float('nan'):<8.2g} "
+                f"{g.sigma.unit or '':<12}  T = {t.value:.4g} ± {t.uncertainty or float('nan'):.2g} s"
+            )
+        if self.diagnostics is not None:
+            lines.append(self.diagnostics.summary())
         return "\n".join(lines)
 
     def __str__(self) -> str:
@@ -537,7 +697,21 @@ class NoiseCoefficients:
         t = np.ascontiguousarray(np.asarray(taus, dtype=np.float64))
         squared = self._squared_base()
         total, parts = _core.noise.model(squared, t)
-        return np.sqrt(total), {s: np.sqrt(p) for s, p in zip(_SYMBOLS, parts)}
+        out = {s: np.sqrt(p) for s, p in zip(_SYMBOLS, parts)}
+        gm = self._gauss_markov_base()
+        if gm:
+            for g, v in zip(self.gauss_markov, _core.noise.gauss_markov_variance(gm, t)):
+                total = total + v
+                out[g.sigma.symbol] = np.sqrt(v)
+        return np.sqrt(total), out
+
+    def _gauss_markov_base(self) -> list[tuple[float, float]]:
+        base = self.to("base") if self.data_unit is not None else self
+        return [
+            (float(g.sigma.value) ** 2, float(g.correlation_time.value))
+            for g in base.gauss_markov
+            if g.sigma.value is not None and g.correlation_time.value is not None
+        ]
 
     def _squared_base(self) -> list[float]:
         if self.squared is not None:
@@ -602,6 +776,19 @@ class NoiseCoefficients:
                     fontsize=7,
                     color=colours[t.symbol],
                 )
+        for g, colour in zip(self.gauss_markov, ("tab:brown", "tab:pink")):
+            if g.present and g.sigma.symbol in parts:
+                ax.loglog(
+                    grid,
+                    parts[g.sigma.symbol],
+                    ":",
+                    color=colour,
+                    lw=1.2,
+                    label=f"{g.sigma.symbol} (T = {g.correlation_time.value:.3g} s)",
+                )
+        if self.diagnostics is not None:
+            for k, (a, b, _) in enumerate(self.diagnostics.excluded):
+                ax.axvspan(a, b, color="0.85", alpha=0.5, lw=0, label="excluded from the fit" if k == 0 else None)
         # Keep the view on the data and model: asymptotes of negligible terms run far below.
         markers = [t.marker[1] for t in self.terms if t.value is not None and t.marker is not None]
         shown = np.concatenate([total, np.asarray(allan.adev) if allan is not None else total, markers])
@@ -613,6 +800,45 @@ class NoiseCoefficients:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7, loc="best")
         return ax
+
+
+def gauss_markov_avar(sigma: float, correlation_time: float, taus: Any) -> NDArray[np.float64]:
+    """Allan variance of a first-order Gauss–Markov rate process.
+
+    Parameters
+    ----------
+    sigma : float
+        Standard deviation σ of the process (rate unit u, e.g. deg/s).
+    correlation_time : float
+        Correlation time T in seconds (autocovariance ``σ² exp(−|t|/T)``).
+    taus : array_like
+        Averaging times τ in seconds.
+
+    Returns
+    -------
+    ndarray
+        ``σ²_A(τ) = (σ²T²/τ²)(2τ/T − 3 + 4e^{−τ/T} − e^{−2τ/T})`` in u².
+
+    Notes
+    -----
+    From the angle-increment variance ``V(t) = 2σ²T(t − T(1 − e^{−t/T}))`` and
+    ``σ²_A(τ) = (4V(τ) − V(2τ))/(2τ²)`` (IEEE Std 952-1997 Annex C). Limits: white noise
+    ``2σ²T/τ`` for τ ≫ T, random walk ``(2σ²/T)·τ/3`` for τ ≪ T; the maximum is ≈ (0.618 σ)² at
+    τ ≈ 1.89 T. Evaluated without cancellation (power series for τ < T/2).
+
+    Examples
+    --------
+    >>> import gyrobias
+    >>> v = gyrobias.noise.gauss_markov_avar(1.0, 10.0, [1e4])
+    >>> round(float(v[0]) * 1e4 / (2 * 10.0), 4)  # 1 − 3T/(2τ) of the white noise 2σ²T/τ
+    0.9985
+    """
+    s = _non_negative("sigma", sigma)
+    t = positive_float("correlation_time", correlation_time)
+    tau = as_float_array("taus", np.atleast_1d(np.asarray(taus, dtype=np.float64)), ndims=(1,))
+    if tau.size and not np.all(np.isfinite(tau) & (tau > 0)):
+        raise ValueError("taus must be finite and > 0")
+    return np.asarray(_core.noise.gauss_markov_variance([(s * s, t)], tau)[0], dtype=np.float64)
 
 
 def _edf_source(result: AllanResult) -> str:
@@ -630,6 +856,8 @@ def fit(
     slope_tolerance: float = ...,
     min_points: int = ...,
     unit: str | None = ...,
+    correlation_time: tuple[float, float] | None = ...,
+    auto_range: bool = ...,
 ) -> NoiseCoefficients: ...
 
 
@@ -644,6 +872,8 @@ def fit(
     slope_tolerance: float = ...,
     min_points: int = ...,
     unit: str | None = ...,
+    correlation_time: tuple[float, float] | None = ...,
+    auto_range: bool = ...,
 ) -> tuple[NoiseCoefficients, ...]: ...
 
 
@@ -657,6 +887,8 @@ def fit(
     slope_tolerance: float = 0.1,
     min_points: int = 3,
     unit: str | None = None,
+    correlation_time: tuple[float, float] | None = None,
+    auto_range: bool = True,
 ) -> NoiseCoefficients | tuple[NoiseCoefficients, ...]:
     """Identify the IEEE-952 noise coefficients from an Allan-deviation result.
 
@@ -666,13 +898,15 @@ def fit(
         Overlapping or non-overlapping Allan result(s) of rate (or angle) data
         (``gyrobias.allan.adev``). A sequence gives a tuple, one per axis.
     method : {"joint", "ieee"}
-        ``"joint"``: weighted non-negative least squares of the five-term model (the better
-        estimator). ``"ieee"``: IEEE-952 read-off from fixed-slope lines on the detected slope
-        regions and B from the minimum.
-    terms : iterable of {"Q", "N", "B", "K", "R"}
-        Terms to identify; the others are reported missing ("not requested").
+        ``"joint"``: weighted non-negative least squares of the model (the better estimator).
+        ``"ieee"``: IEEE-952 read-off from fixed-slope lines on the detected slope regions and B
+        from the minimum.
+    terms : iterable of {"Q", "N", "B", "K", "R", "GM", "GM2"}
+        Terms to identify; the others are reported missing ("not requested"). ``"GM"`` adds a
+        first-order Gauss–Markov term, ``"GM2"`` a second one (joint fit only).
     tau_range : (float, float), optional
-        Only use Allan points with τ in this range (seconds) for the joint fit.
+        Only use Allan points with τ in this range (seconds) for the joint fit; turns the
+        automatic range selection off.
     regions : mapping, optional
         ``"ieee"`` only: explicit τ range per term (e.g. ``{"N": (0.02, 2.0)}``) overriding
         the automatic slope-region detection.
@@ -683,36 +917,63 @@ def fit(
     unit : str, optional
         Rate unit of the data when the Allan result does not carry one (``"deg/s"``, ``"rad/s"``,
         ``"m/s^2"``, ``"g"``, …).
+    correlation_time : (float, float), optional
+        Search range (s) of the Gauss–Markov correlation times; default: the τ range of the
+        points used. It must lie inside the data's τ range.
+    auto_range : bool
+        Joint fit without ``tau_range``: exclude long-τ points with fewer than 3 EDF and, while
+        the goodness-of-fit test rejects the model (p < 0.01), systematic departures at the
+        ends of the curve (Notes). ``False`` fits every point.
 
     Returns
     -------
     NoiseCoefficients or tuple of NoiseCoefficients
+        With :attr:`NoiseCoefficients.diagnostics` (goodness of fit, excluded ranges, warnings)
+        and, for ``"GM"`` terms, :attr:`NoiseCoefficients.gauss_markov`.
 
     Raises
     ------
     ValueError
         Not an Allan-deviation result (the model is the Allan variance's), constant data
         (σ = 0 everywhere), fewer than 3 usable points in the fit range, unknown terms, units
-        or methods, or a region that contains no τ.
+        or methods, a region that contains no τ, a Gauss–Markov term with ``method="ieee"`` or
+        a ``correlation_time`` range outside the data's τ range.
 
     Notes
     -----
-    Model: ``σ²(τ) = 3Q²/τ² + N²/τ + (0.664282·B)² + K²τ/3 + R²τ²/2``.
+    Model: ``σ²(τ) = 3Q²/τ² + N²/τ + (0.664282·B)² + K²τ/3 + R²τ²/2`` plus, per Gauss–Markov
+    term of standard deviation σ and correlation time T,
+    ``(σ²T²/τ²)(2τ/T − 3 + 4e^{−τ/T} − e^{−2τ/T})`` (IEEE Std 952-1997 Annex C; white noise
+    ``N² = 2σ²T`` for τ ≫ T, random walk ``K² = 2σ²/T`` for τ ≪ T).
 
-    *Joint*: linear in ``c = (Q², N², B², K², R²) ≥ 0``; weights ``w_i = edf_i/(2σ_i⁴)`` (the
-    variance of a chi-square estimate with ``edf_i`` degrees of freedom), with σ_i² the fitted
-    model after the first pass (iteratively reweighted, which removes the bias of weighting
-    by the noisy observations). Exact NNLS over all subsets of terms. Uncertainties from the
-    weighted least-squares covariance, inflated by ``max(1, χ²/ν)``, and ``u(√c) = u(c)/(2√c)``.
-    The EDFs are the Allan result's own (``confidence=`` given) or SP1065's simple
+    *Joint*: linear in ``c = (Q², N², B², K², R², σ_k²) ≥ 0`` for fixed correlation times, which
+    are profiled out (grid and golden-section search in ln T). Weights ``w_i = edf_i/(2σ_i⁴)``
+    (the variance of a chi-square estimate with ``edf_i`` degrees of freedom), with σ_i² the
+    fitted model after the first pass (iteratively reweighted). Exact NNLS over all subsets of
+    terms. Uncertainties from the sandwich covariance with the model correlation between Allan
+    estimates at different τ, inflated by ``max(1, χ²/ν)``, and ``u(√c) = u(c)/(2√c)``. The
+    EDFs are the Allan result's own (``confidence=`` given) or SP1065's simple
     approximations for the locally dominant noise type.
+
+    *Goodness of fit* (both methods): the log-ratio residuals
+    ``r_i = ln(σ̂²_i/σ²_i) − (ψ(ν_i/2) − ln(ν_i/2))`` (ψ the digamma function) are standardised by
+    ``√ψ'(ν_i/2)`` (``σ̂²/σ² ~ χ²_ν/ν``), and ``χ² = zᵀR⁻¹z`` with ``R`` the model correlation of
+    the estimates is referred to the chi-square law with ``points − parameters`` degrees of
+    freedom. p < 0.001 is reported in ``diagnostics.warnings`` and in the printed summary.
+
+    *Automatic τ range* (joint, default): long-τ points with EDF < 3 are excluded; then, while
+    p < 0.01, the leading run of points with ``z < −2`` (the curve bends below the −½ line at
+    short τ: a sensor's anti-alias/decimation filter correlates the samples) or the trailing
+    run with ``z > 2`` (drift) is excluded and the model refitted, keeping at least half of the
+    points. ``diagnostics.excluded`` says what was dropped and why.
 
     *IEEE read-off*: local slopes by central differences in log-log; the longest run of points
     within ``slope_tolerance`` of −1, −½, +½, +1 is fitted with a line of that fixed slope and
     read at τ = √3, 1, 3, √2 s for Q, N, K, R; ``B = min σ / 0.664282`` when the minimum lies
     inside the curve. Uncertainty: the relative standard deviation ``1/√(2·edf)`` of the most
     precise point used. The read-off of B is biased high where the neighbouring asymptotes
-    still contribute at the minimum (SPEC §3: 3.6 instead of 3 deg/h on an 8 h log).
+    still contribute at the minimum (SPEC §3: 3.6 instead of 3 deg/h on an 8 h log). Its
+    diagnostics test the read-off model on every point.
 
     References
     ----------
@@ -726,6 +987,8 @@ def fit(
     >>> c = gyrobias.noise.fit(r).to("ieee")
     >>> round(c.N.value, 2), c.N.unit
     (0.2, 'deg/√h')
+    >>> c.diagnostics.passed
+    True
     """
     if not hasattr(allan, "avar"):
         if isinstance(allan, (str, bytes)) or not isinstance(allan, Sequence):
@@ -740,6 +1003,8 @@ def fit(
                 slope_tolerance=slope_tolerance,
                 min_points=min_points,
                 unit=unit,
+                correlation_time=correlation_time,
+                auto_range=auto_range,
             )
             for a in allan
         )
@@ -752,7 +1017,7 @@ def fit(
         )
     term_list = [str(t) for t in terms] if not isinstance(terms, str) else [terms]
     for t in term_list:
-        choice("terms", t, _SYMBOLS)
+        choice("terms", t, _SYMBOLS + _GM_SYMBOLS)
     data_unit = unit if unit is not None else result.unit
     sensor: str | None = None
     if data_unit is not None:
@@ -762,23 +1027,38 @@ def fit(
         if not (lo >= 0.0 and hi > lo):
             raise ValueError(f"tau_range must be (low, high) seconds with 0 <= low < high, got {tau_range!r}")
         tau_range = (lo, hi)
+    if correlation_time is not None:
+        try:
+            t_lo, t_hi = (float(v) for v in correlation_time)
+        except (TypeError, ValueError):
+            raise TypeError(f"correlation_time must be a pair (low, high) of seconds, got {correlation_time!r}") from None
+        correlation_time = (t_lo, t_hi)
+    if not isinstance(auto_range, bool):
+        raise TypeError(f"auto_range must be a bool, got {type(auto_range).__name__}")
     taus = np.ascontiguousarray(result.taus, dtype=np.float64)
     variance = np.ascontiguousarray(result.avar, dtype=np.float64)
     m = np.ascontiguousarray(result.m, dtype=np.uint64)
     n_terms = np.ascontiguousarray(result.n_terms, dtype=np.uint64)
     edf = None if result.edf is None else np.ascontiguousarray(result.edf, dtype=np.float64)
+    gm_raw: list[dict[str, Any]] = []
+    raw: Mapping[str, Any]
     if method == "joint":
         if regions is not None:
             raise ValueError("regions applies to method='ieee' only; use tau_range for the joint fit")
-        joint_fit = _core.noise.joint(taus, variance, m, n_terms, result.overlapping, edf, term_list, tau_range)
-        estimates = joint_fit["terms"]
+        raw = _core.noise.fit(
+            taus, variance, m, n_terms, result.overlapping, edf, term_list, tau_range, correlation_time, auto_range
+        )
         extra: dict[str, Any] = {
-            "chi2": float(joint_fit["chi2"]),
-            "dof": int(joint_fit["dof"]),
-            "squared": tuple(float(v) for v in joint_fit["squared"]),
-            "tau_range": tuple(joint_fit["tau_range"]),
+            "chi2": float(raw["chi2"]),
+            "dof": int(raw["dof"]),
+            "squared": tuple(float(v) for v in raw["squared"]),
+            "tau_range": tuple(raw["tau_range"]),
         }
+        gm_raw = list(raw["gauss_markov"])
+        diagnostics_raw = raw["diagnostics"]
     else:
+        if any(t in _GM_SYMBOLS for t in term_list):
+            raise ValueError("Gauss–Markov terms ('GM', 'GM2') need method='joint' (or gyrobias.noise.gmwm)")
         slope_tolerance = positive_float("slope_tolerance", slope_tolerance)
         if isinstance(min_points, bool) or not isinstance(min_points, (int, np.integer)) or min_points < 1:
             raise ValueError(f"min_points must be an integer >= 1, got {min_points!r}")
@@ -787,14 +1067,50 @@ def fit(
             choice("regions key", key, _SYMBOLS)
             lo, hi = (float(v) for v in rng)
             region_list[_SYMBOLS.index(key)] = (lo, hi)
-        estimates = _core.noise.read_off(
+        raw = _core.noise.read_off(
             taus, variance, m, n_terms, result.overlapping, edf, term_list, region_list,
             slope_tolerance, int(min_points),
-        )["terms"]
+        )
         extra = {"tau_range": (float(taus[0]), float(taus[-1]))}
+        read = [0.0 if d["value"] is None else float(d["value"]) ** 2 for d in raw["terms"]]
+        diagnostics_raw = _core.noise.diagnose(
+            taus, variance, m, n_terms, result.overlapping, edf, read, [], sum(v > 0.0 for v in read)
+        )
+    return _assemble(
+        raw["terms"],
+        gm_raw,
+        diagnostics_raw,
+        taus,
+        method=method,
+        data_unit=data_unit,
+        sensor=sensor,
+        fs=result.fs,
+        axis=result.axis,
+        edf_source=_edf_source(result),
+        allan=result,
+        extra=extra,
+    )
+
+
+def _assemble(
+    term_dicts: Sequence[Mapping[str, Any]],
+    gm_dicts: Sequence[Mapping[str, Any]],
+    diagnostics_raw: Mapping[str, Any],
+    taus: NDArray[np.float64],
+    *,
+    method: str,
+    data_unit: str | None,
+    sensor: str | None,
+    fs: float,
+    axis: str | None,
+    edf_source: str,
+    allan: AllanResult | None,
+    extra: Mapping[str, Any],
+) -> NoiseCoefficients:
+    """Typed result from the core's dictionaries (shared by :func:`fit` and :func:`gmwm`)."""
     names = TERM_NAMES[sensor or "gyro"]
     built = {}
-    for d in estimates:
+    for d in term_dicts:
         s = d["symbol"]
         built[s] = Term(
             symbol=s,
@@ -806,6 +1122,28 @@ def fit(
             marker=d["marker"],
             missing=d["missing"],
         )
+    rate_unit = None if data_unit is None else base_unit(data_unit, "B")
+    gm_terms = []
+    for k, g in enumerate(gm_dicts):
+        symbol = "GM" if k == 0 else f"GM{k + 1}"
+        rng = None if g["tau_range"] is None else (float(g["tau_range"][0]), float(g["tau_range"][1]))
+        gm_terms.append(
+            GaussMarkovTerm(
+                sigma=Term(symbol, "Gauss–Markov σ", g["sigma"], g["sigma_uncertainty"], rate_unit, rng, None, g["missing"]),
+                correlation_time=Term(
+                    symbol,
+                    "Gauss–Markov correlation time",
+                    g["correlation_time"],
+                    g["correlation_time_uncertainty"],
+                    "s",
+                    rng,
+                    None,
+                    g["missing"],
+                ),
+                tau_range=rng,
+                missing=g["missing"],
+            )
+        )
     return NoiseCoefficients(
         Q=built["Q"],
         N=built["N"],
@@ -815,15 +1153,162 @@ def fit(
         method=method,
         data_unit=data_unit,
         sensor=sensor,
-        fs=result.fs,
-        axis=result.axis,
-        edf_source=_edf_source(result),
-        allan=result,
+        fs=fs,
+        axis=axis,
+        edf_source=edf_source,
+        allan=allan,
         tau_range=extra["tau_range"],
         chi2=extra.get("chi2"),
         dof=extra.get("dof"),
         squared=extra.get("squared"),
+        gauss_markov=tuple(gm_terms),
+        diagnostics=FitDiagnostics._from_raw(diagnostics_raw, taus),
     )
+
+
+def gmwm(
+    data: Any,
+    fs: float,
+    *,
+    terms: Iterable[str] = ("Q", "N", "B", "K"),
+    units: str | None = None,
+    axis_names: Sequence[str] | None = None,
+    select: bool = False,
+    bootstrap: int = 0,
+    seed: int | None = None,
+) -> NoiseCoefficients | tuple[NoiseCoefficients, ...]:
+    """Noise model by the generalized method of wavelet moments (GMWM).
+
+    Parameters
+    ----------
+    data : array_like, shape (n,) or (n, axes)
+        Rate samples (e.g. deg/s); one column per axis.
+    fs : float
+        Sample rate in Hz.
+    terms : iterable of {"Q", "N", "B", "K", "R", "GM", "GM2"}
+        Composite model: quantisation, white noise (ARW), flicker (bias instability), random
+        walk (RRW), drift (rate ramp) and one or two first-order Gauss–Markov terms.
+    units : str, optional
+        Rate unit of the data (``"deg/s"``, ``"rad/s"``, ``"m/s^2"``, …).
+    axis_names : sequence of str, optional
+        One name per column.
+    select : bool
+        Choose, among all sub-models of ``terms``, the one with the smallest wavelet-variance
+        information criterion ``WVIC = J + 2p`` (Notes); the terms it drops are reported missing.
+    bootstrap : int
+        Number of parametric-bootstrap replicates for the uncertainties (0: asymptotic).
+    seed : int or None
+        Seed of the bootstrap (``None``: fresh).
+
+    Returns
+    -------
+    NoiseCoefficients or tuple of NoiseCoefficients
+        ``method="gmwm"``, with diagnostics; ``allan`` holds the Allan-variance equivalent
+        ``2ν̂²`` of the wavelet variance at ``τ = 2^{j−1}/fs`` (for plots).
+
+    Raises
+    ------
+    ValueError
+        Constant or non-finite data, too few dyadic scales for the model, unknown terms or
+        units, ``bootstrap < 0``.
+
+    Notes
+    -----
+    The Haar wavelet variance ``ν̂²_j`` at dyadic scales ``τ_j = 2^j/fs`` (MODWT; it equals half
+    the overlapping Allan variance at ``τ = τ_j/2``) is matched to the composite model
+    ``ν(θ)`` by ``θ̂ = argmin (ν̂ − ν(θ))ᵀ Ω⁻¹ (ν̂ − ν(θ))`` with the optimal weight matrix
+    ``Ω⁻¹``, Ω the asymptotic covariance of ``ν̂`` (correlations from the spectral formula of
+    Serroukh, Walden & Percival 2000, variances from SP1065's EDF) re-estimated at the current
+    θ̂ three times (Guerrier et al. 2013, §3). The squared amplitudes enter linearly and are
+    solved by exact non-negative generalized least squares; Gauss–Markov correlation times are
+    profiled over the scale range. Uncertainties: ``(DᵀΩ⁻¹D)⁻¹``, ``D = ∂ν/∂θ``, inflated by
+    ``max(1, J/(K − p))``, or the parametric bootstrap. Model selection uses
+    ``WVIC = J(θ̂) + 2p`` (J Hansen's statistic, p active parameters), the GMM Akaike-type
+    criterion of Andrews (1999). Scales use half-widths ``m ≤ n/8``.
+
+    References
+    ----------
+    S. Guerrier, J. Skaloud, Y. Stebler, M.-P. Victoria-Feser, "Wavelet-variance-based
+    estimation for composite stochastic processes", J. Amer. Statist. Assoc. 108 (2013) 1021.
+    Y. Stebler, S. Guerrier, J. Skaloud, M.-P. Victoria-Feser, "Generalized method of wavelet
+    moments for inertial navigation filter design", IEEE Trans. Aerosp. Electron. Syst. 50
+    (2014) 2269. D. W. K. Andrews, "Consistent moment selection procedures for generalized
+    method of moments estimation", Econometrica 67 (1999) 543.
+
+    Examples
+    --------
+    >>> import gyrobias
+    >>> rate = gyrobias.noise.simulate(200_000, 100.0, arw=0.2 / 60, rrw=20 / 216000, seed=3)
+    >>> c = gyrobias.noise.gmwm(rate, 100.0, terms=("N", "K"), units="deg/s").to("ieee")
+    >>> round(c.N.value, 2), c.method
+    (0.2, 'gmwm')
+    """
+    from gyrobias.allan import AllanResult
+
+    arr = as_float_array("data", data, ndims=(1, 2))
+    fs = positive_float("fs", fs)
+    term_list = [str(t) for t in terms] if not isinstance(terms, str) else [terms]
+    for t in term_list:
+        choice("terms", t, _SYMBOLS + _GM_SYMBOLS)
+    if not isinstance(select, bool):
+        raise TypeError(f"select must be a bool, got {type(select).__name__}")
+    replicates = _count("bootstrap", bootstrap, minimum=0)
+    if seed is None:
+        seed_value = int(np.random.SeedSequence().generate_state(1, dtype=np.uint64)[0])
+    else:
+        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
+            raise TypeError(f"seed must be an integer or None, got {type(seed).__name__}")
+        if not 0 <= int(seed) < 2**64:
+            raise ValueError(f"seed must satisfy 0 <= seed < 2**64, got {seed!r}")
+        seed_value = int(seed)
+    sensor = sensor_kind(units) if units is not None else None
+    matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
+    n_axes = matrix.shape[1]
+    if axis_names is not None and len(axis_names) != n_axes:
+        raise ValueError(f"axis_names has {len(axis_names)} names for {n_axes} axes")
+    t0 = 1.0 / fs
+    out = []
+    for a in range(n_axes):
+        column = np.ascontiguousarray(matrix[:, a], dtype=np.float64)
+        raw = _core.noise.gmwm(column, t0, term_list, select, replicates, seed_value, 8)
+        wv = raw["wavelet"]
+        m = np.asarray(wv["m"]).astype(np.int64)
+        name = None if axis_names is None else str(axis_names[a])
+        allan = AllanResult(
+            taus=np.asarray(m * t0, dtype=np.float64),
+            avar=2.0 * np.asarray(wv["variance"], dtype=np.float64),
+            n_terms=np.asarray(wv["n_coefficients"]).astype(np.int64),
+            fs=fs,
+            data_type="rate",
+            kind="adev",
+            overlapping=True,
+            unit=units,
+            axis=name,
+        )
+        out.append(
+            _assemble(
+                raw["terms"],
+                raw["gauss_markov"],
+                raw["diagnostics"],
+                np.asarray(allan.taus, dtype=np.float64),
+                method="gmwm",
+                data_unit=units,
+                sensor=sensor,
+                fs=fs,
+                axis=name,
+                edf_source="SP1065 simple approximation",
+                allan=allan,
+                extra={
+                    "chi2": float(raw["chi2"]),
+                    "dof": int(raw["dof"]),
+                    "squared": tuple(float(v) for v in raw["squared"]),
+                    "tau_range": tuple(raw["tau_range"]),
+                },
+            )
+        )
+    if arr.ndim == 1:
+        return out[0]
+    return tuple(out)
 
 
 # --- Kalibr --------------------------------------------------------------------------------------

@@ -1,6 +1,9 @@
 //! Bindings of `gyrocore::noise`.
 
-use gyrocore::noise::{self, Ar1, Curve, NoiseSpec, ReadOffOptions, Term, TermEstimate};
+use gyrocore::noise::{
+    self, Ar1, Curve, Diagnostics, FitOptions, GaussMarkovEstimate, GmwmOptions, NoiseSpec,
+    ReadOffOptions, Term, TermEstimate,
+};
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -56,60 +59,6 @@ fn terms_to_py<'py>(py: Python<'py>, terms: &[TermEstimate]) -> PyResult<Vec<Bou
 
 fn as_usize(v: &[u64]) -> Vec<usize> {
     v.iter().map(|&x| x as usize).collect()
-}
-
-/// Joint weighted NNLS fit of the five-term model to an Allan-variance curve
-/// (`gyrocore::noise::joint`).
-#[pyfunction]
-#[pyo3(signature = (taus, variance, m, n_terms, overlapping, edf, terms, tau_range))]
-#[allow(clippy::needless_pass_by_value)]
-fn joint<'py>(
-    py: Python<'py>,
-    taus: PyReadonlyArray1<'py, f64>,
-    variance: PyReadonlyArray1<'py, f64>,
-    m: PyReadonlyArray1<'py, u64>,
-    n_terms: PyReadonlyArray1<'py, u64>,
-    overlapping: bool,
-    edf: Option<PyReadonlyArray1<'py, f64>>,
-    terms: Vec<String>,
-    tau_range: Option<(f64, f64)>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
-    let enabled = core(noise::parse_terms(&symbols))?;
-    let m = as_usize(&c_order(&m));
-    let n_terms = as_usize(&c_order(&n_terms));
-    let edf = c_order_opt(edf.as_ref());
-    let taus = c_order(&taus);
-    let variance = c_order(&variance);
-    let curve = Curve {
-        taus: &taus,
-        variance: &variance,
-        m: &m,
-        n_terms: &n_terms,
-        overlapping,
-        edf: edf.as_deref(),
-    };
-    let fit = core(noise::joint(&curve, enabled, tau_range))?;
-    let d = PyDict::new(py);
-    d.set_item("terms", terms_to_py(py, &fit.terms)?)?;
-    d.set_item("squared", fit.squared.to_vec())?;
-    d.set_item(
-        "covariance",
-        fit.covariance
-            .iter()
-            .map(|r| r.to_vec())
-            .collect::<Vec<_>>(),
-    )?;
-    d.set_item("chi2", fit.chi2)?;
-    d.set_item("dof", fit.dof)?;
-    d.set_item("tau_range", fit.tau_range)?;
-    d.set_item(
-        "used",
-        fit.used.iter().map(|&u| u as u64).collect::<Vec<_>>(),
-    )?;
-    d.set_item("edf", fit.edf.into_pyarray(py))?;
-    d.set_item("iterations", fit.iterations)?;
-    Ok(d)
 }
 
 /// IEEE-952 read-off of the noise terms from an Allan-variance curve
@@ -267,11 +216,237 @@ fn conservative<'py>(
     Ok(d)
 }
 
+fn gauss_markov_dicts<'py>(
+    py: Python<'py>,
+    terms: &[GaussMarkovEstimate],
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    terms
+        .iter()
+        .map(|g| {
+            let d = PyDict::new(py);
+            d.set_item("sigma", g.sigma)?;
+            d.set_item("sigma_uncertainty", g.sigma.map(|_| g.sigma_uncertainty))?;
+            d.set_item("correlation_time", g.correlation_time)?;
+            d.set_item(
+                "correlation_time_uncertainty",
+                g.correlation_time.map(|_| g.correlation_time_uncertainty),
+            )?;
+            d.set_item("tau_range", g.tau_range)?;
+            d.set_item("missing", g.missing.clone())?;
+            Ok(d)
+        })
+        .collect()
+}
+
+fn diagnostics_dict<'py>(
+    py: Python<'py>,
+    diagnostics: &Diagnostics,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("chi2", diagnostics.chi2)?;
+    d.set_item("dof", diagnostics.dof)?;
+    d.set_item("p_value", diagnostics.p_value)?;
+    d.set_item("residuals", diagnostics.residuals.clone().into_pyarray(py))?;
+    d.set_item("tau_range", diagnostics.tau_range)?;
+    d.set_item("excluded", diagnostics.excluded.clone())?;
+    d.set_item("warnings", diagnostics.warnings.clone())?;
+    Ok(d)
+}
+
+/// Joint fit with Gauss–Markov terms, diagnostics and automatic τ-range selection
+/// (`gyrocore::noise::fit`).
+#[pyfunction]
+#[pyo3(signature = (taus, variance, m, n_terms, overlapping, edf, terms, tau_range, correlation_time, automatic_range))]
+#[allow(clippy::needless_pass_by_value)]
+fn fit<'py>(
+    py: Python<'py>,
+    taus: PyReadonlyArray1<'py, f64>,
+    variance: PyReadonlyArray1<'py, f64>,
+    m: PyReadonlyArray1<'py, u64>,
+    n_terms: PyReadonlyArray1<'py, u64>,
+    overlapping: bool,
+    edf: Option<PyReadonlyArray1<'py, f64>>,
+    terms: Vec<String>,
+    tau_range: Option<(f64, f64)>,
+    correlation_time: Option<(f64, f64)>,
+    automatic_range: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
+    let (enabled, gauss_markov) = core(noise::parse_model_terms(&symbols))?;
+    let m = as_usize(&c_order(&m));
+    let n_terms = as_usize(&c_order(&n_terms));
+    let edf = c_order_opt(edf.as_ref());
+    let taus = c_order(&taus);
+    let variance = c_order(&variance);
+    let curve = Curve {
+        taus: &taus,
+        variance: &variance,
+        m: &m,
+        n_terms: &n_terms,
+        overlapping,
+        edf: edf.as_deref(),
+    };
+    let options = FitOptions {
+        enabled,
+        gauss_markov,
+        tau_range,
+        correlation_time,
+        automatic_range,
+    };
+    let fit = core(py.detach(|| noise::fit(&curve, &options)))?;
+    let d = PyDict::new(py);
+    d.set_item("terms", terms_to_py(py, &fit.terms)?)?;
+    d.set_item("squared", fit.squared.to_vec())?;
+    d.set_item("gauss_markov", gauss_markov_dicts(py, &fit.gauss_markov)?)?;
+    d.set_item("gauss_markov_squared", fit.gauss_markov_squared.clone())?;
+    d.set_item("chi2", fit.chi2)?;
+    d.set_item("dof", fit.dof)?;
+    d.set_item("tau_range", fit.tau_range)?;
+    d.set_item("diagnostics", diagnostics_dict(py, &fit.diagnostics)?)?;
+    Ok(d)
+}
+
+/// Goodness-of-fit diagnostics of a given model on an Allan-variance curve
+/// (`gyrocore::noise::diagnose`).
+#[pyfunction]
+#[pyo3(signature = (taus, variance, m, n_terms, overlapping, edf, squared, gauss_markov, n_params))]
+#[allow(clippy::needless_pass_by_value)]
+fn diagnose<'py>(
+    py: Python<'py>,
+    taus: PyReadonlyArray1<'py, f64>,
+    variance: PyReadonlyArray1<'py, f64>,
+    m: PyReadonlyArray1<'py, u64>,
+    n_terms: PyReadonlyArray1<'py, u64>,
+    overlapping: bool,
+    edf: Option<PyReadonlyArray1<'py, f64>>,
+    squared: [f64; 5],
+    gauss_markov: Vec<(f64, f64)>,
+    n_params: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let m = as_usize(&c_order(&m));
+    let n_terms = as_usize(&c_order(&n_terms));
+    let edf = c_order_opt(edf.as_ref());
+    let taus = c_order(&taus);
+    let variance = c_order(&variance);
+    let curve = Curve {
+        taus: &taus,
+        variance: &variance,
+        m: &m,
+        n_terms: &n_terms,
+        overlapping,
+        edf: edf.as_deref(),
+    };
+    let d = core(noise::diagnose(&curve, &squared, &gauss_markov, n_params))?;
+    diagnostics_dict(py, &d)
+}
+
+/// Allan variance of each Gauss–Markov component `(q², T)` at `taus`
+/// (`gyrocore::noise::gauss_markov::allan_variance`).
+#[pyfunction]
+#[pyo3(signature = (gauss_markov, taus))]
+#[allow(clippy::needless_pass_by_value)]
+fn gauss_markov_variance<'py>(
+    py: Python<'py>,
+    gauss_markov: Vec<(f64, f64)>,
+    taus: PyReadonlyArray1<'py, f64>,
+) -> Vec<Bound<'py, PyArray1<f64>>> {
+    let taus = c_order(&taus);
+    gauss_markov
+        .iter()
+        .map(|&(q2, t)| {
+            taus.iter()
+                .map(|&tau| noise::gauss_markov::allan_variance(q2, t, tau))
+                .collect::<Vec<f64>>()
+                .into_pyarray(py)
+        })
+        .collect()
+}
+
+/// GMWM estimate of the noise model of one rate series (`gyrocore::noise::gmwm`).
+#[pyfunction]
+#[pyo3(signature = (data, t0, terms, select, bootstrap, seed, min_blocks))]
+#[allow(clippy::needless_pass_by_value)]
+fn gmwm<'py>(
+    py: Python<'py>,
+    data: PyReadonlyArray1<'py, f64>,
+    t0: f64,
+    terms: Vec<String>,
+    select: bool,
+    bootstrap: usize,
+    seed: u64,
+    min_blocks: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
+    let (enabled, gauss_markov) = core(noise::parse_model_terms(&symbols))?;
+    let options = GmwmOptions {
+        enabled,
+        gauss_markov,
+        select,
+        bootstrap,
+        seed,
+        min_blocks,
+    };
+    let rate = c_order(&data);
+    let g = core(py.detach(|| noise::gmwm(&rate, t0, &options)))?;
+    let d = PyDict::new(py);
+    let fit = &g.fit;
+    d.set_item("terms", terms_to_py(py, &fit.terms)?)?;
+    d.set_item("squared", fit.squared.to_vec())?;
+    d.set_item("gauss_markov", gauss_markov_dicts(py, &fit.gauss_markov)?)?;
+    d.set_item("gauss_markov_squared", fit.gauss_markov_squared.clone())?;
+    d.set_item("chi2", fit.chi2)?;
+    d.set_item("dof", fit.dof)?;
+    d.set_item("tau_range", fit.tau_range)?;
+    d.set_item("diagnostics", diagnostics_dict(py, &fit.diagnostics)?)?;
+    let w = PyDict::new(py);
+    w.set_item(
+        "m",
+        g.wavelet
+            .m
+            .iter()
+            .map(|&x| x as u64)
+            .collect::<Vec<u64>>()
+            .into_pyarray(py),
+    )?;
+    w.set_item("scales", g.wavelet.scales.clone().into_pyarray(py))?;
+    w.set_item("variance", g.wavelet.variance.clone().into_pyarray(py))?;
+    w.set_item(
+        "n_coefficients",
+        g.wavelet
+            .n_coefficients
+            .iter()
+            .map(|&x| x as u64)
+            .collect::<Vec<u64>>()
+            .into_pyarray(py),
+    )?;
+    d.set_item("wavelet", w)?;
+    let (sel_enabled, sel_gm) = g.selected;
+    let mut selected: Vec<&str> = noise::Term::ALL
+        .iter()
+        .filter(|t| sel_enabled[t.index()])
+        .map(|t| t.symbol())
+        .collect();
+    if sel_gm >= 1 {
+        selected.push("GM");
+    }
+    if sel_gm >= 2 {
+        selected.push("GM2");
+    }
+    d.set_item("selected", selected)?;
+    d.set_item("criterion", g.criterion)?;
+    d.set_item("candidates", g.candidates.clone())?;
+    d.set_item("bootstrap", g.bootstrap)?;
+    Ok(d)
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
-    m.add_function(wrap_pyfunction!(joint, m)?)?;
     m.add_function(wrap_pyfunction!(read_off, m)?)?;
     m.add_function(wrap_pyfunction!(model, m)?)?;
     m.add_function(wrap_pyfunction!(overbound, m)?)?;
-    m.add_function(wrap_pyfunction!(conservative, m)?)
+    m.add_function(wrap_pyfunction!(conservative, m)?)?;
+    m.add_function(wrap_pyfunction!(fit, m)?)?;
+    m.add_function(wrap_pyfunction!(diagnose, m)?)?;
+    m.add_function(wrap_pyfunction!(gauss_markov_variance, m)?)?;
+    m.add_function(wrap_pyfunction!(gmwm, m)?)
 }

@@ -1,11 +1,21 @@
 """Bindings of ``gyrocore::noise``."""
 
-from typing import TypedDict, type_check_only
+from typing import Any, TypedDict, type_check_only
 
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["conservative", "joint", "model", "overbound", "read_off", "simulate"]
+__all__ = [
+    "conservative",
+    "diagnose",
+    "fit",
+    "gauss_markov_variance",
+    "gmwm",
+    "model",
+    "overbound",
+    "read_off",
+    "simulate",
+]
 
 @type_check_only
 class TermEstimate(TypedDict):
@@ -17,20 +27,6 @@ class TermEstimate(TypedDict):
     tau_range: tuple[float, float] | None
     marker: tuple[float, float] | None
     missing: str | None
-
-@type_check_only
-class JointFit(TypedDict):
-    """Joint weighted NNLS fit of the five-term model."""
-
-    terms: list[TermEstimate]
-    squared: list[float]
-    covariance: list[list[float]]
-    chi2: float
-    dof: int
-    tau_range: tuple[float, float]
-    used: list[int]
-    edf: NDArray[np.float64]
-    iterations: int
 
 @type_check_only
 class ReadOff(TypedDict):
@@ -52,16 +48,6 @@ def simulate(
     axes: int,
     seed: int,
 ) -> NDArray[np.float64]: ...
-def joint(
-    taus: NDArray[np.float64],
-    variance: NDArray[np.float64],
-    m: NDArray[np.uint64],
-    n_terms: NDArray[np.uint64],
-    overlapping: bool,
-    edf: NDArray[np.float64] | None,
-    terms: list[str],
-    tau_range: tuple[float, float] | None,
-) -> JointFit: ...
 def read_off(
     taus: NDArray[np.float64],
     variance: NDArray[np.float64],
@@ -117,3 +103,38 @@ def conservative(
     tau_range: tuple[float, float] | None,
     confidence: float,
 ) -> Conservative: ...
+def fit(
+    taus: NDArray[np.float64],
+    variance: NDArray[np.float64],
+    m: NDArray[np.uint64],
+    n_terms: NDArray[np.uint64],
+    overlapping: bool,
+    edf: NDArray[np.float64] | None,
+    terms: list[str],
+    tau_range: tuple[float, float] | None,
+    correlation_time: tuple[float, float] | None,
+    automatic_range: bool,
+) -> dict[str, Any]: ...
+def diagnose(
+    taus: NDArray[np.float64],
+    variance: NDArray[np.float64],
+    m: NDArray[np.uint64],
+    n_terms: NDArray[np.uint64],
+    overlapping: bool,
+    edf: NDArray[np.float64] | None,
+    squared: list[float] | tuple[float, float, float, float, float],
+    gauss_markov: list[tuple[float, float]],
+    n_params: int,
+) -> dict[str, Any]: ...
+def gauss_markov_variance(
+    gauss_markov: list[tuple[float, float]], taus: NDArray[np.float64]
+) -> list[NDArray[np.float64]]: ...
+def gmwm(
+    data: NDArray[np.float64],
+    t0: float,
+    terms: list[str],
+    select: bool,
+    bootstrap: int,
+    seed: int,
+    min_blocks: int,
+) -> dict[str, Any]: ...

@@ -39,6 +39,12 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> None:
         help="joint weighted NNLS fit (default) or IEEE-952 slope read-off",
     )
     group.add_argument(
+        "--fit-terms",
+        metavar="LIST",
+        default="Q,N,B,K,R",
+        help="comma-separated model terms: Q,N,B,K,R and Gauss–Markov GM,GM2 (default Q,N,B,K,R)",
+    )
+    group.add_argument(
         "--kalibr",
         metavar="PATH",
         default=None,
@@ -79,10 +85,11 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
     if not want_fit and kalibr is None and not export_specs:
         return
     method = getattr(args, "fit_method", "joint")
+    terms = [t.strip() for t in str(getattr(args, "fit_terms", "Q,N,B,K,R")).split(",") if t.strip()]
     coefficients: list[NoiseCoefficients] = []
     for r in results:
         try:
-            c = fit(r, method=method)
+            c = fit(r, method=method, terms=terms)
         except ValueError as exc:
             name = f" axis {r.axis}" if getattr(r, "axis", None) else ""
             raise SystemExit(f"gyrobias: noise fit{name} failed: {exc}") from None
@@ -90,6 +97,13 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
         coefficients.append(c)
         print(_display(c).summary())
         print()
+        if c.diagnostics is not None and not c.diagnostics.passed:
+            name = f" axis {c.axis}" if c.axis else ""
+            print(
+                f"gyrobias: warning: the noise model does not fit{name} (goodness-of-fit p = "
+                f"{c.diagnostics.p_value:.2g} < 0.001); see the WARNING lines above",
+                file=sys.stderr,
+            )
     args.noise_coefficients = coefficients
     if kalibr is not None:
         gyro = [c for c in coefficients if c.sensor == "gyro"]

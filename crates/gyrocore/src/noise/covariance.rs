@@ -18,21 +18,35 @@
 //! `ln f` (1000 points per decade from `10⁻³/τ_max` to the Nyquist frequency); where
 //! `f·m·t0 > 20` the fast oscillation `sin⁴(π f m t0)` is replaced by its mean 3/8.
 
+use super::gauss_markov;
 use super::model::Term;
 
-/// Rate PSD (two-sided) of the model with squared coefficients `c` at frequency `f`.
-fn psd(c: &[f64; 5], f: f64, t0: f64) -> f64 {
+/// Rate PSD (two-sided) of the model with squared coefficients `c` and Gauss–Markov
+/// components `gm` (`(q², T)` each) at frequency `f`.
+fn psd(c: &[f64; 5], gm: &[(f64, f64)], f: f64, t0: f64) -> f64 {
     let s = (std::f64::consts::PI * f * t0).sin();
     let s2 = s * s;
     c[Term::Quantization.index()] / t0 * 4.0 * s2
         + c[Term::AngleRandomWalk.index()]
         + c[Term::BiasInstability.index()] / (std::f64::consts::TAU * f)
         + c[Term::RateRandomWalk.index()] * t0 * t0 / (4.0 * s2)
+        + gm.iter()
+            .map(|&(q2, t)| gauss_markov::psd(q2, t, f))
+            .sum::<f64>()
 }
 
-/// Correlation matrix (row-major `n × n`) of Allan-variance estimates at factors `m` with
-/// `n_terms` terms each, for the model `c` at sample period `t0`.
-pub fn correlation(m: &[usize], n_terms: &[usize], t0: f64, c: &[f64; 5]) -> Vec<f64> {
+/// Covariance matrix (row-major `n × n`, unit⁴) of Allan-variance estimates at factors `m` with
+/// `n_terms` terms each, for the model `c` plus Gauss–Markov components `gm` (`(q², T)`) at
+/// sample period `t0`, by the spectral formula of the module docs. Its diagonal is the
+/// asymptotic variance `2A_j/M_j` of Percival (1995) / Serroukh, Walden & Percival (2000) for the
+/// Haar wavelet variance (which is half the Allan variance at the same `m`).
+pub fn covariance(
+    m: &[usize],
+    n_terms: &[usize],
+    t0: f64,
+    c: &[f64; 5],
+    gm: &[(f64, f64)],
+) -> Vec<f64> {
     let n = m.len();
     let max_tau = m.iter().copied().max().unwrap_or(1) as f64 * t0;
     let f_lo = 1e-3 / max_tau;
@@ -45,7 +59,7 @@ pub fn correlation(m: &[usize], n_terms: &[usize], t0: f64, c: &[f64; 5]) -> Vec
         let f = f_lo * (s as f64 * dlog).exp();
         let w = if s == 0 || s == steps { 0.5 } else { 1.0 };
         // ∫ F df = ∫ F f d(ln f); S² enters squared.
-        let p = psd(c, f, t0);
+        let p = psd(c, gm, f, t0);
         grid.push((f, w * dlog * f * p * p));
     }
     let filters: Vec<Vec<f64>> = m
@@ -81,6 +95,25 @@ pub fn correlation(m: &[usize], n_terms: &[usize], t0: f64, c: &[f64; 5]) -> Vec
             cov[j * n + i] = v;
         }
     }
+    cov
+}
+
+/// Correlation matrix (row-major `n × n`) of Allan-variance estimates at factors `m` with
+/// `n_terms` terms each, for the model `c` at sample period `t0`.
+pub fn correlation(m: &[usize], n_terms: &[usize], t0: f64, c: &[f64; 5]) -> Vec<f64> {
+    correlation_with(m, n_terms, t0, c, &[])
+}
+
+/// [`correlation`] with Gauss–Markov components `gm` (`(q², T)` each) in the model.
+pub fn correlation_with(
+    m: &[usize],
+    n_terms: &[usize],
+    t0: f64,
+    c: &[f64; 5],
+    gm: &[(f64, f64)],
+) -> Vec<f64> {
+    let n = m.len();
+    let mut cov = covariance(m, n_terms, t0, c, gm);
     let diag: Vec<f64> = (0..n).map(|i| cov[i * n + i]).collect();
     for i in 0..n {
         for j in 0..n {
@@ -122,7 +155,7 @@ mod tests {
             for s in 0..=steps {
                 let f = f_lo * (f64::from(s) * dlog).exp();
                 let w = if s == 0 || s == steps { 0.5 } else { 1.0 };
-                let p = psd(&c, f, t0);
+                let p = psd(&c, &[], f, t0);
                 let x = f * m as f64 * t0;
                 let s4 = if x > 20.0 {
                     0.375

@@ -1,34 +1,140 @@
-//! Joint identification: weighted non-negative least squares of the five-term model (SPEC §3).
+//! Joint identification: weighted non-negative least squares of the noise model (SPEC §3),
+//! with first-order Gauss–Markov terms, goodness-of-fit diagnostics and automatic selection of
+//! the τ range the model explains.
 //!
-//! The model `σ²(τ) = Σ_j c_j g_j(τ)` is linear in `c = (Q², N², B², K², R²) ≥ 0`. Each
-//! estimate `σ̂²_i` has relative standard deviation `√(2/edf_i)` (chi-square with `edf_i`
-//! degrees of freedom), so the weights are `w_i = edf_i / (2 σ²_i²)`. Weighting by the *observed*
-//! `σ̂²_i` favours low estimates (a known downward bias), so the weights use the fitted model
-//! instead, by iteratively reweighted least squares (first pass: observed values; then the
-//! previous model, floored at 1 % of the observation; ≤ 50 passes, stop when the coefficients
-//! change by < 1e-10 relative).
+//! The model `σ²(τ) = Σ_j c_j g_j(τ) + Σ_k q_k² g_GM(τ; T_k)` is linear in
+//! `c = (Q², N², B², K², R²) ≥ 0` and in the Gauss–Markov variances `q_k² ≥ 0`
+//! ([`super::gauss_markov`]); the correlation times `T_k` enter non-linearly and are profiled out
+//! (for fixed weights: a log-spaced grid over the search range — by default `[5 τ_lo, τ_hi/5]`,
+//! where a Gauss–Markov term can neither imitate a sensor filter's roll-off at the shortest τ nor
+//! pass for a random walk at the longest — then golden-section refinement in
+//! `ln T`; for two terms a grid over ordered pairs and alternating refinement). Each estimate
+//! `σ̂²_i` has relative standard deviation `√(2/edf_i)` (chi-square with `edf_i` degrees of
+//! freedom), so the weights are `w_i = edf_i / (2 σ²_i²)`. Weighting by the *observed* `σ̂²_i`
+//! favours low estimates (a known downward bias), so the weights use the fitted model instead,
+//! by iteratively reweighted least squares (first pass: observed values; then the previous
+//! model, floored at 1 % of the observation; ≤ 50 passes, stop when the parameters change by
+//! < 1e-10 relative).
 //!
-//! **Non-negativity** is exact: with at most five unknowns every subset of the requested terms
-//! is solved unconstrained (Householder QR of the column-scaled weighted design) and the
-//! feasible subset with the smallest χ² is the NNLS solution (its KKT point is the unconstrained
-//! optimum on its passive set). Subsets that leave no degree of freedom are not used.
+//! **Non-negativity** is exact: with few unknowns, if the unconstrained solution on all columns
+//! is feasible it is the NNLS solution; otherwise every subset is solved unconstrained
+//! (Householder QR of the column-scaled weighted design) and the feasible subset with the
+//! smallest χ² is the NNLS solution (its KKT point is the unconstrained optimum on its passive
+//! set). Subsets that leave no degree of freedom are not used.
 //!
 //! **Uncertainties**: the estimates at neighbouring τ are strongly correlated, so the
-//! covariance of `c` is the sandwich `(AᵀWA)⁻¹ AᵀW V W A (AᵀWA)⁻¹` with `V_ij = ρ_ij s_i s_j`,
+//! covariance of the parameters θ (active `c_j`, `q_k²`, `ln T_k`) is the sandwich
+//! `(JᵀWJ)⁻¹ JᵀW V W J (JᵀWJ)⁻¹` with `J = ∂σ²/∂θ`, `V_ij = ρ_ij s_i s_j`,
 //! `s_i = σ²_i √(2/edf_i)` and the correlation ρ of the fitted model's estimates
-//! ([`super::covariance`]); it is inflated by `max(1, χ²/ν)` when the model does not explain the
-//! scatter. For the amplitude `√c_j` the delta method gives `u = u(c_j) / (2√c_j)`.
+//! ([`super::covariance`]); it is inflated by `max(1, χ²/ν)` of the goodness-of-fit statistic
+//! below when the model does not explain the scatter. For an amplitude `√c` the delta method
+//! gives `u = u(c) / (2√c)`, for `T` it gives `u(T) = T·u(ln T)`.
 //!
-//! **EDF**: from noise identification when the caller has it (`Curve::edf`), else SP1065's
+//! **Goodness of fit** ([`Diagnostics`]): the log-ratio residuals
+//! `r_i = ln(σ̂²_i/σ²_i) − (ψ(ν_i/2) − ln(ν_i/2))` have variance `ψ'(ν_i/2)` under the model
+//! (`σ̂²/σ² ~ χ²_ν/ν`; ψ the digamma function), and are far closer to Gaussian than `σ̂²` itself
+//! at small ν. The standardised residuals are `z_i = r_i / √ψ'(ν_i/2)`; the statistic is the
+//! generalised `χ² = zᵀ R⁻¹ z` with `R` the model correlation of the estimates, referred to the
+//! chi-square law with `ν = points − fitted parameters` degrees of freedom (p-value = its
+//! survival function). A fit with p < 0.001 is reported with a warning.
+//!
+//! **Automatic τ range** (when no range is given): (1) the longest-τ points whose EDF is below
+//! [`MIN_EDF`] are excluded (a chi-square with fewer than 3 degrees of freedom spans more than a
+//! factor 10 at 90 %, and such points are where non-stationary drift shows); (2) while the fit is
+//! rejected (p < [`REFIT_P`]) the leading run of points with `z < −2` (σ below the model at
+//! the shortest τ: a sensor's anti-alias/decimation filter correlates the samples and bends the
+//! curve below the −½ line, which no positive term can follow) or the trailing run with `z > 2`
+//! (σ above the model at long τ: drift the terms do not describe) is excluded and the model
+//! refitted, keeping at least half of the points. What was excluded and why is recorded.
+//!
+//! **EDF**: from noise identification when the caller has it (`Curve::edf`, capped at the
+//! white-rate EDF, the most any rate noise supports: see `edf_given`), else SP1065's
 //! simple approximations ([`super::model::approximate_edf`]) for the noise type of the term that
-//! dominates the current model at each τ (white rate in the first pass).
+//! dominates the current model at each τ (white rate in the first pass; a Gauss–Markov term
+//! counts as random walk below its correlation time and white noise above).
 
-use super::covariance::correlation;
+use nalgebra::DMatrix;
+
+use super::covariance::correlation_with;
 use super::curve::{Curve, TermEstimate};
-use super::model::{FLICKER_FACTOR, Term, model_variance};
+use super::gauss_markov;
+use super::model::{FLICKER_FACTOR, Term, approximate_edf, model_variance};
+use crate::stats;
 use crate::{Error, Result};
 
-/// Result of [`joint`].
+/// Smallest EDF of a long-τ point kept by the automatic range selection.
+pub const MIN_EDF: f64 = 3.0;
+
+/// p-value below which the automatic range selection trims systematic departures.
+pub const REFIT_P: f64 = 0.01;
+
+/// p-value below which a fit is reported as rejected.
+pub const REJECT_P: f64 = 0.001;
+
+/// One identified Gauss–Markov term (or why it is missing).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GaussMarkovEstimate {
+    /// Standard deviation `q` of the process (rate unit); `None` when missing.
+    pub sigma: Option<f64>,
+    /// Standard uncertainty of `sigma`.
+    pub sigma_uncertainty: f64,
+    /// Correlation time `T` (s); `None` when missing.
+    pub correlation_time: Option<f64>,
+    /// Standard uncertainty of `T` (s).
+    pub correlation_time_uncertainty: f64,
+    /// τ range (s) of the points where the term is ≥ 10 % of the model.
+    pub tau_range: Option<(f64, f64)>,
+    /// Why the term is missing.
+    pub missing: Option<String>,
+}
+
+/// Goodness-of-fit diagnostics of an identification (module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Diagnostics {
+    /// Generalised χ² of the log-ratio residuals.
+    pub chi2: f64,
+    /// Degrees of freedom (points used − fitted parameters).
+    pub dof: usize,
+    /// Chi-square survival function of `chi2` (NaN without degrees of freedom).
+    pub p_value: f64,
+    /// Standardised residual of every curve point (NaN where the point was not used).
+    pub residuals: Vec<f64>,
+    /// τ range (s) of the points used.
+    pub tau_range: (f64, f64),
+    /// Excluded τ ranges (s) with the reason.
+    pub excluded: Vec<(f64, f64, String)>,
+    /// Plain sentences about anything the user must know before trusting the numbers.
+    pub warnings: Vec<String>,
+}
+
+/// Options of [`fit`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct FitOptions {
+    /// Which of the five power-law terms to fit, in [`Term::ALL`] order.
+    pub enabled: [bool; 5],
+    /// Number of Gauss–Markov terms (0, 1 or 2).
+    pub gauss_markov: usize,
+    /// Only use points with τ in this range (s); disables the automatic selection.
+    pub tau_range: Option<(f64, f64)>,
+    /// Search range (s) of the correlation times; default `[5 τ_lo, τ_hi/5]` of the points used.
+    pub correlation_time: Option<(f64, f64)>,
+    /// Select the τ range automatically (module docs) when `tau_range` is `None`.
+    pub automatic_range: bool,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        FitOptions {
+            enabled: [true; 5],
+            gauss_markov: 0,
+            tau_range: None,
+            correlation_time: None,
+            automatic_range: true,
+        }
+    }
+}
+
+/// Result of [`joint`] / [`fit`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct JointFit {
     /// One estimate per term in [`Term::ALL`] order.
@@ -37,9 +143,13 @@ pub struct JointFit {
     pub squared: [f64; 5],
     /// Covariance of `c` (after the χ² inflation).
     pub covariance: [[f64; 5]; 5],
-    /// Weighted residual sum of squares.
+    /// Fitted Gauss–Markov components `(q², T)`, sorted by `T` (q² = 0 when dropped).
+    pub gauss_markov_squared: Vec<(f64, f64)>,
+    /// The Gauss–Markov terms as reported.
+    pub gauss_markov: Vec<GaussMarkovEstimate>,
+    /// Weighted residual sum of squares of the least-squares fit.
     pub chi2: f64,
-    /// Degrees of freedom `points − fitted terms`.
+    /// Degrees of freedom `points − fitted parameters`.
     pub dof: usize,
     /// τ range of the points used (s).
     pub tau_range: (f64, f64),
@@ -49,32 +159,99 @@ pub struct JointFit {
     pub edf: Vec<f64>,
     /// IRLS passes made.
     pub iterations: usize,
+    /// Goodness of fit, range selection and warnings.
+    pub diagnostics: Diagnostics,
 }
-
-/// A solved subset: its terms, coefficients, unscaled covariance and χ².
-type SubsetFit = (Vec<Term>, Vec<f64>, Vec<Vec<f64>>, f64);
 
 /// Minimum share of the model variance at which a point counts towards a term's τ range.
 const SHARE: f64 = 0.1;
 
-/// Weighted least squares on the columns in `subset`; `None` if singular or dof < 1.
-/// Returns (coefficients, unscaled covariance of the subset, chi2).
-fn solve_subset(
-    taus: &[f64],
-    y: &[f64],
-    sqrt_w: &[f64],
-    subset: &[Term],
-) -> Option<(Vec<f64>, Vec<Vec<f64>>, f64)> {
-    let n = taus.len();
-    let p = subset.len();
+/// `x` with `digits` significant digits (like Python's `g` format).
+pub(crate) fn sig(x: f64, digits: usize) -> String {
+    if !x.is_finite() || x == 0.0 {
+        return format!("{x}");
+    }
+    let e = x.abs().log10().floor() as i32;
+    if (-4..6).contains(&e) {
+        let decimals = (digits as i32 - 1 - e).max(0) as usize;
+        format!("{x:.decimals$}")
+    } else {
+        format!("{:.*e}", digits.saturating_sub(1), x)
+    }
+}
+
+/// Model variance of the power-law terms plus Gauss–Markov components.
+pub fn full_model(c: &[f64; 5], gm: &[(f64, f64)], tau: f64) -> f64 {
+    model_variance(c, tau)
+        + gm.iter()
+            .map(|&(q2, t)| q2 * gauss_markov::basis(t, tau))
+            .sum::<f64>()
+}
+
+/// Digamma ψ(x) for x > 0 (recurrence to x ≥ 6, then the asymptotic series; error < 1e-13).
+pub(crate) fn digamma(mut x: f64) -> f64 {
+    let mut acc = 0.0;
+    while x < 6.0 {
+        acc -= 1.0 / x;
+        x += 1.0;
+    }
+    let r = 1.0 / (x * x);
+    acc + x.ln()
+        - 0.5 / x
+        - r * (1.0 / 12.0 - r * (1.0 / 120.0 - r * (1.0 / 252.0 - r * (1.0 / 240.0 - r / 132.0))))
+}
+
+/// Trigamma ψ'(x) for x > 0 (recurrence to x ≥ 6, then the asymptotic series).
+pub(crate) fn trigamma(mut x: f64) -> f64 {
+    let mut acc = 0.0;
+    while x < 6.0 {
+        acc += 1.0 / (x * x);
+        x += 1.0;
+    }
+    let r = 1.0 / (x * x);
+    acc + 1.0 / x
+        + r / 2.0
+        + (r / x)
+            * (1.0 / 6.0 - r * (1.0 / 30.0 - r * (1.0 / 42.0 - r * (1.0 / 30.0 - r * 5.0 / 66.0))))
+}
+
+/// How the design and data are whitened before the least-squares solve.
+pub(crate) enum Whitener<'a> {
+    /// Diagonal weights `√w_i`.
+    Diagonal(&'a [f64]),
+    /// Inverse of a lower Cholesky factor: solve `L x = v` (GLS).
+    Cholesky(&'a DMatrix<f64>),
+}
+
+impl Whitener<'_> {
+    pub(crate) fn apply(&self, v: &[f64]) -> Vec<f64> {
+        match self {
+            Whitener::Diagonal(w) => v.iter().zip(w.iter()).map(|(a, b)| a * b).collect(),
+            Whitener::Cholesky(l) => {
+                let n = v.len();
+                let mut x = v.to_vec();
+                for i in 0..n {
+                    let mut s = x[i];
+                    for k in 0..i {
+                        s -= l[(i, k)] * x[k];
+                    }
+                    x[i] = s / l[(i, i)];
+                }
+                x
+            }
+        }
+    }
+}
+
+/// Unconstrained least squares of whitened `b` on whitened columns `a` (Householder QR of the
+/// column-scaled design); `None` if singular or without a degree of freedom.
+/// Returns (coefficients, χ²).
+fn solve_whitened(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<(Vec<f64>, f64)> {
+    let n = b.len();
+    let p = a.len();
     if p == 0 || n <= p {
         return None;
     }
-    // Column-major weighted design, columns scaled to unit norm.
-    let mut a: Vec<Vec<f64>> = subset
-        .iter()
-        .map(|t| (0..n).map(|i| sqrt_w[i] * t.basis(taus[i])).collect())
-        .collect();
     let scale: Vec<f64> = a
         .iter()
         .map(|col| col.iter().map(|v| v * v).sum::<f64>().sqrt())
@@ -87,9 +264,6 @@ fn solve_subset(
             *v /= s;
         }
     }
-    let mut b: Vec<f64> = (0..n).map(|i| sqrt_w[i] * y[i]).collect();
-    let b_norm2: f64 = b.iter().map(|v| v * v).sum();
-    // Householder QR, applied to b on the fly.
     let mut r = vec![vec![0.0; p]; p];
     for j in 0..p {
         let norm = a[j][j..].iter().map(|v| v * v).sum::<f64>().sqrt();
@@ -122,179 +296,262 @@ fn solve_subset(
     if r.iter().enumerate().any(|(j, row)| row[j].abs() < 1e-10) {
         return None;
     }
-    // Back substitution R z = (Qᵀ b)[..p].
     let mut z = vec![0.0; p];
     for j in (0..p).rev() {
         let s: f64 = (j + 1..p).map(|k| r[j][k] * z[k]).sum();
         z[j] = (b[j] - s) / r[j][j];
     }
     let chi2 = b[p..].iter().map(|v| v * v).sum::<f64>().max(0.0);
-    if !chi2.is_finite() || !b_norm2.is_finite() {
+    if !chi2.is_finite() {
         return None;
     }
-    // R⁻¹ (upper triangular), covariance = R⁻¹ R⁻ᵀ, unscaled.
-    let mut rinv = vec![vec![0.0; p]; p];
-    for j in 0..p {
-        rinv[j][j] = 1.0 / r[j][j];
-        for i in (0..j).rev() {
-            let s: f64 = (i + 1..=j).map(|k| r[i][k] * rinv[k][j]).sum();
-            rinv[i][j] = -s / r[i][i];
-        }
-    }
-    let mut cov = vec![vec![0.0; p]; p];
-    for i in 0..p {
-        for j in 0..p {
-            let s: f64 = (i.max(j)..p).map(|k| rinv[i][k] * rinv[j][k]).sum();
-            cov[i][j] = s / (scale[i] * scale[j]);
-        }
-    }
-    let c: Vec<f64> = z.iter().zip(&scale).map(|(z, s)| z / s).collect();
-    Some((c, cov, chi2))
+    Some((z.iter().zip(&scale).map(|(z, s)| z / s).collect(), chi2))
 }
 
-/// The term contributing most to the model at `tau` (white rate if the model is empty).
-fn dominant(c: &[f64; 5], tau: f64) -> Term {
-    let mut best = Term::AngleRandomWalk;
-    let mut best_value = 0.0;
-    for t in Term::ALL {
-        let v = c[t.index()] * t.basis(tau);
-        if v > best_value {
-            best_value = v;
-            best = t;
+/// Exact NNLS of `y` on the basis `columns` (values at the points) under `whitener`.
+/// Returns the coefficient of every column (0 when inactive) and χ².
+pub(crate) fn nnls(
+    columns: &[Vec<f64>],
+    y: &[f64],
+    whitener: &Whitener<'_>,
+) -> Option<(Vec<f64>, f64)> {
+    let wa: Vec<Vec<f64>> = columns.iter().map(|c| whitener.apply(c)).collect();
+    let wb = whitener.apply(y);
+    let p = columns.len();
+    if let Some((coef, chi2)) = solve_whitened(wa.clone(), wb.clone()) {
+        if coef.iter().all(|v| *v >= 0.0) {
+            return Some((coef, chi2));
+        }
+    }
+    let mut best: Option<(Vec<f64>, f64)> = None;
+    for mask in 1u32..(1 << p) {
+        let idx: Vec<usize> = (0..p).filter(|k| mask & (1 << k) != 0).collect();
+        if idx.len() == p {
+            continue;
+        }
+        let sub: Vec<Vec<f64>> = idx.iter().map(|&k| wa[k].clone()).collect();
+        let Some((coef, chi2)) = solve_whitened(sub, wb.clone()) else {
+            continue;
+        };
+        if coef.iter().any(|v| *v < 0.0) {
+            continue;
+        }
+        if best.as_ref().is_none_or(|b| chi2 < b.1) {
+            let mut full = vec![0.0; p];
+            for (&k, v) in idx.iter().zip(&coef) {
+                full[k] = *v;
+            }
+            best = Some((full, chi2));
         }
     }
     best
 }
 
-/// Covariance of the WLS estimate when the estimates are correlated:
-/// `(AᵀWA)⁻¹ · AᵀW V W A · (AᵀWA)⁻¹` with `V_ij = ρ_ij s_i s_j`, `s_i = σ²_model,i √(2/edf_i)` and
-/// ρ from [`super::covariance::correlation`].
-fn sandwich(
-    curve: &Curve<'_>,
-    used: &[usize],
-    taus: &[f64],
-    y: &[f64],
-    subset: &[Term],
-    c: &[f64; 5],
-    edf: &[f64],
-    sqrt_w: &[f64],
-    bread: &[Vec<f64>],
-) -> Vec<Vec<f64>> {
-    let n = used.len();
-    let p = subset.len();
-    let m: Vec<usize> = used.iter().map(|&i| curve.m[i]).collect();
-    let terms: Vec<usize> = used.iter().map(|&i| curve.n_terms[i]).collect();
-    let t0 = taus[0] / m[0] as f64;
-    let rho = correlation(&m, &terms, t0, c);
-    let s: Vec<f64> = taus
+/// Basis columns (values at `taus`) of the requested power-law terms and of GM terms at `ts`.
+pub(crate) fn design(taus: &[f64], requested: &[Term], ts: &[f64]) -> Vec<Vec<f64>> {
+    let mut cols: Vec<Vec<f64>> = requested
         .iter()
-        .zip(y)
-        .zip(edf)
-        .map(|((t, obs), e)| model_variance(c, *t).max(0.01 * obs) * (2.0 / e).sqrt())
+        .map(|t| taus.iter().map(|&tau| t.basis(tau)).collect())
         .collect();
-    // u_i = w_i · A_i (row i of the design on the subset).
-    let u: Vec<Vec<f64>> = (0..n)
-        .map(|i| {
-            let w = sqrt_w[i] * sqrt_w[i];
-            subset.iter().map(|t| w * t.basis(taus[i])).collect()
-        })
-        .collect();
-    let mut meat = vec![vec![0.0; p]; p];
-    for i in 0..n {
-        for j in 0..n {
-            let v = rho[i * n + j] * s[i] * s[j];
-            for a in 0..p {
-                for b in 0..p {
-                    meat[a][b] += u[i][a] * v * u[j][b];
-                }
-            }
-        }
+    for &t in ts {
+        cols.push(
+            taus.iter()
+                .map(|&tau| gauss_markov::basis(t, tau))
+                .collect(),
+        );
     }
-    let mut tmp = vec![vec![0.0; p]; p];
-    for a in 0..p {
-        for b in 0..p {
-            tmp[a][b] = (0..p).map(|k| bread[a][k] * meat[k][b]).sum();
-        }
-    }
-    let mut out = vec![vec![0.0; p]; p];
-    for a in 0..p {
-        for b in 0..p {
-            out[a][b] = (0..p).map(|k| tmp[a][k] * bread[k][b]).sum();
-        }
-    }
-    out
+    cols
 }
 
-/// Joint weighted NNLS fit of the requested terms over the points with τ in `tau_range`.
-pub fn joint(
+/// Golden-section minimum of `f` over `[a, b]` (in `ln T`), 40 iterations.
+fn golden(mut a: f64, mut b: f64, f: &mut dyn FnMut(f64) -> f64) -> (f64, f64) {
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let mut x1 = b - g * (b - a);
+    let mut x2 = a + g * (b - a);
+    let mut f1 = f(x1);
+    let mut f2 = f(x2);
+    for _ in 0..40 {
+        if f1 <= f2 {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = b - g * (b - a);
+            f1 = f(x1);
+        } else {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = a + g * (b - a);
+            f2 = f(x2);
+        }
+    }
+    if f1 <= f2 { (x1, f1) } else { (x2, f2) }
+}
+
+/// Profiles the correlation times: the `ts` (ascending, within `bounds`) minimising the NNLS
+/// χ² for fixed whitening, with the coefficients there.
+pub(crate) fn profile_times(
+    taus: &[f64],
+    y: &[f64],
+    requested: &[Term],
+    n_gm: usize,
+    bounds: (f64, f64),
+    whitener: &Whitener<'_>,
+) -> Option<(Vec<f64>, Vec<f64>, f64)> {
+    let eval = |ts: &[f64]| -> f64 {
+        nnls(&design(taus, requested, ts), y, whitener).map_or(f64::INFINITY, |s| s.1)
+    };
+    let (lo, hi) = (bounds.0.ln(), bounds.1.ln());
+    let ts: Vec<f64> = match n_gm {
+        0 => Vec::new(),
+        1 => {
+            let k = 24;
+            let grid: Vec<f64> = (0..=k)
+                .map(|i| lo + (hi - lo) * i as f64 / k as f64)
+                .collect();
+            let values: Vec<f64> = grid.iter().map(|&g| eval(&[g.exp()])).collect();
+            let best = (0..=k).min_by(|&a, &b| values[a].total_cmp(&values[b]))?;
+            let a = grid[best.saturating_sub(1)];
+            let b = grid[(best + 1).min(k)];
+            let (x, fx) = golden(a, b, &mut |x| eval(&[x.exp()]));
+            vec![if fx <= values[best] { x } else { grid[best] }.exp()]
+        }
+        _ => {
+            let k = 14;
+            let grid: Vec<f64> = (0..=k)
+                .map(|i| lo + (hi - lo) * i as f64 / k as f64)
+                .collect();
+            let mut best = (0, 1, f64::INFINITY);
+            for i in 0..k {
+                for j in i + 1..=k {
+                    let v = eval(&[grid[i].exp(), grid[j].exp()]);
+                    if v < best.2 {
+                        best = (i, j, v);
+                    }
+                }
+            }
+            let mut t1 = grid[best.0];
+            let mut t2 = grid[best.1];
+            let step = (hi - lo) / k as f64;
+            for _ in 0..3 {
+                let (x, _) = golden((t1 - step).max(lo), (t1 + step).min(t2), &mut |x| {
+                    eval(&[x.exp(), t2.exp()])
+                });
+                t1 = x;
+                let (x, _) = golden((t2 - step).max(t1), (t2 + step).min(hi), &mut |x| {
+                    eval(&[t1.exp(), x.exp()])
+                });
+                t2 = x;
+            }
+            vec![t1.exp(), t2.exp()]
+        }
+    };
+    let (coef, chi2) = nnls(&design(taus, requested, &ts), y, whitener)?;
+    Some((ts, coef, chi2))
+}
+
+/// EDF of point `i` under the model `(c, gm)`: the caller's, else SP1065's approximation for
+/// the noise type that dominates there.
+pub(crate) fn edf_model(curve: &Curve<'_>, i: usize, c: &[f64; 5], gm: &[(f64, f64)]) -> f64 {
+    if curve.edf.is_some() {
+        return edf_given(curve, i);
+    }
+    let tau = curve.taus[i];
+    let mut alpha = 0;
+    let mut best = 0.0;
+    for t in Term::ALL {
+        let v = c[t.index()] * t.basis(tau);
+        if v > best {
+            best = v;
+            alpha = t.alpha();
+        }
+    }
+    for &(q2, t) in gm {
+        let v = q2 * gauss_markov::basis(t, tau);
+        if v > best {
+            best = v;
+            alpha = if tau < t { -2 } else { 0 };
+        }
+    }
+    approximate_edf(curve.n_phase(), curve.m[i], alpha)
+}
+
+/// The caller's EDF of point `i`, capped at what the record can support for rate noise: the
+/// white-rate EDF of SP1065's approximation (≈ 1.5 n/m at large m), the largest of the rate-noise
+/// types (α ≤ 0). A noise identification that mistakes the few decimated points at long τ for
+/// white angle noise would otherwise claim hundreds of degrees of freedom for a τ with a handful
+/// of independent averages, and that one point would dominate the fit.
+fn edf_given(curve: &Curve<'_>, i: usize) -> f64 {
+    let given = curve.edf.map_or(f64::INFINITY, |e| e[i]);
+    given.min(approximate_edf(curve.n_phase(), curve.m[i], 0))
+}
+
+/// A converged IRLS fit on a fixed set of points.
+pub(crate) struct Inner {
+    pub(crate) c: [f64; 5],
+    pub(crate) gm: Vec<(f64, f64)>,
+    pub(crate) edf: Vec<f64>,
+    pub(crate) sqrt_w: Vec<f64>,
+    pub(crate) chi2: f64,
+    pub(crate) iterations: usize,
+    pub(crate) bounds: (f64, f64),
+}
+
+/// Default search range of the correlation times: `[5 τ_lo, τ_hi/5]` (the whole range when that
+/// is empty). A Gauss–Markov term with `T` near the shortest τ has an Allan variance below its
+/// white-noise asymptote there and could imitate a sensor filter's roll-off; with `T` near the
+/// longest τ it is indistinguishable from a random walk.
+pub(crate) fn default_time_bounds(lo: f64, hi: f64) -> (f64, f64) {
+    if 25.0 * lo < hi {
+        (5.0 * lo, hi / 5.0)
+    } else {
+        (lo, hi)
+    }
+}
+
+pub(crate) fn irls(
     curve: &Curve<'_>,
-    enabled: [bool; 5],
-    tau_range: Option<(f64, f64)>,
-) -> Result<JointFit> {
-    curve.validate()?;
-    if !enabled.iter().any(|e| *e) {
-        return Err(Error::invalid("terms", "no term requested"));
-    }
-    let (lo, hi) = tau_range.unwrap_or((0.0, f64::INFINITY));
-    if !(lo.is_finite() || lo == 0.0) || lo.is_nan() || hi.is_nan() || hi <= lo {
-        return Err(Error::invalid(
-            "tau_range",
-            format!("must be (low, high) with low < high, got ({lo}, {hi})"),
-        ));
-    }
-    // Points with σ² = 0 carry no usable weight (their relative error is undefined).
-    let used: Vec<usize> = (0..curve.len())
-        .filter(|&i| curve.taus[i] >= lo && curve.taus[i] <= hi && curve.variance[i] > 0.0)
-        .collect();
-    if used.len() < 3 {
-        return Err(Error::TooShort {
-            name: "allan",
-            needed: 3,
-            got: used.len(),
-        });
-    }
+    used: &[usize],
+    requested: &[Term],
+    n_gm: usize,
+    bounds: Option<(f64, f64)>,
+) -> Result<Inner> {
     let taus: Vec<f64> = used.iter().map(|&i| curve.taus[i]).collect();
     let y: Vec<f64> = used.iter().map(|&i| curve.variance[i]).collect();
-    let requested: Vec<Term> = Term::ALL
-        .into_iter()
-        .filter(|t| enabled[t.index()])
-        .collect();
-
+    let bounds = bounds.unwrap_or_else(|| default_time_bounds(taus[0], taus[taus.len() - 1]));
     let mut c = [0.0_f64; 5];
+    let mut gm: Vec<(f64, f64)> = Vec::new();
     let mut reference = y.clone();
     let mut edf: Vec<f64> = used
         .iter()
-        .map(|&i| curve.edf_at(i, Term::AngleRandomWalk))
+        .map(|&i| {
+            if curve.edf.is_some() {
+                edf_given(curve, i)
+            } else {
+                curve.edf_at(i, Term::AngleRandomWalk)
+            }
+        })
         .collect();
-    let mut best: Option<SubsetFit> = None;
-    let mut last_sqrt_w: Vec<f64> = Vec::new();
+    let mut chi2 = f64::NAN;
+    let mut sqrt_w = Vec::new();
     let mut iterations = 0;
-    for pass in 0..50 {
+    let tolerance = if n_gm > 0 { 1e-7 } else { 1e-10 };
+    let passes = if n_gm > 0 { 30 } else { 50 };
+    for pass in 0..passes {
         iterations = pass + 1;
-        let sqrt_w: Vec<f64> = reference
+        sqrt_w = reference
             .iter()
             .zip(&edf)
             .map(|(r, e)| (e / 2.0).sqrt() / r)
             .collect();
-        let mut pass_best: Option<SubsetFit> = None;
-        for mask in 1u32..(1 << requested.len()) {
-            let subset: Vec<Term> = requested
-                .iter()
-                .enumerate()
-                .filter(|(k, _)| mask & (1 << k) != 0)
-                .map(|(_, t)| *t)
-                .collect();
-            let Some((coef, cov, chi2)) = solve_subset(&taus, &y, &sqrt_w, &subset) else {
-                continue;
-            };
-            if coef.iter().any(|v| *v < 0.0) {
-                continue;
-            }
-            if pass_best.as_ref().is_none_or(|b| chi2 < b.3) {
-                pass_best = Some((subset, coef, cov, chi2));
-            }
-        }
-        let Some(found) = pass_best else {
+        let Some((ts, coef, x2)) = profile_times(
+            &taus,
+            &y,
+            requested,
+            n_gm,
+            bounds,
+            &Whitener::Diagonal(&sqrt_w),
+        ) else {
             return Err(Error::Singular {
                 reason: "no subset of the requested terms gives a non-negative weighted \
                          least-squares solution with a degree of freedom left"
@@ -302,58 +559,495 @@ pub fn joint(
             });
         };
         let mut next = [0.0_f64; 5];
-        for (t, v) in found.0.iter().zip(&found.1) {
+        for (t, v) in requested.iter().zip(&coef) {
             next[t.index()] = *v;
         }
-        let change = (0..5)
-            .map(|j| (next[j] - c[j]).abs() / next[j].abs().max(c[j].abs()).max(f64::MIN_POSITIVE))
-            .fold(0.0_f64, f64::max);
+        let next_gm: Vec<(f64, f64)> = ts
+            .iter()
+            .zip(&coef[requested.len()..])
+            .map(|(t, q2)| (*q2, *t))
+            .collect();
+        let rel = |a: f64, b: f64| (a - b).abs() / a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
+        let mut change = (0..5).map(|j| rel(next[j], c[j])).fold(0.0_f64, f64::max);
+        if gm.len() == next_gm.len() {
+            for (a, b) in gm.iter().zip(&next_gm) {
+                change = change.max(rel(a.0, b.0)).max((a.1.ln() - b.1.ln()).abs());
+            }
+        } else {
+            change = f64::INFINITY;
+        }
         c = next;
-        best = Some(found);
-        last_sqrt_w = sqrt_w;
-        if pass > 0 && change < 1e-10 {
+        gm = next_gm;
+        chi2 = x2;
+        if pass > 0 && change < tolerance {
             break;
         }
         reference = taus
             .iter()
             .zip(&y)
-            .map(|(t, obs)| model_variance(&c, *t).max(0.01 * obs))
+            .map(|(t, obs)| full_model(&c, &gm, *t).max(0.01 * obs))
             .collect();
         if curve.edf.is_none() {
-            edf = used
-                .iter()
-                .zip(&taus)
-                .map(|(&i, t)| curve.edf_at(i, dominant(&c, *t)))
-                .collect();
+            edf = used.iter().map(|&i| edf_model(curve, i, &c, &gm)).collect();
         }
     }
-    let (subset, _, cov_sub, chi2) = best.expect("at least one pass ran");
-    let dof = taus.len() - subset.len();
-    let inflation = (chi2 / dof as f64).max(1.0);
-    let cov_sub = sandwich(
+    gm.sort_by(|a, b| a.1.total_cmp(&b.1));
+    Ok(Inner {
+        c,
+        gm,
+        edf,
+        sqrt_w,
+        chi2,
+        iterations,
+        bounds,
+    })
+}
+
+/// Goodness of fit on the points `used` (module docs): (χ², ν, p, z per used point).
+pub(crate) fn goodness(
+    curve: &Curve<'_>,
+    used: &[usize],
+    c: &[f64; 5],
+    gm: &[(f64, f64)],
+    edf: &[f64],
+    n_params: usize,
+) -> (f64, usize, f64, Vec<f64>) {
+    let n = used.len();
+    let z: Vec<f64> = used
+        .iter()
+        .zip(edf)
+        .map(|(&i, &nu)| {
+            let mu = full_model(c, gm, curve.taus[i]).max(f64::MIN_POSITIVE);
+            let half = nu / 2.0;
+            let r = (curve.variance[i] / mu).ln() - (digamma(half) - half.ln());
+            r / trigamma(half).sqrt()
+        })
+        .collect();
+    let m: Vec<usize> = used.iter().map(|&i| curve.m[i]).collect();
+    let terms: Vec<usize> = used.iter().map(|&i| curve.n_terms[i]).collect();
+    let t0 = curve.taus[used[0]] / m[0] as f64;
+    let rho = correlation_with(&m, &terms, t0, c, gm);
+    let mut r = DMatrix::from_row_slice(n, n, &rho);
+    // A little ridge keeps the factorisation stable when neighbouring τ are almost collinear.
+    for i in 0..n {
+        r[(i, i)] += 1e-9;
+    }
+    let chi2 = match r.cholesky() {
+        Some(ch) => {
+            let zv = nalgebra::DVector::from_column_slice(&z);
+            let s = ch.solve(&zv);
+            zv.dot(&s)
+        }
+        None => z.iter().map(|v| v * v).sum(),
+    };
+    let dof = n.saturating_sub(n_params);
+    let p = if dof > 0 && chi2.is_finite() {
+        stats::chi2_sf(chi2, dof as f64).unwrap_or(f64::NAN)
+    } else if chi2.is_infinite() {
+        0.0
+    } else {
+        f64::NAN
+    };
+    (chi2, dof, p, z)
+}
+
+/// Parameters of the sandwich covariance.
+#[derive(Clone, Copy)]
+pub(crate) enum Param {
+    Linear(Term),
+    Variance(usize),
+    LogTime(usize),
+}
+
+/// `∂σ²(τ_i)/∂θ_k` of the active parameters at `taus`.
+pub(crate) fn jacobian(taus: &[f64], gm: &[(f64, f64)], params: &[Param]) -> DMatrix<f64> {
+    let mut j = DMatrix::zeros(taus.len(), params.len());
+    for (i, &tau) in taus.iter().enumerate() {
+        for (k, par) in params.iter().enumerate() {
+            j[(i, k)] = match *par {
+                Param::Linear(t) => t.basis(tau),
+                Param::Variance(g) => gauss_markov::basis(gm[g].1, tau),
+                Param::LogTime(g) => gm[g].0 * gauss_markov::basis_dlog_t(gm[g].1, tau),
+            };
+        }
+    }
+    j
+}
+
+/// The active parameters of a fit: power-law terms with `c > 0`, then `(q², ln T)` of every
+/// Gauss–Markov term with `q² > 0`.
+pub(crate) fn active_params(requested: &[Term], c: &[f64; 5], gm: &[(f64, f64)]) -> Vec<Param> {
+    let mut params: Vec<Param> = requested
+        .iter()
+        .filter(|t| c[t.index()] > 0.0)
+        .map(|t| Param::Linear(*t))
+        .collect();
+    for (g, x) in gm.iter().enumerate() {
+        if x.0 > 0.0 {
+            params.push(Param::Variance(g));
+            params.push(Param::LogTime(g));
+        }
+    }
+    params
+}
+
+/// Sandwich covariance of the active parameters (module docs), unscaled by the χ² inflation.
+fn parameter_covariance(
+    curve: &Curve<'_>,
+    used: &[usize],
+    inner: &Inner,
+    params: &[Param],
+) -> Option<DMatrix<f64>> {
+    let n = used.len();
+    let p = params.len();
+    if p == 0 {
+        return Some(DMatrix::zeros(0, 0));
+    }
+    let taus: Vec<f64> = used.iter().map(|&i| curve.taus[i]).collect();
+    let y: Vec<f64> = used.iter().map(|&i| curve.variance[i]).collect();
+    let j = jacobian(&taus, &inner.gm, params);
+    // Column scaling keeps JᵀWJ well conditioned (coefficients span many decades).
+    let scale: Vec<f64> = (0..p)
+        .map(|k| {
+            let s = (0..n)
+                .map(|i| (inner.sqrt_w[i] * j[(i, k)]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            if s > 0.0 { s } else { 1.0 }
+        })
+        .collect();
+    let mut u = DMatrix::zeros(n, p);
+    let mut a = DMatrix::zeros(n, p);
+    for i in 0..n {
+        let w = inner.sqrt_w[i] * inner.sqrt_w[i];
+        for k in 0..p {
+            a[(i, k)] = inner.sqrt_w[i] * j[(i, k)] / scale[k];
+            u[(i, k)] = w * j[(i, k)] / scale[k];
+        }
+    }
+    let ata = a.transpose() * &a;
+    let bread = ata.cholesky()?.inverse();
+    let m: Vec<usize> = used.iter().map(|&i| curve.m[i]).collect();
+    let terms: Vec<usize> = used.iter().map(|&i| curve.n_terms[i]).collect();
+    let t0 = taus[0] / m[0] as f64;
+    let rho = correlation_with(&m, &terms, t0, &inner.c, &inner.gm);
+    let s: Vec<f64> = taus
+        .iter()
+        .zip(&y)
+        .zip(&inner.edf)
+        .map(|((t, obs), e)| full_model(&inner.c, &inner.gm, *t).max(0.01 * obs) * (2.0 / e).sqrt())
+        .collect();
+    let mut v = DMatrix::zeros(n, n);
+    for i in 0..n {
+        for k in 0..n {
+            v[(i, k)] = rho[i * n + k] * s[i] * s[k];
+        }
+    }
+    let meat = u.transpose() * v * &u;
+    let mut cov = &bread * meat * &bread;
+    for a in 0..p {
+        for b in 0..p {
+            cov[(a, b)] /= scale[a] * scale[b];
+        }
+    }
+    Some(cov)
+}
+
+/// Joint weighted NNLS fit of the requested terms over the points with τ in `tau_range`
+/// (no Gauss–Markov terms, no automatic range selection).
+pub fn joint(
+    curve: &Curve<'_>,
+    enabled: [bool; 5],
+    tau_range: Option<(f64, f64)>,
+) -> Result<JointFit> {
+    fit(
+        curve,
+        &FitOptions {
+            enabled,
+            gauss_markov: 0,
+            tau_range,
+            correlation_time: None,
+            automatic_range: false,
+        },
+    )
+}
+
+/// Parses the model's term symbols: the five power-law terms ("Q", "N", "B", "K", "R") and
+/// Gauss–Markov terms ("GM" one, "GM2" two). Returns the enabled power-law terms and the number
+/// of Gauss–Markov terms.
+pub fn parse_model_terms(symbols: &[&str]) -> Result<([bool; 5], usize)> {
+    let mut enabled = [false; 5];
+    let mut n_gm = 0;
+    for s in symbols {
+        match *s {
+            "GM" | "GM1" => n_gm = n_gm.max(1),
+            "GM2" => n_gm = 2,
+            other => match Term::parse(other) {
+                Ok(t) => enabled[t.index()] = true,
+                Err(_) => {
+                    return Err(Error::invalid(
+                        "terms",
+                        format!(
+                            "unknown term {other:?}; expected 'Q', 'N', 'B', 'K', 'R', 'GM' or \
+                             'GM2'"
+                        ),
+                    ));
+                }
+            },
+        }
+    }
+    if !enabled.iter().any(|e| *e) && n_gm == 0 {
+        return Err(Error::invalid("terms", "no term requested"));
+    }
+    Ok((enabled, n_gm))
+}
+
+/// Merges a newly excluded τ range into the list (adjacent ranges with the same reason join).
+fn exclude(list: &mut Vec<(f64, f64, String)>, lo: f64, hi: f64, reason: &str) {
+    if let Some(e) = list.iter_mut().find(|e| e.2 == reason) {
+        e.0 = e.0.min(lo);
+        e.1 = e.1.max(hi);
+    } else {
+        list.push((lo, hi, reason.to_string()));
+    }
+}
+
+const SHORT_REASON: &str = "σ below the model at the shortest τ with correlated residuals \
+                            (typically the sensor's anti-alias/decimation filter)";
+const LONG_REASON: &str = "σ above the model at the longest τ (drift or non-stationarity the \
+                           requested terms do not describe)";
+const EDF_REASON: &str = "fewer than 3 equivalent degrees of freedom";
+
+/// Joint fit with Gauss–Markov terms, diagnostics and (optionally) automatic τ-range selection
+/// (module docs).
+pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
+    curve.validate()?;
+    let enabled = options.enabled;
+    let n_gm = options.gauss_markov;
+    if n_gm > 2 {
+        return Err(Error::invalid(
+            "terms",
+            format!("at most two Gauss–Markov terms ('GM', 'GM2') are supported, got {n_gm}"),
+        ));
+    }
+    if !enabled.iter().any(|e| *e) && n_gm == 0 {
+        return Err(Error::invalid("terms", "no term requested"));
+    }
+    let (lo, hi) = options.tau_range.unwrap_or((0.0, f64::INFINITY));
+    if !(lo.is_finite() || lo == 0.0) || lo.is_nan() || hi.is_nan() || hi <= lo {
+        return Err(Error::invalid(
+            "tau_range",
+            format!("must be (low, high) with low < high, got ({lo}, {hi})"),
+        ));
+    }
+    // Points with σ² = 0 carry no usable weight (their relative error is undefined).
+    let mut used: Vec<usize> = (0..curve.len())
+        .filter(|&i| curve.taus[i] >= lo && curve.taus[i] <= hi && curve.variance[i] > 0.0)
+        .collect();
+    let requested: Vec<Term> = Term::ALL
+        .into_iter()
+        .filter(|t| enabled[t.index()])
+        .collect();
+    let n_max_params = requested.len() + 2 * n_gm;
+    let needed = 3.max(n_max_params.min(3) + 1);
+    if used.len() < needed {
+        return Err(Error::TooShort {
+            name: "allan",
+            needed,
+            got: used.len(),
+        });
+    }
+    if let Some((a, b)) = options.correlation_time {
+        let (t_lo, t_hi) = (curve.taus[used[0]], curve.taus[used[used.len() - 1]]);
+        if !(a.is_finite() && b.is_finite() && a > 0.0 && b > a) {
+            return Err(Error::invalid(
+                "correlation_time",
+                format!("must be (low, high) seconds with 0 < low < high, got ({a}, {b})"),
+            ));
+        }
+        if a < t_lo || b > t_hi {
+            return Err(Error::invalid(
+                "correlation_time",
+                format!(
+                    "the range ({}, {}) s reaches outside the τ range of the data \
+                     ({}–{} s): a Gauss–Markov term with a correlation time there \
+                     cannot be told apart from white noise (T ≪ τ) or a random walk (T ≫ τ)",
+                    sig(a, 4),
+                    sig(b, 4),
+                    sig(t_lo, 4),
+                    sig(t_hi, 4)
+                ),
+            ));
+        }
+    }
+    let automatic = options.automatic_range && options.tau_range.is_none();
+    let mut excluded: Vec<(f64, f64, String)> = Vec::new();
+    let mut inner = irls(curve, &used, &requested, n_gm, options.correlation_time)?;
+    let count_params = |inner: &Inner| {
+        inner.c.iter().filter(|v| **v > 0.0).count()
+            + 2 * inner.gm.iter().filter(|g| g.0 > 0.0).count()
+    };
+    if automatic {
+        let min_keep = (n_max_params + 2).max(used.len().div_ceil(2)).max(3);
+        let mut drop = 0;
+        while used.len() - drop > min_keep && inner.edf[used.len() - 1 - drop] < MIN_EDF {
+            drop += 1;
+        }
+        if drop > 0 {
+            let cut = used.len() - drop;
+            exclude(
+                &mut excluded,
+                curve.taus[used[cut]],
+                curve.taus[used[used.len() - 1]],
+                EDF_REASON,
+            );
+            used.truncate(cut);
+            inner = irls(curve, &used, &requested, n_gm, options.correlation_time)?;
+        }
+        for _ in 0..curve.len() {
+            let (_, _, p, z) = goodness(
+                curve,
+                &used,
+                &inner.c,
+                &inner.gm,
+                &inner.edf,
+                count_params(&inner),
+            );
+            if p >= REFIT_P || p.is_nan() {
+                break;
+            }
+            let lead = z.iter().take_while(|v| **v < -2.0).count();
+            let trail = z.iter().rev().take_while(|v| **v > 2.0).count();
+            if lead > 0 && used.len() - lead >= min_keep {
+                exclude(
+                    &mut excluded,
+                    curve.taus[used[0]],
+                    curve.taus[used[lead - 1]],
+                    SHORT_REASON,
+                );
+                used.drain(..lead);
+            } else if trail > 0 && used.len() - trail >= min_keep {
+                let cut = used.len() - trail;
+                exclude(
+                    &mut excluded,
+                    curve.taus[used[cut]],
+                    curve.taus[used[used.len() - 1]],
+                    LONG_REASON,
+                );
+                used.truncate(cut);
+            } else {
+                break;
+            }
+            inner = irls(curve, &used, &requested, n_gm, options.correlation_time)?;
+        }
+    }
+    Ok(finish(
         curve,
         &used,
-        &taus,
-        &y,
-        &subset,
-        &c,
-        &edf,
-        &last_sqrt_w,
-        &cov_sub,
-    );
+        &requested,
+        enabled,
+        n_gm,
+        inner,
+        excluded,
+        CovarianceSource::Sandwich,
+    ))
+}
+
+/// Where [`finish`] takes the parameter covariance from.
+pub(crate) enum CovarianceSource {
+    /// The WLS sandwich of the joint fit.
+    Sandwich,
+    /// Given by the caller (GMWM), unscaled by the χ² inflation; `None` if not available.
+    Given(Option<DMatrix<f64>>),
+}
+
+/// Builds the reported fit.
+pub(crate) fn finish(
+    curve: &Curve<'_>,
+    used: &[usize],
+    requested: &[Term],
+    enabled: [bool; 5],
+    n_gm: usize,
+    inner: Inner,
+    excluded: Vec<(f64, f64, String)>,
+    covariance: CovarianceSource,
+) -> JointFit {
+    let taus: Vec<f64> = used.iter().map(|&i| curve.taus[i]).collect();
+    let c = inner.c;
+    let params = active_params(requested, &c, &inner.gm);
+    let n_params = params.len();
+    let (gof_chi2, dof, p_value, z) = goodness(curve, used, &c, &inner.gm, &inner.edf, n_params);
+    let mut warnings = Vec::new();
+    if let Some((a, b, _)) = excluded.iter().find(|e| e.2 == LONG_REASON) {
+        warnings.push(format!(
+            "the points at τ {}–{} s were excluded because the model could not follow them; if \
+             this is not drift, add terms (e.g. 'GM', 'K' or 'R') or pass tau_range",
+            sig(*a, 3),
+            sig(*b, 3)
+        ));
+    }
+    let inflation = if dof > 0 && gof_chi2.is_finite() {
+        (gof_chi2 / dof as f64).max(1.0)
+    } else {
+        1.0
+    };
+    if dof == 0 {
+        warnings.push(format!(
+            "no degree of freedom is left ({} points for {n_params} parameters): the fit cannot \
+             be tested and its uncertainties rest on the model alone",
+            used.len()
+        ));
+    } else if p_value < REJECT_P {
+        warnings.push(format!(
+            "the model does not fit the Allan curve (goodness-of-fit p = {} < 0.001, \
+             χ²/ν = {}): the uncertainties are inflated by √(χ²/ν) = {}, but the \
+             coefficients may be biased; inspect diagnostics.residuals, restrict tau_range or \
+             add terms (e.g. 'GM')",
+            sig(p_value, 2),
+            sig(gof_chi2 / dof as f64, 3),
+            sig(inflation.sqrt(), 3)
+        ));
+    }
+    let cov = match covariance {
+        CovarianceSource::Given(given) => given,
+        CovarianceSource::Sandwich => parameter_covariance(curve, used, &inner, &params),
+    };
+    if cov.is_none() {
+        warnings.push(
+            "the fitted terms are not separable on these points (singular information matrix): \
+             uncertainties are not available"
+                .to_string(),
+        );
+    }
+    let variance_of = |k: usize| -> f64 {
+        cov.as_ref()
+            .map_or(f64::NAN, |m| m[(k, k)].max(0.0) * inflation)
+    };
     let mut covariance = [[0.0_f64; 5]; 5];
-    for (a, ta) in subset.iter().enumerate() {
-        for (b, tb) in subset.iter().enumerate() {
-            covariance[ta.index()][tb.index()] = cov_sub[a][b] * inflation;
+    if let Some(m) = &cov {
+        for (a, pa) in params.iter().enumerate() {
+            for (b, pb) in params.iter().enumerate() {
+                if let (Param::Linear(ta), Param::Linear(tb)) = (pa, pb) {
+                    covariance[ta.index()][tb.index()] = m[(a, b)] * inflation;
+                }
+            }
         }
     }
-    let model: Vec<f64> = taus.iter().map(|t| model_variance(&c, *t)).collect();
-    // τ of the model minimum among the used points (marker of B).
+    let model: Vec<f64> = taus.iter().map(|t| full_model(&c, &inner.gm, *t)).collect();
     let tau_min = taus
         .iter()
         .zip(&model)
         .min_by(|a, b| a.1.total_cmp(b.1))
         .map_or(taus[0], |p| *p.0);
+    let visible_range = |share: &dyn Fn(f64) -> f64| -> Option<(f64, f64)> {
+        let visible: Vec<f64> = taus
+            .iter()
+            .zip(&model)
+            .filter(|(tau, m)| share(**tau) >= SHARE * **m)
+            .map(|(tau, _)| *tau)
+            .collect();
+        visible.first().map(|a| (*a, *visible.last().unwrap_or(a)))
+    };
     let terms = Term::ALL
         .into_iter()
         .map(|t| {
@@ -373,14 +1067,11 @@ pub fn joint(
                 );
             }
             let value = c[j].sqrt();
-            let uncertainty = covariance[j][j].sqrt() / (2.0 * value);
-            let visible: Vec<f64> = taus
+            let k = params
                 .iter()
-                .zip(&model)
-                .filter(|(tau, m)| c[j] * t.basis(**tau) >= SHARE * **m)
-                .map(|(tau, _)| *tau)
-                .collect();
-            let tau_range = visible.first().map(|a| (*a, *visible.last().unwrap_or(a)));
+                .position(|p| matches!(p, Param::Linear(x) if *x == t))
+                .unwrap_or(0);
+            let uncertainty = variance_of(k).sqrt() / (2.0 * value);
             let marker = match t.read_off_tau() {
                 Some(tau) => Some((tau, value)),
                 None => Some((tau_min, FLICKER_FACTOR * value)),
@@ -389,22 +1080,131 @@ pub fn joint(
                 term: t,
                 value: Some(value),
                 uncertainty,
-                tau_range,
+                tau_range: visible_range(&|tau| c[j] * t.basis(tau)),
                 marker,
                 missing: None,
             }
         })
         .collect();
-    Ok(JointFit {
+    let mut gauss_markov_terms = Vec::new();
+    for (g, &(q2, t)) in inner.gm.iter().enumerate() {
+        if q2 <= 0.0 {
+            gauss_markov_terms.push(GaussMarkovEstimate {
+                sigma: None,
+                sigma_uncertainty: f64::NAN,
+                correlation_time: None,
+                correlation_time_uncertainty: f64::NAN,
+                tau_range: None,
+                missing: Some(format!(
+                    "the non-negative fit set it to zero: no correlation time in {}..{} s \
+                     where an exponentially correlated term is visible above the others",
+                    sig(inner.bounds.0, 4),
+                    sig(inner.bounds.1, 4)
+                )),
+            });
+            continue;
+        }
+        let kq = params
+            .iter()
+            .position(|p| matches!(p, Param::Variance(x) if *x == g))
+            .unwrap_or(0);
+        let sigma = q2.sqrt();
+        let at_edge = (t.ln() - inner.bounds.0.ln()).abs() < 1e-3
+            || (t.ln() - inner.bounds.1.ln()).abs() < 1e-3;
+        if at_edge {
+            warnings.push(format!(
+                "Gauss–Markov term {}: the correlation time {} s lies at the edge of the \
+                 searched range ({}–{} s), where it cannot be told apart from white \
+                 noise or a random walk; treat it as unidentified",
+                g + 1,
+                sig(t, 4),
+                sig(inner.bounds.0, 4),
+                sig(inner.bounds.1, 4)
+            ));
+        }
+        gauss_markov_terms.push(GaussMarkovEstimate {
+            sigma: Some(sigma),
+            sigma_uncertainty: variance_of(kq).sqrt() / (2.0 * sigma),
+            correlation_time: Some(t),
+            correlation_time_uncertainty: t * variance_of(kq + 1).sqrt(),
+            tau_range: visible_range(&|tau| q2 * gauss_markov::basis(t, tau)),
+            missing: None,
+        });
+    }
+    while gauss_markov_terms.len() < n_gm {
+        gauss_markov_terms.push(GaussMarkovEstimate {
+            sigma: None,
+            sigma_uncertainty: f64::NAN,
+            correlation_time: None,
+            correlation_time_uncertainty: f64::NAN,
+            tau_range: None,
+            missing: Some("not identified".into()),
+        });
+    }
+    let mut residuals = vec![f64::NAN; curve.len()];
+    for (k, &i) in used.iter().enumerate() {
+        residuals[i] = z[k];
+    }
+    let tau_range = (taus[0], taus[taus.len() - 1]);
+    JointFit {
         terms,
         squared: c,
         covariance,
+        gauss_markov_squared: inner.gm,
+        gauss_markov: gauss_markov_terms,
+        chi2: inner.chi2,
+        dof,
+        tau_range,
+        used: used.to_vec(),
+        edf: inner.edf,
+        iterations: inner.iterations,
+        diagnostics: Diagnostics {
+            chi2: gof_chi2,
+            dof,
+            p_value,
+            residuals,
+            tau_range,
+            excluded,
+            warnings,
+        },
+    }
+}
+
+/// Diagnostics of a given model (e.g. an IEEE read-off) on every point of the curve with
+/// σ² > 0; `n_params` is the number of coefficients the model was identified with.
+pub fn diagnose(
+    curve: &Curve<'_>,
+    c: &[f64; 5],
+    gm: &[(f64, f64)],
+    n_params: usize,
+) -> Result<Diagnostics> {
+    curve.validate()?;
+    let used: Vec<usize> = (0..curve.len())
+        .filter(|&i| curve.variance[i] > 0.0)
+        .collect();
+    let edf: Vec<f64> = used.iter().map(|&i| edf_model(curve, i, c, gm)).collect();
+    let (chi2, dof, p_value, z) = goodness(curve, &used, c, gm, &edf, n_params);
+    let mut warnings = Vec::new();
+    if dof > 0 && p_value < REJECT_P {
+        warnings.push(format!(
+            "the model does not fit the Allan curve (goodness-of-fit p = {} < 0.001, \
+             χ²/ν = {}): the stated uncertainties assume a model that the data reject",
+            sig(p_value, 2),
+            sig(chi2 / dof as f64, 3)
+        ));
+    }
+    let mut residuals = vec![f64::NAN; curve.len()];
+    for (k, &i) in used.iter().enumerate() {
+        residuals[i] = z[k];
+    }
+    Ok(Diagnostics {
         chi2,
         dof,
-        tau_range: (taus[0], taus[taus.len() - 1]),
-        used,
-        edf,
-        iterations,
+        p_value,
+        residuals,
+        tau_range: (curve.taus[used[0]], curve.taus[used[used.len() - 1]]),
+        excluded: Vec::new(),
+        warnings,
     })
 }
 

@@ -21,7 +21,7 @@
 //! last τ the term is missing. The automatic search considers only estimates with EDF ≥ 5
 //! ([`MIN_EDF_B`]): the last octaves of a record rest on one or two degrees of freedom, and a
 //! low value there is noise, not a plateau. The read-off of B is biased high wherever the N and K
-//! asymptotes still contribute at the minimum — the joint fit ([`super::fit`]) is the better
+//! asymptotes still contribute at the minimum — the joint fit ([`super::fit`](mod@super::fit)) is the better
 //! estimator.
 //!
 //! **Uncertainty**: the estimates at neighbouring τ come from the same data and are positively

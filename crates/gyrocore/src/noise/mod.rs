@@ -12,7 +12,11 @@
 //! in u/s: Q in u, N in u/√s, B in u/s, K in u/s^1.5, R in u/s².
 //!
 //! * [`simulate()`]: synthetic rate noise with exactly these coefficients.
-//! * [`fit`]: joint weighted non-negative least squares of the model (the better estimator).
+//! * [`fit`](mod@fit): joint weighted non-negative least squares of the model (the better estimator),
+//!   with Gauss–Markov terms, goodness-of-fit diagnostics and automatic τ-range selection.
+//! * [`gauss_markov`]: first-order Gauss–Markov (exponentially correlated) terms.
+//! * [`gmwm`](mod@gmwm): the generalized method of wavelet moments (Guerrier et al. 2013) on the Haar
+//!   wavelet variance ([`wavelet`]).
 //! * [`ieee`]: the IEEE-952 read-off (fixed-slope lines on detected slope regions, B from the
 //!   minimum).
 //! * [`mod@overbound`]: conservative coefficients whose model overbounds the curve's upper
@@ -22,14 +26,22 @@
 pub mod covariance;
 pub mod curve;
 pub mod fit;
+pub mod gauss_markov;
+pub mod gmwm;
 pub mod ieee;
 pub mod model;
 pub mod overbound;
 pub mod simulate;
+pub mod wavelet;
 
 pub use curve::{Curve, TermEstimate, parse_terms};
-pub use fit::{JointFit, joint};
+pub use fit::{
+    Diagnostics, FitOptions, GaussMarkovEstimate, JointFit, diagnose, fit, full_model, joint,
+    parse_model_terms,
+};
+pub use gmwm::{GmwmFit, GmwmOptions, gmwm};
 pub use ieee::{ReadOff, ReadOffOptions, read_off};
 pub use model::{FLICKER_FACTOR, Term, approximate_edf, model_variance};
 pub use overbound::{Conservative, Overbound, conservative, overbound, overbound_above};
 pub use simulate::{Ar1, NoiseSpec, simulate, simulate_axis};
+pub use wavelet::{WaveletVariance, haar};

@@ -1,0 +1,495 @@
+//! Generalized method of wavelet moments (GMWM; Guerrier, Skaloud, Stebler & Victoria-Feser,
+//! "Wavelet-variance-based estimation for composite stochastic processes", J. Amer. Statist.
+//! Assoc. 108 (2013) 1021–1030; for inertial sensors Stebler, Guerrier, Skaloud &
+//! Victoria-Feser, "Generalized method of wavelet moments for inertial navigation filter
+//! design", IEEE Trans. Aerosp. Electron. Syst. 50 (2014) 2269–2283).
+//!
+//! The estimator matches the empirical Haar wavelet variance `ν̂ = (ν̂²_1 … ν̂²_J)`
+//! ([`super::wavelet`]) to the model's `ν(θ)` in the metric of the inverse covariance of `ν̂`:
+//!
+//! ```text
+//! θ̂ = argmin_θ (ν̂ − ν(θ))ᵀ Ω⁻¹ (ν̂ − ν(θ))
+//! ```
+//!
+//! The model is a composite of independent processes whose wavelet variances add: quantisation,
+//! white noise, flicker (bias instability), random walk, drift (ramp) and up to two first-order
+//! Gauss–Markov terms. Since `ν²_j = σ²_A(m_j t0)/2` for the Haar filter, `ν_j(θ)` is half the
+//! Allan-variance model of [`super::fit`](mod@super::fit) at `τ = m_j t0` (the continuous-time forms; the
+//! discrete random walk differs by `O(1/m²)` at the first scales, where white noise dominates).
+//!
+//! **Weight matrix.** Ω is the asymptotic covariance of `ν̂`: correlations from the spectral
+//! formula `Cov(ν̂_i, ν̂_j) ∝ ∫ S(f)² |H_i(f)|² |H_j(f)|² df` (Serroukh, Walden & Percival,
+//! JASA 95 (2000) 184; [`super::covariance`]), standard deviations `ν_j √(2/η_j)` with the
+//! equivalent degrees of freedom η_j of SP1065's approximations (which stay accurate at the
+//! coarsest scales, where the asymptotic formula underestimates the variance). Ω depends on θ;
+//! as in Guerrier et al. §3 it is estimated from a first consistent estimate (diagonal weights)
+//! and the estimate iterated three times with the updated Ω ("optimal weight matrix").
+//!
+//! **Optimisation.** `ν(θ)` is linear in the squared amplitudes, which are solved by exact
+//! non-negative generalized least squares (the NNLS of [`super::fit`](mod@super::fit) on the Cholesky-whitened
+//! problem), and the correlation times are profiled out by grid and golden-section search in
+//! `ln T` over the scale range.
+//!
+//! **Uncertainties.** Asymptotically `√n(θ̂ − θ) → N(0, (DᵀΩ⁻¹D)⁻¹)` with `D = ∂ν/∂θ` (Guerrier
+//! et al. Prop. 2 with the optimal weights), inflated by `max(1, J/(K − p))` when the model
+//! does not fit; amplitudes by the delta method. Optionally a parametric bootstrap: `B` series
+//! simulated from θ̂ with [`super::simulate()`] (plus independent AR(1) series for the
+//! Gauss–Markov terms), re-estimated with the same model; the covariance of the replicates
+//! replaces the asymptotic one.
+//!
+//! **Model selection.** Among all sub-models of the requested terms (every subset of the
+//! power-law terms × 0 … k Gauss–Markov terms) the one minimising
+//! `WVIC = J(θ̂) + 2p` is chosen, `J` the optimal-weight objective (Hansen's J statistic,
+//! asymptotically χ²(K − p) for a correct model) and `p` the number of active parameters. This is
+//! the GMM Akaike-type criterion of Andrews (Econometrica 67 (1999) 543, MSC-AIC
+//! `J − 2(K − p)` at a fixed number K of moments), used here as the wavelet-variance information
+//! criterion; it penalises parameters the way AIC does and prefers the smaller model on ties.
+//!
+//! **Goodness of fit** is reported exactly as for the joint fit ([`super::fit::Diagnostics`])
+//! on the Allan-variance equivalent `2ν̂²`, so both estimators' diagnostics read the same.
+
+use nalgebra::DMatrix;
+use rayon::prelude::*;
+
+use super::covariance::correlation_with;
+use super::curve::Curve;
+use super::fit::{
+    CovarianceSource, Inner, JointFit, Whitener, active_params, edf_model, finish, full_model,
+    irls, jacobian, profile_times,
+};
+use super::gauss_markov;
+use super::model::Term;
+use super::simulate::{Ar1, NoiseSpec, simulate_axis};
+use super::wavelet::{WaveletVariance, haar};
+use crate::random::NormalStream;
+use crate::{Error, Result};
+
+/// Options of [`gmwm`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct GmwmOptions {
+    /// Power-law terms of the model in [`Term::ALL`] order.
+    pub enabled: [bool; 5],
+    /// Number of Gauss–Markov terms (0, 1 or 2).
+    pub gauss_markov: usize,
+    /// Choose the sub-model with the smallest WVIC (module docs).
+    pub select: bool,
+    /// Parametric bootstrap replicates for the uncertainties (0: asymptotic).
+    pub bootstrap: usize,
+    /// Seed of the bootstrap.
+    pub seed: u64,
+    /// Use scales whose half-width `m` satisfies `n/m ≥ min_blocks` (default 8).
+    pub min_blocks: usize,
+}
+
+impl Default for GmwmOptions {
+    fn default() -> Self {
+        GmwmOptions {
+            enabled: [false, true, true, true, false],
+            gauss_markov: 0,
+            select: false,
+            bootstrap: 0,
+            seed: 0,
+            min_blocks: 8,
+        }
+    }
+}
+
+/// Result of [`gmwm`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct GmwmFit {
+    /// Coefficients, Gauss–Markov terms and diagnostics (on the Allan-variance scale `2ν²`).
+    pub fit: JointFit,
+    /// The empirical wavelet variance.
+    pub wavelet: WaveletVariance,
+    /// The selected model's power-law terms and number of Gauss–Markov terms.
+    pub selected: ([bool; 5], usize),
+    /// WVIC of the selected model.
+    pub criterion: f64,
+    /// Every candidate model (its term symbols) with its WVIC, when `select` was asked for.
+    pub candidates: Vec<(Vec<String>, f64)>,
+    /// Bootstrap replicates used (0: asymptotic uncertainties).
+    pub bootstrap: usize,
+}
+
+/// The Allan-variance-scale data (`2ν̂²` at `τ = m t0`) the estimator works on.
+struct Scales {
+    taus: Vec<f64>,
+    variance: Vec<f64>,
+    m: Vec<usize>,
+    n_terms: Vec<usize>,
+}
+
+impl Scales {
+    fn of(wv: &WaveletVariance, t0: f64) -> Self {
+        Scales {
+            taus: wv.m.iter().map(|&h| h as f64 * t0).collect(),
+            variance: wv.variance.iter().map(|v| 2.0 * v).collect(),
+            m: wv.m.clone(),
+            n_terms: wv.n_coefficients.clone(),
+        }
+    }
+
+    fn curve(&self) -> Curve<'_> {
+        Curve {
+            taus: &self.taus,
+            variance: &self.variance,
+            m: &self.m,
+            n_terms: &self.n_terms,
+            overlapping: true,
+            edf: None,
+        }
+    }
+}
+
+/// Lower Cholesky factor of Ω at the model `(c, gm)` (module docs).
+fn weight_factor(curve: &Curve<'_>, inner: &Inner) -> Option<DMatrix<f64>> {
+    let n = curve.len();
+    let t0 = curve.taus[0] / curve.m[0] as f64;
+    let rho = correlation_with(curve.m, curve.n_terms, t0, &inner.c, &inner.gm);
+    let s: Vec<f64> = (0..n)
+        .map(|i| {
+            let mu = full_model(&inner.c, &inner.gm, curve.taus[i]).max(0.01 * curve.variance[i]);
+            mu * (2.0 / inner.edf[i]).sqrt()
+        })
+        .collect();
+    let mut omega = DMatrix::zeros(n, n);
+    for i in 0..n {
+        for j in 0..n {
+            omega[(i, j)] = rho[i * n + j] * s[i] * s[j];
+        }
+        omega[(i, i)] *= 1.0 + 1e-9;
+    }
+    omega.cholesky().map(|c| c.l())
+}
+
+/// A candidate model: power-law terms and number of Gauss–Markov terms.
+type Candidate = ([bool; 5], usize);
+
+/// A GMWM estimate: fit state, Cholesky factor of Ω, J.
+type Estimate = (Inner, DMatrix<f64>, f64);
+
+/// One GMWM estimate of a fixed model.
+fn estimate(curve: &Curve<'_>, requested: &[Term], n_gm: usize) -> Result<Estimate> {
+    let used: Vec<usize> = (0..curve.len()).collect();
+    let mut inner = irls(curve, &used, requested, n_gm, None)?;
+    let singular = || Error::Singular {
+        reason: "the wavelet-variance covariance is not positive definite".into(),
+    };
+    for _ in 0..3 {
+        let l = weight_factor(curve, &inner).ok_or_else(singular)?;
+        let (ts, coef, _) = profile_times(
+            curve.taus,
+            curve.variance,
+            requested,
+            n_gm,
+            inner.bounds,
+            &Whitener::Cholesky(&l),
+        )
+        .ok_or_else(|| Error::Singular {
+            reason: "no subset of the requested terms gives a non-negative generalized \
+                     least-squares solution"
+                .into(),
+        })?;
+        let mut c = [0.0; 5];
+        for (t, v) in requested.iter().zip(&coef) {
+            c[t.index()] = *v;
+        }
+        let mut gm: Vec<(f64, f64)> = ts
+            .iter()
+            .zip(&coef[requested.len()..])
+            .map(|(t, q2)| (*q2, *t))
+            .collect();
+        gm.sort_by(|a, b| a.1.total_cmp(&b.1));
+        inner.c = c;
+        inner.gm = gm;
+        inner.edf = (0..curve.len())
+            .map(|i| edf_model(curve, i, &inner.c, &inner.gm))
+            .collect();
+    }
+    let l = weight_factor(curve, &inner).ok_or_else(singular)?;
+    let resid: Vec<f64> = (0..curve.len())
+        .map(|i| curve.variance[i] - full_model(&inner.c, &inner.gm, curve.taus[i]))
+        .collect();
+    let j: f64 = Whitener::Cholesky(&l)
+        .apply(&resid)
+        .iter()
+        .map(|v| v * v)
+        .sum();
+    inner.chi2 = j;
+    Ok((inner, l, j))
+}
+
+/// Asymptotic covariance `(DᵀΩ⁻¹D)⁻¹` of the active parameters.
+fn asymptotic_covariance(
+    curve: &Curve<'_>,
+    inner: &Inner,
+    l: &DMatrix<f64>,
+    requested: &[Term],
+) -> Option<DMatrix<f64>> {
+    let params = active_params(requested, &inner.c, &inner.gm);
+    let d = jacobian(curve.taus, &inner.gm, &params);
+    let p = params.len();
+    if p == 0 {
+        return Some(DMatrix::zeros(0, 0));
+    }
+    let w = Whitener::Cholesky(l);
+    let mut dw = DMatrix::zeros(curve.len(), p);
+    let mut scale = vec![1.0; p];
+    for k in 0..p {
+        let col: Vec<f64> = d.column(k).iter().copied().collect();
+        let wc = w.apply(&col);
+        let norm = wc.iter().map(|v| v * v).sum::<f64>().sqrt();
+        scale[k] = if norm > 0.0 { norm } else { 1.0 };
+        for (i, v) in wc.iter().enumerate() {
+            dw[(i, k)] = v / scale[k];
+        }
+    }
+    let info = dw.transpose() * &dw;
+    let mut cov = info.cholesky()?.inverse();
+    for a in 0..p {
+        for b in 0..p {
+            cov[(a, b)] /= scale[a] * scale[b];
+        }
+    }
+    Some(cov)
+}
+
+/// SplitMix64 finaliser (Steele, Lea & Flood 2014) for replicate seeds.
+fn mix(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// Parametric-bootstrap covariance of the active parameters.
+fn bootstrap_covariance(
+    n: usize,
+    t0: f64,
+    min_blocks: usize,
+    requested: &[Term],
+    n_gm: usize,
+    inner: &Inner,
+    replicates: usize,
+    seed: u64,
+) -> Option<DMatrix<f64>> {
+    let params = active_params(requested, &inner.c, &inner.gm);
+    let p = params.len();
+    let amp = |t: Term| inner.c[t.index()].max(0.0).sqrt();
+    let ar = |g: usize| {
+        let (q2, t) = inner.gm[g];
+        let (phi, sigma) = gauss_markov::ar1_parameters(q2.max(0.0).sqrt(), t, t0);
+        Ar1 {
+            coefficient: phi,
+            sigma,
+        }
+    };
+    let spec = NoiseSpec {
+        quantization: amp(Term::Quantization),
+        arw: amp(Term::AngleRandomWalk),
+        bias_instability: amp(Term::BiasInstability),
+        rrw: amp(Term::RateRandomWalk),
+        rate_ramp: amp(Term::RateRamp),
+        ar1: (!inner.gm.is_empty()).then(|| ar(0)),
+        bias: 0.0,
+    };
+    let samples: Vec<Vec<f64>> = (0..replicates)
+        .into_par_iter()
+        .filter_map(|b| {
+            let s = mix(seed ^ mix(b as u64 + 1));
+            let mut rate = simulate_axis(n, t0, &spec, s, 0).ok()?;
+            if inner.gm.len() > 1 {
+                let a = ar(1);
+                let mut g = NormalStream::new(mix(s ^ 0xA5A5));
+                let mut state =
+                    a.sigma / (1.0 - a.coefficient * a.coefficient).sqrt() * g.next_normal();
+                for r in &mut rate {
+                    *r += state;
+                    state = a.coefficient * state + a.sigma * g.next_normal();
+                }
+            }
+            let wv = haar(&rate, t0, min_blocks).ok()?;
+            let scales = Scales::of(&wv, t0);
+            let (est, _, _) = estimate(&scales.curve(), requested, n_gm).ok()?;
+            Some(
+                params
+                    .iter()
+                    .map(|par| match *par {
+                        super::fit::Param::Linear(t) => est.c[t.index()],
+                        super::fit::Param::Variance(g) => est.gm[g].0,
+                        super::fit::Param::LogTime(g) => est.gm[g].1.ln(),
+                    })
+                    .collect(),
+            )
+        })
+        .collect();
+    if samples.len() < 2 {
+        return None;
+    }
+    let count = samples.len() as f64;
+    let mean: Vec<f64> = (0..p)
+        .map(|k| samples.iter().map(|s| s[k]).sum::<f64>() / count)
+        .collect();
+    let mut cov = DMatrix::zeros(p, p);
+    for s in &samples {
+        for a in 0..p {
+            for b in 0..p {
+                cov[(a, b)] += (s[a] - mean[a]) * (s[b] - mean[b]) / (count - 1.0);
+            }
+        }
+    }
+    Some(cov)
+}
+
+fn symbols(enabled: [bool; 5], n_gm: usize) -> Vec<String> {
+    let mut out: Vec<String> = Term::ALL
+        .iter()
+        .filter(|t| enabled[t.index()])
+        .map(|t| t.symbol().to_string())
+        .collect();
+    if n_gm >= 1 {
+        out.push("GM".into());
+    }
+    if n_gm >= 2 {
+        out.push("GM2".into());
+    }
+    out
+}
+
+/// GMWM estimate of the noise model of one rate series (period `t0`); see the module docs.
+pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
+    if options.gauss_markov > 2 {
+        return Err(Error::invalid(
+            "terms",
+            format!(
+                "at most two Gauss–Markov terms ('GM', 'GM2') are supported, got {}",
+                options.gauss_markov
+            ),
+        ));
+    }
+    if !options.enabled.iter().any(|e| *e) && options.gauss_markov == 0 {
+        return Err(Error::invalid("terms", "no term requested"));
+    }
+    let wv = haar(rate, t0, options.min_blocks)?;
+    let scales = Scales::of(&wv, t0);
+    let curve = scales.curve();
+    curve.validate()?;
+    let n_params = options.enabled.iter().filter(|e| **e).count() + 2 * options.gauss_markov;
+    if curve.len() <= n_params {
+        return Err(Error::invalid(
+            "data",
+            format!(
+                "{} dyadic scales (n = {}) for {n_params} parameters: too few scales to \
+                 identify the model; use a longer record or fewer terms",
+                curve.len(),
+                rate.len()
+            ),
+        ));
+    }
+    let mut candidates: Vec<([bool; 5], usize)> = Vec::new();
+    if options.select {
+        let requested: Vec<Term> = Term::ALL
+            .into_iter()
+            .filter(|t| options.enabled[t.index()])
+            .collect();
+        for mask in 0u32..(1 << requested.len()) {
+            let mut e = [false; 5];
+            for (k, t) in requested.iter().enumerate() {
+                if mask & (1 << k) != 0 {
+                    e[t.index()] = true;
+                }
+            }
+            for g in 0..=options.gauss_markov {
+                if mask != 0 || g > 0 {
+                    candidates.push((e, g));
+                }
+            }
+        }
+    } else {
+        candidates.push((options.enabled, options.gauss_markov));
+    }
+    let results: Vec<(Candidate, Result<Estimate>)> = candidates
+        .par_iter()
+        .map(|&(e, g)| {
+            let requested: Vec<Term> = Term::ALL.into_iter().filter(|t| e[t.index()]).collect();
+            ((e, g), estimate(&curve, &requested, g))
+        })
+        .collect();
+    let mut best: Option<(Candidate, Inner, DMatrix<f64>, f64)> = None;
+    let mut table = Vec::new();
+    let mut first_error = None;
+    for ((e, g), r) in results {
+        match r {
+            Ok((inner, l, j)) => {
+                let requested: Vec<Term> = Term::ALL.into_iter().filter(|t| e[t.index()]).collect();
+                let p = active_params(&requested, &inner.c, &inner.gm).len();
+                let wvic = j + 2.0 * p as f64;
+                if options.select {
+                    table.push((symbols(e, g), wvic));
+                }
+                // Ties (within 1e-9) go to the smaller model: candidates are visited in
+                // increasing size order per mask.
+                if best.as_ref().is_none_or(|b| wvic < b.3 - 1e-9) {
+                    best = Some(((e, g), inner, l, wvic));
+                }
+            }
+            Err(err) => {
+                if first_error.is_none() {
+                    first_error = Some(err);
+                }
+            }
+        }
+    }
+    let Some(((enabled, n_gm), inner, l, criterion)) = best else {
+        return Err(first_error.unwrap_or(Error::Singular {
+            reason: "no candidate model could be fitted".into(),
+        }));
+    };
+    let requested: Vec<Term> = Term::ALL
+        .into_iter()
+        .filter(|t| enabled[t.index()])
+        .collect();
+    let cov = if options.bootstrap > 0 {
+        bootstrap_covariance(
+            rate.len(),
+            t0,
+            options.min_blocks,
+            &requested,
+            n_gm,
+            &inner,
+            options.bootstrap,
+            options.seed,
+        )
+    } else {
+        asymptotic_covariance(&curve, &inner, &l, &requested)
+    };
+    let used: Vec<usize> = (0..curve.len()).collect();
+    let fit = finish(
+        &curve,
+        &used,
+        &requested,
+        // Terms the user asked for but the selection dropped are reported as such.
+        options.enabled,
+        options.gauss_markov,
+        pad_gm(inner, options.gauss_markov),
+        Vec::new(),
+        CovarianceSource::Given(cov),
+    );
+    Ok(GmwmFit {
+        fit,
+        selected: (enabled, n_gm),
+        criterion,
+        candidates: table,
+        bootstrap: options.bootstrap,
+        wavelet: wv,
+    })
+}
+
+/// Keeps the reported number of Gauss–Markov terms when the selection dropped some (their
+/// variance is zero, which [`finish`] reports as missing).
+fn pad_gm(mut inner: Inner, n_gm: usize) -> Inner {
+    while inner.gm.len() < n_gm {
+        inner.gm.push((0.0, inner.bounds.1));
+    }
+    inner
+}
