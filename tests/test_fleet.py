@@ -67,7 +67,8 @@ def _reference_rows(path: Path, axis_names: list[str] | None = None) -> list[dic
     results = allan.adev(log.data, FS, units="deg/s", axis_names=names)
     rows = []
     for r, c in zip(results, noise.fit(results)):
-        row: dict[str, Any] = {"axis": r.axis, "taus": r.taus, "adev": r.adev, "chi2": c.chi2, "dof": c.dof}
+        row: dict[str, Any] = {"axis": r.axis, "taus": r.taus, "adev": r.adev, "chi2": c.chi2, "dof": c.dof,
+                               "p_value": c.diagnostics.p_value}
         for t in c.terms:
             row[t.symbol] = math.nan if t.value is None else t.value
             row[f"{t.symbol}_uncertainty"] = math.nan if t.uncertainty is None else t.uncertainty
@@ -88,6 +89,7 @@ def _assert_matches_single_unit(table: pd.DataFrame, source: str, ref: list[dict
         np.testing.assert_array_equal(row["adev_tau"], expected["taus"])
         np.testing.assert_array_equal(row["adev"], expected["adev"])
         assert row["chi2"] == expected["chi2"] and row["dof"] == expected["dof"]
+        assert row["p_value"] == expected["p_value"]
         assert [row[f"{t}_unit"] for t in fleet.TERMS] == [expected[f"{t}_unit"] for t in fleet.TERMS]
         assert row["fs"] == FS and row["n_samples"] == N_SAMPLES and row["duration"] == N_SAMPLES / FS
         assert row["sensor"] == "gyro" and row["data_unit"] == "deg/s"

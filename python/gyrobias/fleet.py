@@ -218,6 +218,9 @@ def _fit_rows(
         row["chi2"] = math.nan if c.chi2 is None else float(c.chi2)
         row["dof"] = c.dof
         row["chi2_reduced"] = math.nan if c.chi2 is None or not c.dof else float(c.chi2) / c.dof
+        d = c.diagnostics
+        row["p_value"] = math.nan if d is None else float(d.p_value)
+        row["fit_warnings"] = None if d is None else "; ".join(d.warnings) or None
         rows.append(row)
     return rows
 
@@ -449,7 +452,8 @@ def analyse(
         [s], ``n_duplicates``, ``sampling_warnings``; ``fit_method``; for every term X in Q, N,
         B, K, R: ``X`` and ``X_uncertainty`` (1σ) in the base unit ``X_unit`` (NaN when the fit
         has no such term), ``X_z`` (robust z-score against the fleet); the goodness of fit
-        ``chi2``, ``dof``, ``chi2_reduced`` (joint fit); ``out_of_family`` (nullable bool),
+        ``chi2``, ``dof``, ``chi2_reduced`` (joint fit), ``p_value`` and ``fit_warnings`` of
+        :attr:`gyrobias.noise.NoiseCoefficients.diagnostics`; ``out_of_family`` (nullable bool),
         ``out_of_family_terms``; ``error``; ``adev_tau`` [s] and ``adev`` [data unit], the
         Allan curve (arrays).
 
@@ -556,7 +560,7 @@ def _columns() -> list[str]:
     ]
     for t in TERMS:
         cols += [t, f"{t}_uncertainty", f"{t}_unit", f"{t}_z"]
-    cols += ["chi2", "dof", "chi2_reduced", "out_of_family", "out_of_family_terms", "error", "adev_tau", "adev"]
+    cols += ["chi2", "dof", "chi2_reduced", "p_value", "fit_warnings", "out_of_family", "out_of_family_terms", "error", "adev_tau", "adev"]
     return cols
 
 
@@ -564,7 +568,7 @@ def _finish(pd: Any, rows: list[dict[str, Any]], threshold: float) -> DataFrame:
     table = pd.DataFrame.from_records(rows, columns=_columns())
     for name in _COUNTS:
         table[name] = table[name].astype("Int64")
-    for name in ("fs", "duration", "longest_gap", "chi2", "chi2_reduced", *TERMS,
+    for name in ("fs", "duration", "longest_gap", "chi2", "chi2_reduced", "p_value", *TERMS,
                  *(f"{t}_uncertainty" for t in TERMS)):
         table[name] = table[name].astype("float64")
     z = {t: np.full(len(table), np.nan) for t in TERMS}
