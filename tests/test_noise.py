@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 import yaml
-from hypothesis import given
+from hypothesis import example, given
 from hypothesis import strategies as st
 
 import gyrobias
@@ -177,11 +177,15 @@ def test_read_off_is_biased_high_on_b_as_spec_says(eight_hour_fits: list) -> Non
     arw=st.floats(1e-3, 10.0),
     seed=st.integers(0, 2**32),
 )
+@example(arw=1.0, seed=965260)  # issue 19 explore run: N 3.0 % low, 2.9 σ (Q free beside it)
 def test_white_noise_recovery_property(arw: float, seed: int) -> None:
     rate = noise.simulate(20_000, FS, arw=arw, seed=seed)
     c = noise.fit(_curve(rate))
-    # m = 1 alone has EDF ≈ 13 000 (0.9 % s.d. of σ², 0.45 % of N): 3 % is > 6σ.
-    assert c.N.value == pytest.approx(arw, rel=0.03)
+    # m = 1 alone would give N to 0.45 %, but the joint fit estimates Q beside N and the two
+    # are strongly correlated at short τ: N's reported s.d. is ~1 %. Judge the error in those
+    # units: 5 σ (a false failure every ~2e6 examples) and a reported s.d. below 3 %.
+    assert c.N.value is not None and c.N.uncertainty is not None
+    assert abs(c.N.value - arw) < 5.0 * c.N.uncertainty
     assert c.N.uncertainty < 0.03 * arw
 
 
@@ -489,3 +493,11 @@ def test_demo_section_prints_true_and_recovered(tmp_path, capsys) -> None:
     assert "(0.25)" in out and "(5)" in out
     cli_noise.demo_section(rate, FS, tmp_path)
     assert "deg/√h" in capsys.readouterr().out
+
+
+def test_terms_without_uncertainty_print() -> None:
+    # Datasheet values and conservative sets have no uncertainty: printing must not fail.
+    gyro = noise.from_datasheet(arw="0.3 deg/sqrt(h)", bias_instability="5 deg/h").gyro
+    assert gyro is not None and gyro.N.uncertainty is None
+    text = str(gyro.N)
+    assert text.startswith("N (angle random walk") and "±" not in text

@@ -66,7 +66,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gyrobias import allan, io, noise
+from gyrobias import _core, allan, io, noise
 from gyrobias._validation import as_float_array, choice, positive_float
 from gyrobias.units import base_unit, sensor_kind
 
@@ -612,19 +612,8 @@ def _robust_z(values: NDArray[np.float64], unc: NDArray[np.float64]) -> NDArray[
 
 
 def _chi2_sf(x: float, dof: int) -> float:
-    """Upper tail P(χ²_ν > x) by the Wilson–Hilferty cube-root normal approximation.
-
-    ``(χ²/ν)^{1/3}`` is nearly normal with mean ``1 − 2/(9ν)`` and variance ``2/(9ν)`` (Wilson &
-    Hilferty 1931); the tail probability is accurate to about 0.005 for ν ≥ 3, enough for a
-    1 % decision.
-    """
-    if dof < 1:
-        return math.nan
-    if x <= 0.0:
-        return 1.0
-    v = 2.0 / (9.0 * dof)
-    zval = ((x / dof) ** (1.0 / 3.0) - (1.0 - v)) / math.sqrt(v)
-    return 0.5 * math.erfc(zval / math.sqrt(2.0))
+    """Upper tail ``P(χ²_ν > x)``: the core's regularised incomplete gamma ``Q(ν/2, x/2)``."""
+    return _core.stats.chi2_sf(x, float(dof))
 
 
 def _spread(x: NDArray[np.float64], u: NDArray[np.float64], alpha: float, min_ratio: float) -> dict[str, Any]:

@@ -315,6 +315,8 @@ class Term:
         unit = f" {self.unit}" if self.unit else ""
         if self.value is None:
             return f"{self.symbol} ({self.name}): missing — {self.missing}"
+        if self.uncertainty is None:  # datasheet values and conservative sets carry none
+            return f"{self.symbol} ({self.name}) = {self.value:.4g}{unit}"
         return f"{self.symbol} ({self.name}) = {self.value:.4g} ± {self.uncertainty:.2g}{unit}"
 
 @dataclass(frozen=True)
@@ -359,7 +361,9 @@ class GaussMarkovTerm:
     def __str__(self) -> str:
         if not self.present:
             return f"{self.sigma.symbol} (Gauss–Markov): missing — {self.missing}"
-        return f"{self.sigma} with correlation time {self.correlation_time.value:.4g} ± {self.correlation_time.uncertainty:.2g} s"
+        tc = self.correlation_time
+        spread = f" ± {tc.uncertainty:.2g}" if tc.uncertainty is not None else ""
+        return f"{self.sigma} with correlation time {tc.value:.4g}{spread} s"
 
 
 @dataclass(frozen=True)

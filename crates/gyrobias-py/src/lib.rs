@@ -19,6 +19,7 @@ mod kalman;
 mod noise;
 mod predict;
 mod spectral;
+mod stats;
 mod thermal;
 
 use pyo3::prelude::*;
@@ -52,5 +53,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     submodule(m, "predict", predict::register)?;
     submodule(m, "kalman", kalman::register)?;
     submodule(m, "noise", noise::register)?;
+    submodule(m, "stats", stats::register)?;
     Ok(())
 }

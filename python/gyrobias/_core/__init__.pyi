@@ -12,6 +12,7 @@ from gyrobias._core import kalman as kalman
 from gyrobias._core import noise as noise
 from gyrobias._core import predict as predict
 from gyrobias._core import spectral as spectral
+from gyrobias._core import stats as stats
 from gyrobias._core import thermal as thermal
 
 class GyroLinAlgError(ValueError): ...
