@@ -81,7 +81,9 @@ def interval(
             edf = allantools.edf_totdev(n, m, alpha)
         elif alpha == 2:
             try:
-                edf = allantools.edf_greenhall(alpha=2, d=2, m=m, N=n, overlapping=True, modified=False)
+                edf = allantools.edf_greenhall(
+                    alpha=2, d=2, m=m, N=n, overlapping=True, modified=False
+                )
             except NotImplementedError:
                 return None
         else:

@@ -59,9 +59,7 @@ def _total_window_sum(z: np.ndarray, m: int) -> float:
 def mtotvar(x: np.ndarray, t0: float, m: int) -> float:
     """SP 1065 eq. 27 (phase sub-sequences of 3m points, reflection to 9m)."""
     n = len(x) - 3 * m + 1
-    return _total_window_sum(np.asarray(x, float), m) / (
-        m**2 * 6 * m * 2 * (m * t0) ** 2 * n
-    )
+    return _total_window_sum(np.asarray(x, float), m) / (m**2 * 6 * m * 2 * (m * t0) ** 2 * n)
 
 
 def htotvar(x: np.ndarray, t0: float, m: int) -> float:
@@ -95,9 +93,7 @@ def theobr_ratio(x: np.ndarray, t0: float) -> float:
     """SP 1065 eq. 31: mean of AVAR(9 + 3i)/Théo1(12 + 4i), i = 0 … ⌊N/30 − 3⌋."""
     n = int(np.floor(len(x) / 30 - 3))
     return float(
-        np.mean(
-            [oavar(x, t0, 9 + 3 * i) / theo1(x, t0, 12 + 4 * i) for i in range(n + 1)]
-        )
+        np.mean([oavar(x, t0, 9 + 3 * i) / theo1(x, t0, 12 + 4 * i) for i in range(n + 1)])
     )
 
 

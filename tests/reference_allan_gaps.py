@@ -26,14 +26,17 @@ def gapped_variance(
     if data_type == "rate":
         centred = np.where(missing, 0.0, data - np.nanmean(data))
         x = _prefix(centred) * t0  # angle, meaningful only across gap-free spans
+
         # A term spanning angle indices k..k+s uses rate samples k..k+s−1.
         def clean(k: np.ndarray, s: int) -> np.ndarray:
             return bad[k + s] - bad[k] == 0
     else:
         x = np.where(missing, 0.0, data)
+
         # ... and phase samples k..k+s.
         def clean(k: np.ndarray, s: int) -> np.ndarray:
             return bad[k + s + 1] - bad[k] == 0
+
     tau = m * t0
     n = len(x)
     if kind in ("oavar", "avar"):

@@ -8,7 +8,9 @@ import math
 import numpy as np
 
 
-def kaiser_design(fs: float, fpass: float, fstop: float, apass: float, astop: float) -> dict[str, object]:
+def kaiser_design(
+    fs: float, fpass: float, fstop: float, apass: float, astop: float
+) -> dict[str, object]:
     fc = 0.5 * (fpass + fstop)
     df = fstop - fpass
     dpass = (10 ** (apass / 20) - 1) / (10 ** (apass / 20) + 1)

@@ -48,7 +48,9 @@ def local_slopes(taus: np.ndarray, avar: np.ndarray) -> np.ndarray:
     return out
 
 
-def fixed_slope_value(taus: np.ndarray, avar: np.ndarray, edf: np.ndarray, slope: float, at: float) -> float:
+def fixed_slope_value(
+    taus: np.ndarray, avar: np.ndarray, edf: np.ndarray, slope: float, at: float
+) -> float:
     """Weighted (2·edf) LS line of fixed slope in log-log, evaluated at τ = at."""
     w = 2.0 * edf
     ln_c = np.sum(w * (0.5 * np.log(avar) - slope * np.log(taus))) / np.sum(w)
@@ -72,7 +74,10 @@ def gauss_markov_avar_reference(variance: float, correlation_time: float, tau: f
     lo, hi = math.log(1e-6 / tau), math.log(10.0 / tau)
     # Up to 10/τ in ln f, split per decade (a few oscillations of sin⁴ each).
     edges = np.linspace(lo, hi, 8)
-    total = sum(quad(integrand, a, b, limit=200, epsabs=0.0, epsrel=1e-11)[0] for a, b in zip(edges[:-1], edges[1:]))
+    total = sum(
+        quad(integrand, a, b, limit=200, epsabs=0.0, epsrel=1e-11)[0]
+        for a, b in zip(edges[:-1], edges[1:])
+    )
     # Beyond: sin⁴x = 3/8 − cos(2x)/2 + cos(4x)/8, the cosine parts by QAWF (Fourier integrals).
     f_c = 10.0 / tau
 

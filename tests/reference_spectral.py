@@ -12,7 +12,10 @@ from numpy.typing import NDArray
 
 
 def known_design(
-    t: NDArray[np.float64], trend: bool, periods: tuple[float, ...], columns: NDArray[np.float64] | None = None
+    t: NDArray[np.float64],
+    trend: bool,
+    periods: tuple[float, ...],
+    columns: NDArray[np.float64] | None = None,
 ) -> NDArray[np.float64]:
     cols = [np.ones_like(t)]
     if trend:
@@ -46,13 +49,17 @@ def lssa(
     q0 = base @ base
     out = np.empty(freqs.size)
     for j, f in enumerate(freqs):
-        a = np.column_stack([phi_k, white @ np.cos(2 * np.pi * f * t), white @ np.sin(2 * np.pi * f * t)])
+        a = np.column_stack(
+            [phi_k, white @ np.cos(2 * np.pi * f * t), white @ np.sin(2 * np.pi * f * t)]
+        )
         r = yw - a @ np.linalg.lstsq(a, yw, rcond=None)[0]
         out[j] = (q0 - r @ r) / q0
     return out
 
 
-def welch_hann(x: NDArray[np.float64], fs: float, nperseg: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def welch_hann(
+    x: NDArray[np.float64], fs: float, nperseg: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Welch PSD with 50 % overlap and a periodic Hann window, by explicit numpy.fft."""
     step = nperseg - nperseg // 2
     nseg = (x.size - nperseg // 2) // step

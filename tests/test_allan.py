@@ -22,10 +22,14 @@ def test_spec_check_values_overlapping_and_non_overlapping() -> None:
     # SPEC §2 check: rate [1,3,2,5,4,6,8,7], t0 = 0.5, x_0 = 0 prepended.
     r = allan.avar(RATE8, fs=2.0, taus="all", confidence=None)
     np.testing.assert_allclose(r.taus, [0.5, 1.0, 1.5, 2.0])
-    np.testing.assert_allclose(r.avar, [1.714285714286, 2.1, 4.537037037037, 6.125], rtol=0, atol=5e-13)
+    np.testing.assert_allclose(
+        r.avar, [1.714285714286, 2.1, 4.537037037037, 6.125], rtol=0, atol=5e-13
+    )
     np.testing.assert_array_equal(r.n_terms, [7, 5, 3, 1])
     nov = allan.avar(RATE8, fs=2.0, taus="all", overlapping=False, confidence=None)
-    np.testing.assert_allclose(nov.avar, [1.714285714286, 1.791666666667, 4.5, 6.125], rtol=0, atol=5e-13)
+    np.testing.assert_allclose(
+        nov.avar, [1.714285714286, 1.791666666667, 4.5, 6.125], rtol=0, atol=5e-13
+    )
 
 
 # NIST SP 1065 Tables 30 and 31 (Stable32 values, 7 significant figures).
@@ -65,7 +69,9 @@ def test_nbs9_published_values(name: str) -> None:
 
 @pytest.mark.parametrize("name", sorted(TABLE31))
 def test_nbs1000_published_values(name: str) -> None:
-    np.testing.assert_allclose(_dev(name, ref.nbs_1000(), [1.0, 10.0, 100.0]), TABLE31[name], rtol=6e-7)
+    np.testing.assert_allclose(
+        _dev(name, ref.nbs_1000(), [1.0, 10.0, 100.0]), TABLE31[name], rtol=6e-7
+    )
 
 
 # --------------------------------------------------------------------------- AllanTools
@@ -138,7 +144,11 @@ def test_all_estimators_match_numpy_reference(rate: np.ndarray, fs: float) -> No
         assert v == pytest.approx(want, rel=1e-9, abs=1e-11 * scale**2 + 1e-300)
 
 
-@given(rate=finite_rates, fs=st.floats(0.5, 1e3), k=st.floats(-1e3, 1e3).filter(lambda v: abs(v) > 1e-3))
+@given(
+    rate=finite_rates,
+    fs=st.floats(0.5, 1e3),
+    k=st.floats(-1e3, 1e3).filter(lambda v: abs(v) > 1e-3),
+)
 def test_scaling_is_linear(rate: np.ndarray, fs: float, k: float) -> None:
     a = allan.adev(rate, fs, taus="all", confidence=None)
     b = allan.adev(k * rate, fs, taus="all", confidence=None)
@@ -159,7 +169,11 @@ def test_angle_input_equals_rate_input(rate: np.ndarray, fs: float) -> None:
     np.testing.assert_allclose(a.adev, b.adev, rtol=1e-9, atol=floor)
 
 
-@given(data=arrays(np.float64, st.tuples(st.integers(10, 200), st.integers(2, 4)), elements=st.floats(-10, 10)))
+@given(
+    data=arrays(
+        np.float64, st.tuples(st.integers(10, 200), st.integers(2, 4)), elements=st.floats(-10, 10)
+    )
+)
 def test_multi_axis_equals_per_axis(data: np.ndarray) -> None:
     results = allan.adev(data, 50.0, taus="all", confidence=None)
     assert isinstance(results, tuple) and len(results) == data.shape[1]
@@ -221,7 +235,9 @@ def test_result_object_units_and_dict() -> None:
     d = r.to_dict()
     assert d["unit"] == "deg/s" and d["tau_unit"] == "s" and len(d["taus"]) == len(r.taus)
     assert "ADEV" in str(r)
-    angle = allan.adev(np.cumsum(np.arange(100.0) % 7), 20.0, data_type="angle", units="deg", confidence=None)
+    angle = allan.adev(
+        np.cumsum(np.arange(100.0) % 7), 20.0, data_type="angle", units="deg", confidence=None
+    )
     assert isinstance(angle, allan.AllanResult) and angle.unit == "deg/s"
 
 
@@ -245,7 +261,9 @@ def test_input_conversions_and_no_mutation() -> None:
     f32 = base.astype(np.float32)
     r32 = allan.adev(f32, 10.0, confidence=None)
     assert isinstance(r32, allan.AllanResult)
-    np.testing.assert_allclose(r32.adev, allan.adev(f32.astype(np.float64), 10.0, confidence=None).adev)  # type: ignore[union-attr]
+    np.testing.assert_allclose(
+        r32.adev, allan.adev(f32.astype(np.float64), 10.0, confidence=None).adev
+    )  # type: ignore[union-attr]
     ints = (base * 100).astype(np.int32)
     ri = allan.adev(ints, 10.0, confidence=None)
     assert isinstance(ri, allan.AllanResult)

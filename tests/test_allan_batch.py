@@ -10,7 +10,18 @@ from hypothesis.extra.numpy import arrays
 
 from gyrobias import allan
 
-FIELDS = ("taus", "avar", "n_terms", "edf", "alpha", "ci_low", "ci_high", "noise_type", "axis", "unit")
+FIELDS = (
+    "taus",
+    "avar",
+    "n_terms",
+    "edf",
+    "alpha",
+    "ci_low",
+    "ci_high",
+    "noise_type",
+    "axis",
+    "unit",
+)
 
 
 def _same(a: allan.AllanResult, b: allan.AllanResult) -> None:
@@ -35,7 +46,9 @@ def _same(a: allan.AllanResult, b: allan.AllanResult) -> None:
 def test_batch_equals_per_unit_calls_bit_for_bit(kwargs) -> None:
     rng = np.random.default_rng(2)
     # 5 units × 70 001 samples × 3 axes: crosses the kernels' block boundaries.
-    fleet = rng.normal(0.3, 1.0, (5, 70_001, 3)) + np.cumsum(rng.normal(0.0, 0.01, (5, 70_001, 3)), axis=1)
+    fleet = rng.normal(0.3, 1.0, (5, 70_001, 3)) + np.cumsum(
+        rng.normal(0.0, 0.01, (5, 70_001, 3)), axis=1
+    )
     res = allan.adev_batch(fleet, 100.0, units="deg/s", axis_names=("x", "y", "z"), **kwargs)
     assert len(res) == 5 and all(len(u) == 3 for u in res)
     for u in range(5):

@@ -52,14 +52,18 @@ KINDS = [
 
 
 @pytest.mark.parametrize("noise", NOISES)
-@pytest.mark.parametrize(("name", "function", "kwargs", "ref_kind"), KINDS, ids=[k[0] for k in KINDS])
+@pytest.mark.parametrize(
+    ("name", "function", "kwargs", "ref_kind"), KINDS, ids=[k[0] for k in KINDS]
+)
 def test_matches_allantools_on_power_law_noise(noise, name, function, kwargs, ref_kind):
     rate = _simulated(noise, seed=NOISES.index(noise) + 10)
     result = function(rate, fs=1.0, confidence=LEVEL, **kwargs)
     x = phase_from_rate(rate, 1.0)
     compared = 0
     for i, m in enumerate(result.m):
-        ref = interval(x, ref_kind, int(m), float(result.adev[i]), LEVEL, [int(k) for k in result.m])
+        ref = interval(
+            x, ref_kind, int(m), float(result.adev[i]), LEVEL, [int(k) for k in result.m]
+        )
         if ref is None:  # AllanTools' unimplemented Greenhall case 4 (see the reference)
             assert result.alpha[i] == 2 and m >= len(x) // 4
             continue
@@ -140,7 +144,9 @@ def test_nbs14_deviations_and_intervals(kind, overlapping):
 
 def test_raw_core_returns_variance_bounds():
     y = nbs14_1000()
-    raw = _core.allan.analyse(y.reshape(-1, 1), 1.0, "rate", "overlapping", "octave", 10, None, LEVEL)[0]
+    raw = _core.allan.analyse(
+        y.reshape(-1, 1), 1.0, "rate", "overlapping", "octave", 10, None, LEVEL
+    )[0]
     r = gyrobias.allan.adev(y, fs=1.0, confidence=LEVEL)
     # The wrapper reports deviations: the square roots of the core's variance bounds.
     np.testing.assert_array_equal(np.sqrt(raw["low"]), r.ci_low)
@@ -174,9 +180,13 @@ def test_coverage_of_white_rate_intervals():
 def test_bounds_are_exact_chi_square_quantiles(level, seed, n):
     """high/σ² and low/σ² are edf/χ² quantiles: SciPy's CDF at edf·σ²/bound gives the tails."""
     y = np.random.default_rng(seed).normal(size=n)
-    raw = _core.allan.analyse(y.reshape(-1, 1), 1.0, "rate", "overlapping", "octave", 10, None, level)[0]
+    raw = _core.allan.analyse(
+        y.reshape(-1, 1), 1.0, "rate", "overlapping", "octave", 10, None, level
+    )[0]
     tail = (1.0 - level) / 2.0
-    for var, low, high, edf in zip(raw["variance"], raw["low"], raw["high"], raw["edf"], strict=True):
+    for var, low, high, edf in zip(
+        raw["variance"], raw["low"], raw["high"], raw["edf"], strict=True
+    ):
         # 1e-9 relative on the tail probabilities: our quantiles are accurate to ~1e-13; the
         # margin covers SciPy's CDF and the division var·edf/bound.
         assert scipy.stats.chi2.sf(edf * var / low, edf) == pytest.approx(tail, rel=1e-9)
@@ -189,7 +199,9 @@ def test_bounds_are_exact_chi_square_quantiles(level, seed, n):
     kind=st.sampled_from(["adev", "mdev", "hdev", "totdev"]),
 )
 def test_interval_contains_estimate_and_scales(seed, scale, kind):
-    y = np.random.default_rng(seed).normal(size=300).cumsum() * 0.1 + np.random.default_rng(seed + 1).normal(size=300)
+    y = np.random.default_rng(seed).normal(size=300).cumsum() * 0.1 + np.random.default_rng(
+        seed + 1
+    ).normal(size=300)
     function = getattr(gyrobias.allan, kind)
     a = function(y, fs=10.0, confidence=LEVEL)
     b = function(y * scale, fs=10.0, confidence=LEVEL)
@@ -204,7 +216,9 @@ def test_interval_contains_estimate_and_scales(seed, scale, kind):
 
 @given(
     seed=st.integers(min_value=0, max_value=2**32 - 1),
-    levels=st.tuples(st.floats(0.1, 0.98), st.floats(0.1, 0.98)).filter(lambda t: abs(t[0] - t[1]) > 1e-3),
+    levels=st.tuples(st.floats(0.1, 0.98), st.floats(0.1, 0.98)).filter(
+        lambda t: abs(t[0] - t[1]) > 1e-3
+    ),
 )
 def test_higher_confidence_gives_wider_nested_intervals(seed, levels):
     y = np.random.default_rng(seed).normal(size=500)
@@ -219,7 +233,12 @@ def test_short_records_still_get_intervals():
     """Fewer than 30 points at long τ (and a 20-sample record overall) still yield intervals:
     carried from the nearest identifiable τ, or from the B1/R(n) ratios for tiny records."""
     y = np.random.default_rng(5).normal(size=20)
-    for function in (gyrobias.allan.adev, gyrobias.allan.mdev, gyrobias.allan.hdev, gyrobias.allan.totdev):
+    for function in (
+        gyrobias.allan.adev,
+        gyrobias.allan.mdev,
+        gyrobias.allan.hdev,
+        gyrobias.allan.totdev,
+    ):
         r = function(y, fs=1.0, taus="all", confidence=LEVEL)
         assert np.all(np.isfinite(r.ci_low)) and np.all(np.isfinite(r.ci_high))
         assert np.all(r.ci_low <= r.adev) and np.all(r.adev <= r.ci_high)

@@ -12,15 +12,15 @@ import math
 from pathlib import Path
 
 import allantools
-import gyrobias
 import numpy as np
 import pytest
-from gyrobias import allan
-from gyrobias.cli import main
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
+import gyrobias
+from gyrobias import allan
+from gyrobias.cli import main
 from tests import reference_allan_family as ref
 
 # --- Stable32 tables ------------------------------------------------------------------------------
@@ -58,9 +58,7 @@ _CACHE: dict[str, np.ndarray] = {}
 def _data(name: str) -> np.ndarray:
     if name not in _CACHE:
         values = ref.read_series(DATASETS[name][0])
-        if (
-            name == "ocxo"
-        ):  # counter readings in Hz → fractional frequency (as AllanTools' test)
+        if name == "ocxo":  # counter readings in Hz → fractional frequency (as AllanTools' test)
             values = values / 1.0e7 - 1.0
         _CACHE[name] = values
     return _CACHE[name]
@@ -104,9 +102,7 @@ def test_matches_stable32_tables(name: str, which: str) -> None:
             )
         else:
             assert _printed_equal(res.adev[i], row.dev), (name, which, row, res.adev[i])
-        if (
-            which == "hdev"
-        ):  # Stable32's "#" for TDEV counts MDEV's inner terms differently
+        if which == "hdev":  # Stable32's "#" for TDEV counts MDEV's inner terms differently
             assert res.n_terms[i] == row.n
         # Where our noise identification agrees with Stable32's, the chi-square interval must
         # too: 1e-3 = Stable32's 5 printed digits on σ and bounds plus its 3–4 digit
@@ -115,9 +111,7 @@ def test_matches_stable32_tables(name: str, which: str) -> None:
             assert abs(res.ci_low[i] / row.low - 1) < 1e-3 + rtol, (name, which, row)
             assert abs(res.ci_high[i] / row.high - 1) < 1e-3 + rtol, (name, which, row)
     agree = np.mean([res.alpha[i] == r.alpha for i, r in enumerate(rows)])
-    assert agree >= 0.6, (
-        f"noise identification agrees with Stable32 on only {agree:.0%} of τ"
-    )
+    assert agree >= 0.6, f"noise identification agrees with Stable32 on only {agree:.0%} of τ"
 
 
 def test_nbs14_published_values() -> None:
@@ -141,9 +135,7 @@ def test_nbs14_published_values() -> None:
         rtol=1e-6,
     )
     assert np.allclose(
-        allan.mtotdev(
-            x10, 1.0, taus=[1.0, 2.0], data_type="angle", confidence=None
-        ).adev,
+        allan.mtotdev(x10, 1.0, taus=[1.0, 2.0], data_type="angle", confidence=None).adev,
         [6.4509e01, 6.4794e01],
         rtol=1e-4,
     )
@@ -185,16 +177,10 @@ def test_matches_allantools(kind: str) -> None:
         + 1e-13 * np.arange(n) ** 2
     )
     # Small, odd, even and maximal factors (AllanTools' pure-Python MTOT/HTOT loops are O(N·m²)).
-    ms = (
-        [2, 4, 6, 10, 26, 58, 78]
-        if kind == "theo1"
-        else [1, 2, 3, 5, 8, 13, 21, 34, 55, 79]
-    )
+    ms = [2, 4, 6, 10, 26, 58, 78] if kind == "theo1" else [1, 2, 3, 5, 8, 13, 21, 34, 55, 79]
     if kind == "theo1":
         ms.append(n - 2)
-    if (
-        kind == "hdev"
-    ):  # AllanTools drops single-term τ (remove_small_ns): m = 79 has one
+    if kind == "hdev":  # AllanTools drops single-term τ (remove_small_ns): m = 79 has one
         ms[-1] = 59
     taus = np.array(ms, float) / 2.0
     ours = ours_fn(
@@ -221,9 +207,7 @@ def test_matches_allantools_rate_input() -> None:
         ours_fn, theirs_fn, kw = _AT[kind]
         ours = ours_fn(y, 1.0, taus="octave", confidence=None, **kw)
         assert isinstance(ours, gyrobias.AllanResult)
-        _, devs, _, _ = theirs_fn(
-            y, rate=1.0, data_type="freq", taus=ours.m.astype(float)
-        )
+        _, devs, _, _ = theirs_fn(y, rate=1.0, data_type="freq", taus=ours.m.astype(float))
         np.testing.assert_allclose(ours.adev, devs, rtol=1e-10, err_msg=kind)
 
 
@@ -273,9 +257,7 @@ def test_scaling_and_angle_equals_rate(rate: np.ndarray, k: float) -> None:
         a = fn(rate, fs, taus="octave", confidence=None)
         b = fn(k * rate, fs, taus="octave", confidence=None)
         c = fn(x, fs, taus="octave", data_type="angle", confidence=None)
-        assert isinstance(a, gyrobias.AllanResult) and isinstance(
-            b, gyrobias.AllanResult
-        )
+        assert isinstance(a, gyrobias.AllanResult) and isinstance(b, gyrobias.AllanResult)
         assert isinstance(c, gyrobias.AllanResult)
         floor = 1e-20 * max(float(np.max(rate**2)), 1e-300)
         assert np.allclose(b.avar, k**2 * a.avar, rtol=1e-9, atol=k**2 * floor)
@@ -332,9 +314,7 @@ def test_interval_coverage_white_rate_noise(kind: str, m: int) -> None:
     for _ in range(trials):
         r = fn(rng.normal(size=n), 1.0, taus=[tau], confidence=0.683)
         assert (
-            isinstance(r, gyrobias.AllanResult)
-            and r.ci_low is not None
-            and r.ci_high is not None
+            isinstance(r, gyrobias.AllanResult) and r.ci_low is not None and r.ci_high is not None
         )
         est.append(r.avar[0])
         lo.append(r.ci_low[0] ** 2)
@@ -414,9 +394,7 @@ def test_dynamic_plot_has_colour_bar_in_unit() -> None:
         (allan.theoh, {"taus": [1.5]}, "taus"),
     ],
 )
-def test_bad_taus_name_the_argument(
-    fn: object, kwargs: dict[str, object], match: str
-) -> None:
+def test_bad_taus_name_the_argument(fn: object, kwargs: dict[str, object], match: str) -> None:
     with pytest.raises(ValueError, match=match):
         fn(np.random.default_rng(0).normal(size=100), 1.0, **kwargs)  # type: ignore[operator]
 
@@ -432,18 +410,14 @@ def test_labels_are_unmistakable_and_units() -> None:
     rate = np.random.default_rng(1).normal(size=4000)
     ohdev = allan.hdev(rate, 10.0, confidence=None)
     hdev_no = allan.hdev(rate, 10.0, overlapping=False, confidence=None)
-    assert isinstance(ohdev, gyrobias.AllanResult) and isinstance(
-        hdev_no, gyrobias.AllanResult
-    )
+    assert isinstance(ohdev, gyrobias.AllanResult) and isinstance(hdev_no, gyrobias.AllanResult)
     assert ohdev.label.startswith("OHDEV") and "overlapping" in ohdev.label
     assert hdev_no.label.startswith("HDEV") and "non-overlapping" in hdev_no.label
     assert "HDEV(non-overlap)" in hdev_no.table() and "OHDEV" in ohdev.table()
     assert not hdev_no.overlapping and hdev_no.to_dict()["overlapping"] is False
     td = allan.tdev(rate, 10.0, units="deg/s", confidence=None)
     assert isinstance(td, gyrobias.AllanResult) and td.unit == "deg"
-    td_angle = allan.tdev(
-        np.cumsum(rate), 10.0, units="rad", data_type="angle", confidence=None
-    )
+    td_angle = allan.tdev(np.cumsum(rate), 10.0, units="rad", data_type="angle", confidence=None)
     assert isinstance(td_angle, gyrobias.AllanResult) and td_angle.unit == "rad"
 
 
@@ -494,11 +468,7 @@ def test_cli_kinds(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
         == 0
     )
     out = capsys.readouterr().out
-    assert (
-        "HDEV of gx" in out
-        and "(non-overlapping)" in out
-        and "HDEV(non-overlap)" in out
-    )
+    assert "HDEV of gx" in out and "(non-overlapping)" in out and "HDEV(non-overlap)" in out
     plot = tmp_path / "theo.png"
     assert main(["allan", str(log), "--kind", "theoh", "--plot", str(plot)]) == 0
     assert plot.stat().st_size > 0

@@ -165,6 +165,6 @@ def test_gap_aware_matches_gap_free_where_concatenation_does_not() -> None:
     k = int(np.sum(gapped.m <= n // 100))
     inside = (gapped.adev[:k] >= full.ci_low[:k]) & (gapped.adev[:k] <= full.ci_high[:k])
     assert inside.all(), gapped.taus[:k][~inside]
-    rrw = (full.m[:k] >= 100)  # σ²_white = 1/m meets σ²_rrw = 0.05² m/3 at m ≈ 35
+    rrw = full.m[:k] >= 100  # σ²_white = 1/m meets σ²_rrw = 0.05² m/3 at m ≈ 35
     outside = (joined.adev[:k] < full.ci_low[:k]) | (joined.adev[:k] > full.ci_high[:k])
     assert outside[rrw].mean() > 0.75, outside

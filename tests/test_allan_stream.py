@@ -45,7 +45,9 @@ def _log(n: int, axes: int, seed: int = 0) -> np.ndarray:
 
 @pytest.mark.parametrize("dtype", ["<f8", ">f8", "<f4"])
 @pytest.mark.parametrize("data_type", ["rate", "angle"])
-def test_memmap_equals_in_memory(tmp_path: Path, small_reads: list[int], dtype: str, data_type: str) -> None:
+def test_memmap_equals_in_memory(
+    tmp_path: Path, small_reads: list[int], dtype: str, data_type: str
+) -> None:
     data = _log(300_001, 3).astype(dtype)
     path = tmp_path / "log.npy"
     np.save(path, data)

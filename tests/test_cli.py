@@ -17,7 +17,9 @@ from gyrobias.cli.allan import ProgressBar
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 
-def _csv(path: Path, n: int = 4000, fs: float = 100.0, *, ns: bool = False, gap_at: int | None = None) -> Path:
+def _csv(
+    path: Path, n: int = 4000, fs: float = 100.0, *, ns: bool = False, gap_at: int | None = None
+) -> Path:
     rng = np.random.default_rng(3)
     x = rng.normal(0.0, 0.05, (n, 3))
     if ns:
@@ -56,8 +58,21 @@ def test_no_command_is_a_usage_error(capsys: pytest.CaptureFixture[str]) -> None
 def test_allan_table_json_and_plot(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     log = _csv(tmp_path / "log.csv")
     out_json, out_png = tmp_path / "out.json", tmp_path / "out.png"
-    code = main(["allan", str(log), "--columns", "gx,gz", "--units", "deg/s", "--no-confidence",
-                 "--json", str(out_json), "--plot", str(out_png)])
+    code = main(
+        [
+            "allan",
+            str(log),
+            "--columns",
+            "gx,gz",
+            "--units",
+            "deg/s",
+            "--no-confidence",
+            "--json",
+            str(out_json),
+            "--plot",
+            str(out_png),
+        ]
+    )
     captured = capsys.readouterr()
     assert code == 0, captured.err
     out = captured.out
@@ -67,7 +82,9 @@ def test_allan_table_json_and_plot(tmp_path: Path, capsys: pytest.CaptureFixture
     assert captured.err == ""  # regular sampling: no warnings
 
     # the printed table is the library's result, row by row
-    expected = gyrobias.allan.adev(gyrobias.io.load(log, columns=["gx"]).data[:, 0], 100.0, confidence=None)
+    expected = gyrobias.allan.adev(
+        gyrobias.io.load(log, columns=["gx"]).data[:, 0], 100.0, confidence=None
+    )
     assert isinstance(expected, gyrobias.AllanResult)
     for tau, dev in zip(expected.taus, expected.adev):
         assert f"{tau:12.6g} {dev:22.6e}" in out
@@ -86,11 +103,24 @@ def test_allan_table_json_and_plot(tmp_path: Path, capsys: pytest.CaptureFixture
     assert data.startswith(PNG_SIGNATURE) and len(data) > 20_000
 
 
-def test_allan_with_confidence_intervals(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_allan_with_confidence_intervals(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     """The default run (68.3 % intervals): CI columns and noise types in table and JSON."""
     log = _csv(tmp_path / "log.csv")
     out_json = tmp_path / "ci.json"
-    code = main(["allan", str(log), "--units", "deg/s", "--json", str(out_json), "--plot", str(tmp_path / "ci.png")])
+    code = main(
+        [
+            "allan",
+            str(log),
+            "--units",
+            "deg/s",
+            "--json",
+            str(out_json),
+            "--plot",
+            str(tmp_path / "ci.png"),
+        ]
+    )
     captured = capsys.readouterr()
     assert code == 0, captured.err
     assert "CI low" in captured.out and "CI high" in captured.out
@@ -109,17 +139,53 @@ def test_allan_kinds_and_options(tmp_path: Path, capsys: pytest.CaptureFixture[s
     for kind in ("mdev", "hdev", "totdev"):
         assert main(["allan", str(log), "--kind", kind, "--no-confidence", "--columns", "gy"]) == 0
         assert f"{kind.upper()} of gy" in capsys.readouterr().out
-    assert main(["allan", str(log), "--non-overlapping", "--no-confidence", "--taus", "all", "--columns", "gx"]) == 0
+    assert (
+        main(
+            [
+                "allan",
+                str(log),
+                "--non-overlapping",
+                "--no-confidence",
+                "--taus",
+                "all",
+                "--columns",
+                "gx",
+            ]
+        )
+        == 0
+    )
     out = capsys.readouterr().out
     assert "(non-overlapping)" in out
-    non = gyrobias.allan.adev(gyrobias.io.load(log, columns=["gx"]).data[:, 0], 100.0, taus="all",
-                              overlapping=False, confidence=None)
+    non = gyrobias.allan.adev(
+        gyrobias.io.load(log, columns=["gx"]).data[:, 0],
+        100.0,
+        taus="all",
+        overlapping=False,
+        confidence=None,
+    )
     assert isinstance(non, gyrobias.AllanResult)
     assert out.count("\n") >= len(non.taus)  # every m printed
-    assert main(["allan", str(log), "--taus", "log", "--per-decade", "3", "--no-confidence", "--columns", "gx"]) == 0
+    assert (
+        main(
+            [
+                "allan",
+                str(log),
+                "--taus",
+                "log",
+                "--per-decade",
+                "3",
+                "--no-confidence",
+                "--columns",
+                "gx",
+            ]
+        )
+        == 0
+    )
 
 
-def test_allan_ns_time_column_and_gap_warning(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_allan_ns_time_column_and_gap_warning(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     log = _csv(tmp_path / "ns.csv", ns=True, gap_at=1000)
     out_json = tmp_path / "g.json"
     assert main(["allan", str(log), "--no-confidence", "--json", str(out_json)]) == 0
@@ -131,22 +197,33 @@ def test_allan_ns_time_column_and_gap_warning(tmp_path: Path, capsys: pytest.Cap
     assert doc["sampling"]["warnings"] and doc["sampling"]["time_unit"] == "ns"
 
 
-def test_allan_fs_option_and_disagreement(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_allan_fs_option_and_disagreement(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     log = _csv(tmp_path / "log.csv")
     assert main(["allan", str(log), "--fs", "50", "--no-confidence"]) == 0
     captured = capsys.readouterr()
     assert "estimated from the time column" not in captured.out
     assert "at 50 Hz" in captured.out
-    assert "gyrobias: warning: given fs = 50 Hz disagrees with the timestamps (100 Hz)" in captured.err
+    assert (
+        "gyrobias: warning: given fs = 50 Hz disagrees with the timestamps (100 Hz)" in captured.err
+    )
 
 
 def test_allan_npy_needs_fs(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     np.save(tmp_path / "r.npy", np.random.default_rng(0).normal(size=(3000, 2)))
     assert main(["allan", str(tmp_path / "r.npy")]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("gyrobias: error: r.npy has no time column: give the sample rate with --fs")
+    assert err.startswith(
+        "gyrobias: error: r.npy has no time column: give the sample rate with --fs"
+    )
     assert err.count("\n") == 1
-    assert main(["allan", str(tmp_path / "r.npy"), "--fs", "200", "--no-confidence", "--units", "rad/s"]) == 0
+    assert (
+        main(
+            ["allan", str(tmp_path / "r.npy"), "--fs", "200", "--no-confidence", "--units", "rad/s"]
+        )
+        == 0
+    )
     assert "ADEV of col1 [rad/s]" in capsys.readouterr().out
 
 
@@ -154,17 +231,34 @@ def test_allan_npy_needs_fs(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
     ("argv", "message"),
     [
         (["allan", "{tmp}/missing.csv"], "no such file"),
-        (["allan", "{log}", "--columns", "gx,wz"], "unknown column 'wz' in log.csv; available: t, gx, gy, gz"),
-        (["allan", "{log}", "--kind", "mdev", "--non-overlapping"], "--non-overlapping applies to --kind adev and hdev only"),
-        (["allan", "{log}", "--confidence", "1.5"], "confidence: must lie strictly between 0 and 1"),
+        (
+            ["allan", "{log}", "--columns", "gx,wz"],
+            "unknown column 'wz' in log.csv; available: t, gx, gy, gz",
+        ),
+        (
+            ["allan", "{log}", "--kind", "mdev", "--non-overlapping"],
+            "--non-overlapping applies to --kind adev and hdev only",
+        ),
+        (
+            ["allan", "{log}", "--confidence", "1.5"],
+            "confidence: must lie strictly between 0 and 1",
+        ),
         (["allan", "{log}", "--fs", "-3"], "fs must be finite and > 0"),
-        (["allan", "{log}", "--per-decade", "0", "--taus", "log"], "invalid per_decade: must be >= 1"),
+        (
+            ["allan", "{log}", "--per-decade", "0", "--taus", "log"],
+            "invalid per_decade: must be >= 1",
+        ),
         (["allan", "{bad}"], "'x' (not a number) in column 'gy' at line 3"),
         (["allan", "{log}", "--time-column", "t", "--no-time-column"], "contradict"),
-        (["allan", "{log}", "--no-confidence", "--plot", "{tmp}/no/such/dir/p.png"], "No such file or directory"),
+        (
+            ["allan", "{log}", "--no-confidence", "--plot", "{tmp}/no/such/dir/p.png"],
+            "No such file or directory",
+        ),
     ],
 )
-def test_errors_are_one_clean_line(tmp_path: Path, capsys: pytest.CaptureFixture[str], argv: list[str], message: str) -> None:
+def test_errors_are_one_clean_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], argv: list[str], message: str
+) -> None:
     log = _csv(tmp_path / "log.csv", n=300)
     bad = tmp_path / "bad.csv"
     bad.write_text("t,gx,gy\n0,1,2\n0.01,2,x\n")
@@ -230,8 +324,13 @@ def test_progress_bar_redraws_in_place_on_a_terminal() -> None:
 def test_python_dash_m(tmp_path: Path) -> None:
     # Run the gyrobias that this test imported (installed, or the source tree in development).
     env = {"PYTHONPATH": str(Path(gyrobias.__file__).parent.parent), "PATH": "/usr/bin:/bin"}
-    proc = subprocess.run([sys.executable, "-m", "gyrobias", "allan", str(tmp_path / "none.csv")],
-                          capture_output=True, text=True, env=env, check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "gyrobias", "allan", str(tmp_path / "none.csv")],
+        capture_output=True,
+        text=True,
+        env=env,
+        check=False,
+    )
     assert proc.returncode == 2
     assert proc.stderr == f"gyrobias: error: no such file: '{tmp_path / 'none.csv'}'\n"
 
@@ -256,21 +355,42 @@ def test_demo(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
 
 
 @pytest.mark.parametrize("spelling", ["\\t", "tab", "\t"])
-def test_tab_delimiter_spellings(tmp_path: Path, capsys: pytest.CaptureFixture[str], spelling: str) -> None:
+def test_tab_delimiter_spellings(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], spelling: str
+) -> None:
     path = tmp_path / "log.txt"
     path.write_text("t\tg\n" + "".join(f"{i / 10}\t{(-1) ** i}\n" for i in range(200)))
     assert main(["allan", str(path), "--delimiter", spelling, "--no-confidence"]) == 0
     assert "estimated from the time column 't'" in capsys.readouterr().out
 
 
-def test_allan_fit_kalibr_and_per_axis_fit_plots(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_allan_fit_kalibr_and_per_axis_fit_plots(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     import yaml
 
-    rate = gyrobias.noise.simulate(200_000, 100.0, arw=0.3 / 60, bias_instability=5 / 3600, axes=2, seed=4)
+    rate = gyrobias.noise.simulate(
+        200_000, 100.0, arw=0.3 / 60, bias_instability=5 / 3600, axes=2, seed=4
+    )
     np.save(tmp_path / "g.npy", rate)
     png, imu, js = tmp_path / "fit.png", tmp_path / "imu.yaml", tmp_path / "a.json"
-    code = main(["allan", str(tmp_path / "g.npy"), "--fs", "100", "--units", "deg/s", "--fit",
-                 "--kalibr", str(imu), "--plot", str(png), "--json", str(js)])
+    code = main(
+        [
+            "allan",
+            str(tmp_path / "g.npy"),
+            "--fs",
+            "100",
+            "--units",
+            "deg/s",
+            "--fit",
+            "--kalibr",
+            str(imu),
+            "--plot",
+            str(png),
+            "--json",
+            str(js),
+        ]
+    )
     assert code == 0
     out = capsys.readouterr().out
     assert "angle random walk" in out and "deg/√h" in out

@@ -6,10 +6,10 @@ import argparse
 
 import numpy as np
 import pytest
-from tests.reference_predict import arfima_type2
 
 from gyrobias.cli import experiment_table1
 from gyrobias.cli import predict as cli_predict
+from tests.reference_predict import arfima_type2
 
 
 def _parser():
@@ -26,7 +26,9 @@ def _log(tmp_path, n=6000):
     gz = 0.05 + arfima_type2(n, 0.5, 0.01, 1, rng)[0] + 0.002 * rng.standard_normal(n)
     t = np.arange(n) / 100.0
     path = tmp_path / "log.csv"
-    np.savetxt(path, np.column_stack([t, gz * 0.5, gz]), delimiter=",", header="t,gx,gz", comments="")
+    np.savetxt(
+        path, np.column_stack([t, gz * 0.5, gz]), delimiter=",", header="t,gx,gz", comments=""
+    )
     return path, gz
 
 
@@ -34,7 +36,20 @@ def test_predict_cli_on_csv(tmp_path, capsys):
     path, gz = _log(tmp_path)
     png = tmp_path / "win.png"
     args = _parser().parse_args(
-        ["predict", str(path), "--fs", "100", "--column", "gz", "--calibration", "1000", "--horizon", "1000", "--plot", str(png)]
+        [
+            "predict",
+            str(path),
+            "--fs",
+            "100",
+            "--column",
+            "gz",
+            "--calibration",
+            "1000",
+            "--horizon",
+            "1000",
+            "--plot",
+            str(png),
+        ]
     )
     assert args.func(args) == 0
     out = capsys.readouterr().out
@@ -61,7 +76,9 @@ def test_predict_cli_npy(tmp_path, capsys):
     _, gz = _log(tmp_path, 4000)
     path = tmp_path / "log.npy"
     np.save(path, gz)
-    args = _parser().parse_args(["predict", str(path), "--fs", "100", "--calibration", "500", "--horizon", "500"])
+    args = _parser().parse_args(
+        ["predict", str(path), "--fs", "100", "--calibration", "500", "--horizon", "500"]
+    )
     assert args.func(args) == 0
     assert "4 sections" in capsys.readouterr().out
 
@@ -91,7 +108,9 @@ def test_table1_with_core_generator(capsys):
 def test_demo_section(tmp_path, capsys):
     rng = np.random.default_rng(1)
     n = 30_000
-    rate = np.column_stack([arfima_type2(n, 0.5, 1e-3, 1, rng)[0] + 1e-3 * rng.standard_normal(n) for _ in range(3)])
+    rate = np.column_stack(
+        [arfima_type2(n, 0.5, 1e-3, 1, rng)[0] + 1e-3 * rng.standard_normal(n) for _ in range(3)]
+    )
     cli_predict.demo_section(rate, 100.0, tmp_path)
     out = capsys.readouterr().out
     assert "bias prediction" in out and "KF/CM" in out

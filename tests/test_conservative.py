@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import math
 
-import gyrobias
 import numpy as np
 import pytest
-from gyrobias import _core
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import optimize, stats
+
+import gyrobias
+from gyrobias import _core
 
 FLICKER = math.sqrt(2 * math.log(2) / math.pi)
 

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import math
 
-import gyrobias
 import pytest
-from gyrobias.units import conversion_factor
 from hypothesis import given, settings
 from hypothesis import strategies as st
+
+import gyrobias
+from gyrobias.units import conversion_factor
 
 FLICKER = math.sqrt(2 * math.log(2) / math.pi)
 

@@ -8,10 +8,11 @@ import math
 import re
 from pathlib import Path
 
-import gyrobias
 import numpy as np
 import pytest
 import yaml
+
+import gyrobias
 from gyrobias import exports
 from gyrobias.noise import NoiseCoefficients
 

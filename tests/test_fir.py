@@ -49,7 +49,9 @@ def test_taps_equal_scipy_firwin() -> None:
     apass=st.floats(1e-4, 1.0),
     astop=st.floats(10.0, 120.0),
 )
-def test_design_matches_formula_reference(fs: float, lo: float, width: float, apass: float, astop: float) -> None:
+def test_design_matches_formula_reference(
+    fs: float, lo: float, width: float, apass: float, astop: float
+) -> None:
     fpass, fstop = lo * fs, min(lo + width, 0.5) * fs
     f = fir.kaiser_lowpass(fs, fpass, fstop, apass_db=apass, astop_db=astop)
     ref = kaiser_design(fs, fpass, fstop, apass, astop)
@@ -72,7 +74,9 @@ def test_frequency_response_meets_specification() -> None:
     # −6 dB at fc for the causal filter, −12 dB for zero phase.
     at_fc = f.frequency_response([f.cutoff])
     assert at_fc.magnitude_db[0] == pytest.approx(-6.02, abs=0.01)
-    assert f.frequency_response([f.cutoff], zero_phase=True).magnitude_db[0] == pytest.approx(-12.04, abs=0.02)
+    assert f.frequency_response([f.cutoff], zero_phase=True).magnitude_db[0] == pytest.approx(
+        -12.04, abs=0.02
+    )
     # Equals scipy.signal.freqz; linear phase −2π f M / fs in the pass band.
     _, h = ss.freqz(f.taps, worN=freqs, fs=100.0)
     assert_allclose(r.response, h, atol=1e-13)
@@ -95,7 +99,9 @@ def test_zero_phase_equals_filtfilt(padtype: str, padlen: int | None) -> None:
 def test_padtype_none_equals_filtfilt_none() -> None:
     f = paper_filter()
     x = np.sin(np.linspace(0, 30, 2000)) + np.linspace(0, 1, 2000)
-    assert_allclose(f.apply(x, padtype="none"), ss.filtfilt(f.taps, [1.0], x, padtype=None), rtol=0, atol=1e-12)
+    assert_allclose(
+        f.apply(x, padtype="none"), ss.filtfilt(f.taps, [1.0], x, padtype=None), rtol=0, atol=1e-12
+    )
 
 
 def test_causal_equals_lfilter_and_delay() -> None:
@@ -124,7 +130,9 @@ def test_axis_and_nd_input() -> None:
     # Non-contiguous and integer input are accepted; the caller's array is not modified.
     xi = (rng.normal(size=1200) * 100).astype(np.int64)
     keep = xi.copy()
-    assert_allclose(f.apply(xi[::2]), ss.filtfilt(f.taps, [1.0], xi[::2].astype(float)), rtol=1e-12, atol=1e-10)
+    assert_allclose(
+        f.apply(xi[::2]), ss.filtfilt(f.taps, [1.0], xi[::2].astype(float)), rtol=1e-12, atol=1e-10
+    )
     assert np.array_equal(xi, keep)
 
 
@@ -151,7 +159,13 @@ def test_constant_is_preserved_exactly_enough() -> None:
 def test_bad_design(kwargs: dict[str, float], name: str) -> None:
     args = {**PAPER, **kwargs}
     with pytest.raises(ValueError, match=name):
-        fir.kaiser_lowpass(args["fs"], args["fpass"], args["fstop"], apass_db=args["apass_db"], astop_db=args["astop_db"])
+        fir.kaiser_lowpass(
+            args["fs"],
+            args["fpass"],
+            args["fstop"],
+            apass_db=args["apass_db"],
+            astop_db=args["astop_db"],
+        )
 
 
 def test_too_narrow_transition() -> None:

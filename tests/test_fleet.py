@@ -40,8 +40,14 @@ def logs(tmp_path_factory: pytest.TempPathFactory) -> Path:
         rate = _unit(seed)
         if seed % 3 == 0:
             t = np.arange(N_SAMPLES) / FS
-            np.savetxt(d / f"unit{seed}.csv", np.column_stack([t, rate]), delimiter=",",
-                       header="t,gx,gy,gz", comments="", fmt="%.17g")
+            np.savetxt(
+                d / f"unit{seed}.csv",
+                np.column_stack([t, rate]),
+                delimiter=",",
+                header="t,gx,gy,gz",
+                comments="",
+                fmt="%.17g",
+            )
         elif seed % 3 == 1:
             np.savetxt(d / f"unit{seed}.txt", rate, fmt="%.17g")
         else:
@@ -54,7 +60,9 @@ def logs(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def client() -> Iterator[Client]:
     """A 2-worker LocalCluster (threads in this process: no worker start-up, no pickling)."""
     with (
-        LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster,
+        LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=False, dashboard_address=":0"
+        ) as cluster,
         Client(cluster) as c,
     ):
         yield c
@@ -67,8 +75,14 @@ def _reference_rows(path: Path, axis_names: list[str] | None = None) -> list[dic
     results = allan.adev(log.data, FS, units="deg/s", axis_names=names)
     rows = []
     for r, c in zip(results, noise.fit(results)):
-        row: dict[str, Any] = {"axis": r.axis, "taus": r.taus, "adev": r.adev, "chi2": c.chi2, "dof": c.dof,
-                               "p_value": c.diagnostics.p_value}
+        row: dict[str, Any] = {
+            "axis": r.axis,
+            "taus": r.taus,
+            "adev": r.adev,
+            "chi2": c.chi2,
+            "dof": c.dof,
+            "p_value": c.diagnostics.p_value,
+        }
         for t in c.terms:
             row[t.symbol] = math.nan if t.value is None else t.value
             row[f"{t.symbol}_uncertainty"] = math.nan if t.uncertainty is None else t.uncertainty
@@ -77,11 +91,15 @@ def _reference_rows(path: Path, axis_names: list[str] | None = None) -> list[dic
     return rows
 
 
-def _assert_matches_single_unit(table: pd.DataFrame, source: str, ref: list[dict[str, Any]]) -> None:
+def _assert_matches_single_unit(
+    table: pd.DataFrame, source: str, ref: list[dict[str, Any]]
+) -> None:
     rows = table[table["source"] == source]
     assert list(rows["axis"]) == [r["axis"] for r in ref]
     for (_, row), expected in zip(rows.iterrows(), ref):
-        assert row["error"] is None or (isinstance(row["error"], float) and math.isnan(row["error"]))
+        assert row["error"] is None or (
+            isinstance(row["error"], float) and math.isnan(row["error"])
+        )
         # Same code path on the same data: bit-identical, whatever the scheduler or thread count.
         got = row[TERM_COLUMNS].to_numpy(dtype=np.float64)
         want = np.array([expected[c] for c in TERM_COLUMNS], dtype=np.float64)
@@ -90,14 +108,22 @@ def _assert_matches_single_unit(table: pd.DataFrame, source: str, ref: list[dict
         np.testing.assert_array_equal(row["adev"], expected["adev"])
         assert row["chi2"] == expected["chi2"] and row["dof"] == expected["dof"]
         assert row["p_value"] == expected["p_value"]
-        assert [row[f"{t}_unit"] for t in fleet.TERMS] == [expected[f"{t}_unit"] for t in fleet.TERMS]
-        assert row["fs"] == FS and row["n_samples"] == N_SAMPLES and row["duration"] == N_SAMPLES / FS
+        assert [row[f"{t}_unit"] for t in fleet.TERMS] == [
+            expected[f"{t}_unit"] for t in fleet.TERMS
+        ]
+        assert (
+            row["fs"] == FS and row["n_samples"] == N_SAMPLES and row["duration"] == N_SAMPLES / FS
+        )
         assert row["sensor"] == "gyro" and row["data_unit"] == "deg/s"
 
 
-def test_local_cluster_matches_single_unit_api_and_reports_the_corrupt_file(logs: Path, client: Client) -> None:
+def test_local_cluster_matches_single_unit_api_and_reports_the_corrupt_file(
+    logs: Path, client: Client
+) -> None:
     names = ["x", "y", "z"]
-    table = fleet.analyse(str(logs / "unit*"), fs=FS, units="deg/s", client=client, axis_names=names)
+    table = fleet.analyse(
+        str(logs / "unit*"), fs=FS, units="deg/s", client=client, axis_names=names
+    )
     good = sorted(p for p in logs.iterdir() if p.name != "unit9.npy")
     assert len(table) == 3 * len(good) + 1
     for path in good:
@@ -110,7 +136,9 @@ def test_local_cluster_matches_single_unit_api_and_reports_the_corrupt_file(logs
     # Gap summary: the timestamped CSVs have timestamps and no gaps; the others have none to check.
     csv = table[table["source"].str.endswith(".csv")]
     assert (csv["n_gaps"] == 0).all() and (csv["missing_samples"] == 0).all()
-    assert table[table["source"].str.endswith(".npy") & table["error"].isna()]["n_gaps"].isna().all()
+    assert (
+        table[table["source"].str.endswith(".npy") & table["error"].isna()]["n_gaps"].isna().all()
+    )
     # The outlier unit is out of family through N on every axis, nobody else is.
     flagged = table[table["out_of_family"].fillna(False).astype(bool)]
     assert set(flagged["source"]) == {str(logs / f"unit{OUTLIER}.txt")}
@@ -125,8 +153,12 @@ def test_bags_on_the_cluster_match_single_unit_api(tmp_path: Path, client: Clien
     paths = []
     for seed, fmt in enumerate(("ros1", "db3", "mcap")):
         gyro = noise.simulate(3000, 200.0, arw=1e-3, axes=3, seed=seed)
-        accel = 9.81 * np.array([0.0, 0.0, 1.0]) + noise.simulate(3000, 200.0, arw=2e-3, axes=3, seed=seed + 10)
-        paths.append(write_bag(tmp_path / f"imu{seed}", fmt, regular(3000), np.hstack([gyro, accel])))
+        accel = 9.81 * np.array([0.0, 0.0, 1.0]) + noise.simulate(
+            3000, 200.0, arw=2e-3, axes=3, seed=seed + 10
+        )
+        paths.append(
+            write_bag(tmp_path / f"imu{seed}", fmt, regular(3000), np.hstack([gyro, accel]))
+        )
     table = fleet.analyse([str(p) for p in paths], client=client)
     assert table["error"].isna().all(), table["error"].dropna().tolist()
     for p in paths:
@@ -140,8 +172,10 @@ def test_bags_on_the_cluster_match_single_unit_api(tmp_path: Path, client: Clien
         for (_, row), r, unit in zip(rows.iterrows(), results, log.units):
             c = noise.fit(r, unit=unit)
             want = [v for t in c.terms for v in (t.value, t.uncertainty)]
-            np.testing.assert_array_equal(row[TERM_COLUMNS].to_numpy(dtype=np.float64),
-                                          np.array([np.nan if v is None else v for v in want], dtype=np.float64))
+            np.testing.assert_array_equal(
+                row[TERM_COLUMNS].to_numpy(dtype=np.float64),
+                np.array([np.nan if v is None else v for v in want], dtype=np.float64),
+            )
             assert [row[f"{t.symbol}_unit"] for t in c.terms] == [t.unit for t in c.terms]
 
 
@@ -150,7 +184,9 @@ def test_threaded_scheduler_equals_cluster(logs: Path, client: Client) -> None:
     threaded = fleet.analyse(paths, fs=FS, units="deg/s")
     cluster = fleet.analyse(paths, fs=FS, units="deg/s", client=client)
     assert list(threaded["source"]) == list(cluster["source"])
-    pd.testing.assert_frame_equal(threaded.drop(columns=["adev_tau", "adev"]), cluster.drop(columns=["adev_tau", "adev"]))
+    pd.testing.assert_frame_equal(
+        threaded.drop(columns=["adev_tau", "adev"]), cluster.drop(columns=["adev_tau", "adev"])
+    )
     # Fewer than MIN_UNITS units per axis: no fleet comparison, the flag is <NA>.
     assert threaded["out_of_family"].isna().all()
 
@@ -164,37 +200,56 @@ def test_array_sources_match_single_unit_api(client: Client) -> None:
         assert list(table["axis"]) == ["col0", "col1", "col2"] * 6
         for i in range(6):
             results = allan.adev(data[i], FS, units="deg/s", axis_names=["col0", "col1", "col2"])
-            for (_, row), r, c in zip(table[table["source"] == f"array[{i}]"].iterrows(), results, noise.fit(results)):
+            for (_, row), r, c in zip(
+                table[table["source"] == f"array[{i}]"].iterrows(), results, noise.fit(results)
+            ):
                 np.testing.assert_array_equal(row["adev"], r.adev)
                 want = [v for t in c.terms for v in (t.value, t.uncertainty)]
-                np.testing.assert_array_equal(row[TERM_COLUMNS].to_numpy(dtype=np.float64),
-                                              np.array([np.nan if v is None else v for v in want], dtype=np.float64))
+                np.testing.assert_array_equal(
+                    row[TERM_COLUMNS].to_numpy(dtype=np.float64),
+                    np.array([np.nan if v is None else v for v in want], dtype=np.float64),
+                )
     np.testing.assert_array_equal(data, before)  # the caller's array is not modified
     single = fleet.analyse(data[:, :, 1], fs=FS, units="deg/s", axis_names=["y"])  # (units, n)
     assert list(single["axis"]) == ["y"] * 6
-    np.testing.assert_array_equal(single["N"].to_numpy(), table[table["axis"] == "col1"]["N"].to_numpy())
+    np.testing.assert_array_equal(
+        single["N"].to_numpy(), table[table["axis"] == "col1"]["N"].to_numpy()
+    )
 
 
 def test_progress_is_reported_and_changes_nothing(logs: Path, client: Client) -> None:
     for where in (None, client):
         seen: list[float] = []
-        with_progress = fleet.analyse(str(logs / "unit[0-4]*"), fs=FS, client=where, progress=seen.append)
+        with_progress = fleet.analyse(
+            str(logs / "unit[0-4]*"), fs=FS, client=where, progress=seen.append
+        )
         plain = fleet.analyse(str(logs / "unit[0-4]*"), fs=FS, client=where)
         assert seen == sorted(seen) and seen[-1] == 1.0 and len(seen) >= 5
-        pd.testing.assert_frame_equal(with_progress.drop(columns=["adev_tau", "adev"]),
-                                      plain.drop(columns=["adev_tau", "adev"]))
+        pd.testing.assert_frame_equal(
+            with_progress.drop(columns=["adev_tau", "adev"]),
+            plain.drop(columns=["adev_tau", "adev"]),
+        )
 
 
 def test_filled_gaps_use_the_gap_aware_estimators(tmp_path: Path) -> None:
     rate = noise.simulate(6000, FS, arw=ARW, axes=2, seed=5)
     t = np.arange(6000) / FS
     t[3000:] += 1.0  # a 1 s gap: 100 samples missing
-    np.savetxt(tmp_path / "gap.csv", np.column_stack([t, rate]), delimiter=",", header="t,gx,gy", comments="", fmt="%.17g")
+    np.savetxt(
+        tmp_path / "gap.csv",
+        np.column_stack([t, rate]),
+        delimiter=",",
+        header="t,gx,gy",
+        comments="",
+        fmt="%.17g",
+    )
     table = fleet.analyse(tmp_path / "gap.csv", load_options={"fill_gaps": True}, gaps="omit")
     assert table["error"].isna().all()
     assert (table["n_gaps"] == 1).all() and (table["missing_samples"] == 100).all()
     log = io.load(tmp_path / "gap.csv", fill_gaps=True)
-    for (_, row), r in zip(table.iterrows(), allan.adev(log.data, log.fs, gaps="omit", axis_names=list(log.columns))):
+    for (_, row), r in zip(
+        table.iterrows(), allan.adev(log.data, log.fs, gaps="omit", axis_names=list(log.columns))
+    ):
         np.testing.assert_array_equal(row["adev"], r.adev)
         assert row["N"] == noise.fit(r).N.value
     with_nan = fleet.analyse(tmp_path / "gap.csv", load_options={"fill_gaps": True})  # gaps="error"
@@ -205,7 +260,9 @@ def test_grouping_of_units_into_tasks_does_not_change_results() -> None:
     data = np.stack([noise.simulate(4000, FS, arw=ARW, seed=s) for s in range(7)])
     one = fleet.analyse(data, fs=FS, num_workers=1)
     many = fleet.analyse(data, fs=FS, num_workers=4)
-    pd.testing.assert_frame_equal(one.drop(columns=["adev_tau", "adev"]), many.drop(columns=["adev_tau", "adev"]))
+    pd.testing.assert_frame_equal(
+        one.drop(columns=["adev_tau", "adev"]), many.drop(columns=["adev_tau", "adev"])
+    )
 
 
 def test_parquet_round_trip(logs: Path, tmp_path: Path) -> None:
@@ -214,8 +271,11 @@ def test_parquet_round_trip(logs: Path, tmp_path: Path) -> None:
     fleet.write_table(table, out)
     back = pd.read_parquet(out)
     assert list(back.columns) == list(table.columns)
-    pd.testing.assert_frame_equal(back.drop(columns=["adev_tau", "adev"]), table.drop(columns=["adev_tau", "adev"]),
-                                  check_dtype=False)
+    pd.testing.assert_frame_equal(
+        back.drop(columns=["adev_tau", "adev"]),
+        table.drop(columns=["adev_tau", "adev"]),
+        check_dtype=False,
+    )
     for a, b in zip(back["adev"], table["adev"]):
         np.testing.assert_array_equal(np.asarray(a), b)
     assert [p.name for p in tmp_path.iterdir()] == ["fleet.parquet"]  # no temp file left behind
@@ -321,8 +381,17 @@ def test_chi2_tail_against_scipy(x: float, dof: int) -> None:
 
 
 def _table(values: np.ndarray, unc: np.ndarray) -> pd.DataFrame:
-    rows = [{"source": f"u{i}", "axis": "x", "error": None, "N": v, "N_uncertainty": s, "N_unit": "deg/√s"}
-            for i, (v, s) in enumerate(zip(values, unc))]
+    rows = [
+        {
+            "source": f"u{i}",
+            "axis": "x",
+            "error": None,
+            "N": v,
+            "N_uncertainty": s,
+            "N_unit": "deg/√s",
+        }
+        for i, (v, s) in enumerate(zip(values, unc))
+    ]
     return fleet._finish(pd, rows, fleet.OUT_OF_FAMILY_THRESHOLD)
 
 
@@ -346,8 +415,12 @@ def test_summary_decides_whether_the_spread_is_real() -> None:
     assert false_real / 2000 < fleet.SPREAD_ALPHA + 0.005
     # ... and a real spread of twice the uncertainties is found nearly always.
     found = sum(
-        fleet._spread(1.0 + rng.normal(0.0, 0.02, 30) + rng.normal(0.0, 0.01, 30), u, fleet.SPREAD_ALPHA,
-                      fleet.SPREAD_MIN_RATIO)["spread_real"]
+        fleet._spread(
+            1.0 + rng.normal(0.0, 0.02, 30) + rng.normal(0.0, 0.01, 30),
+            u,
+            fleet.SPREAD_ALPHA,
+            fleet.SPREAD_MIN_RATIO,
+        )["spread_real"]
         for _ in range(500)
     )
     assert found / 500 > 0.95
@@ -358,10 +431,26 @@ def test_summary_decides_whether_the_spread_is_real() -> None:
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 
-def test_cli_writes_parquet_summary_and_plot(logs: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_cli_writes_parquet_summary_and_plot(
+    logs: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     out, png = tmp_path / "fleet.parquet", tmp_path / "fleet.png"
-    code = main(["fleet", str(logs / "unit*"), "--fs", "100", "--units", "deg/s", "--axis-names", "x,y,z",
-                 "--out", str(out), "--plot", str(png)])
+    code = main(
+        [
+            "fleet",
+            str(logs / "unit*"),
+            "--fs",
+            "100",
+            "--units",
+            "deg/s",
+            "--axis-names",
+            "x,y,z",
+            "--out",
+            str(out),
+            "--plot",
+            str(png),
+        ]
+    )
     assert code == 0
     captured = capsys.readouterr()
     assert "8 unit" not in captured.out  # counts are of unit-axes
@@ -374,12 +463,24 @@ def test_cli_writes_parquet_summary_and_plot(logs: Path, tmp_path: Path, capsys:
     assert png.read_bytes().startswith(PNG_SIGNATURE)
 
 
-def test_cli_scheduler_address_and_csv(logs: Path, tmp_path: Path, client: Client,
-                                       capsys: pytest.CaptureFixture[str]) -> None:
+def test_cli_scheduler_address_and_csv(
+    logs: Path, tmp_path: Path, client: Client, capsys: pytest.CaptureFixture[str]
+) -> None:
     out = tmp_path / "fleet.csv"
     address = client.scheduler.address
-    code = main(["fleet", str(logs / "unit[0-2]*"), "--fs", "100", "--scheduler", address, "--out", str(out),
-                 "--progress"])
+    code = main(
+        [
+            "fleet",
+            str(logs / "unit[0-2]*"),
+            "--fs",
+            "100",
+            "--scheduler",
+            address,
+            "--out",
+            str(out),
+            "--progress",
+        ]
+    )
     assert code == 0
     captured = capsys.readouterr()
     assert f"(scheduler {address})" in captured.out

@@ -115,9 +115,7 @@ def test_order_zero_is_identity(x: np.ndarray) -> None:
 
 
 @given(
-    data=hnp.arrays(
-        np.float64, st.tuples(st.integers(1, 4), st.integers(1, 60)), elements=finite
-    ),
+    data=hnp.arrays(np.float64, st.tuples(st.integers(1, 4), st.integers(1, 60)), elements=finite),
     d=orders,
 )
 def test_batch_equals_loop_and_axis(data: np.ndarray, d: float) -> None:
@@ -196,7 +194,12 @@ def test_elw_objective_matches_reference(level: str) -> None:
 
 @pytest.mark.parametrize(
     ("d", "kind", "bias"),
-    [(0.1, "stationary", 0.0), (0.3, "stationary", 0.0), (0.45, "stationary", 0.0), (0.5, "type2", 50.0)],
+    [
+        (0.1, "stationary", 0.0),
+        (0.3, "stationary", 0.0),
+        (0.45, "stationary", 0.0),
+        (0.5, "type2", 50.0),
+    ],
 )
 def test_elw_recovers_d(d: float, kind: str, bias: float) -> None:
     reps, n = 300, 2000

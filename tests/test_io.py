@@ -17,7 +17,9 @@ from gyrobias.io import GyroLog, SamplingReport, load
 RNG = np.random.default_rng(20121)
 
 
-def _write(path: Path, header: str | None, rows: np.ndarray, delimiter: str = ",", fmt: str = "%.17g") -> Path:
+def _write(
+    path: Path, header: str | None, rows: np.ndarray, delimiter: str = ",", fmt: str = "%.17g"
+) -> Path:
     lines = [] if header is None else [header]
     lines += [delimiter.join(fmt % v for v in row) for row in rows]
     path.write_text("\n".join(lines) + "\n")
@@ -86,10 +88,15 @@ def test_no_header_integer_indices(tmp_path: Path) -> None:
     assert none.fs is None and none.sampling.fs_source is None
 
 
-@pytest.mark.parametrize(("delimiter", "name"), [("\t", "log.tsv"), (";", "log.csv"), (",", "log.dat"), ("  ", "log.txt")])
+@pytest.mark.parametrize(
+    ("delimiter", "name"),
+    [("\t", "log.tsv"), (";", "log.csv"), (",", "log.dat"), ("  ", "log.txt")],
+)
 def test_delimiter_detection(tmp_path: Path, delimiter: str, name: str) -> None:
     t, x = _log(50)
-    path = _write(tmp_path / name, delimiter.join(["t", "a", "b", "c"]), np.column_stack([t, x]), delimiter)
+    path = _write(
+        tmp_path / name, delimiter.join(["t", "a", "b", "c"]), np.column_stack([t, x]), delimiter
+    )
     log = load(path)
     assert log.columns == ("a", "b", "c")
     np.testing.assert_array_equal(log.data, x)
@@ -99,7 +106,10 @@ def test_delimiter_detection(tmp_path: Path, delimiter: str, name: str) -> None:
 
 def test_skip_rows_comments_blank_lines_and_bom(tmp_path: Path) -> None:
     path = tmp_path / "log.csv"
-    path.write_text("\ufeffdevice: XYZ-100\nfirmware 1.2\n# a comment\n\nt,gx\n0.0,1\n# mid\n0.5,2\n\n1.0,3\n", encoding="utf-8")
+    path.write_text(
+        "\ufeffdevice: XYZ-100\nfirmware 1.2\n# a comment\n\nt,gx\n0.0,1\n# mid\n0.5,2\n\n1.0,3\n",
+        encoding="utf-8",
+    )
     log = load(path, skip_rows=2)
     assert log.columns == ("gx",)
     np.testing.assert_array_equal(log.data[:, 0], [1.0, 2.0, 3.0])
@@ -131,7 +141,9 @@ def test_nanosecond_time_column_exact(tmp_path: Path) -> None:
     stamps = 1_700_000_000_123_456_789 + np.arange(n, dtype=np.int64) * 2_500_000  # 400 Hz
     x = RNG.normal(size=(n, 2))
     path = tmp_path / "ns.csv"
-    path.write_text("stamp,a,b\n" + "".join(f"{s},{float(a)!r},{float(b)!r}\n" for s, (a, b) in zip(stamps, x)))
+    path.write_text(
+        "stamp,a,b\n" + "".join(f"{s},{float(a)!r},{float(b)!r}\n" for s, (a, b) in zip(stamps, x))
+    )
     log = load(path, time_column="stamp")
     assert log.sampling.time_unit == "ns"  # by magnitude: median step 2.5e6 ≥ 1000
     assert log.fs == 400.0
@@ -141,17 +153,24 @@ def test_nanosecond_time_column_exact(tmp_path: Path) -> None:
     np.testing.assert_array_equal(log.data, x)
 
 
-@pytest.mark.parametrize(("name", "scale", "unit"), [("t_ms", 1e3, "ms"), ("time_us", 1e6, "us"), ("time_ns", 1e9, "ns"), ("t_s", 1.0, "s")])
+@pytest.mark.parametrize(
+    ("name", "scale", "unit"),
+    [("t_ms", 1e3, "ms"), ("time_us", 1e6, "us"), ("time_ns", 1e9, "ns"), ("t_s", 1.0, "s")],
+)
 def test_time_unit_from_column_suffix(tmp_path: Path, name: str, scale: float, unit: str) -> None:
     t, x = _log(100, fs=50.0, k=1)
-    path = _write(tmp_path / "log.csv", f"{name},g", np.column_stack([np.rint(t * scale * 1e3) / 1e3, x]))
+    path = _write(
+        tmp_path / "log.csv", f"{name},g", np.column_stack([np.rint(t * scale * 1e3) / 1e3, x])
+    )
     log = load(path)
     assert log.sampling.time_unit == unit
     assert log.fs == pytest.approx(50.0, rel=1e-9)
 
 
 def test_explicit_time_unit_overrides(tmp_path: Path) -> None:
-    path = _write(tmp_path / "log.csv", "t,g", np.column_stack([np.arange(100) * 10, np.ones(100)]), fmt="%d")
+    path = _write(
+        tmp_path / "log.csv", "t,g", np.column_stack([np.arange(100) * 10, np.ones(100)]), fmt="%d"
+    )
     guessed = load(path)  # 10-unit steps read as seconds: implausible, so warned about
     assert guessed.fs == pytest.approx(0.1)
     assert any("time_unit" in w for w in guessed.warnings)
@@ -176,7 +195,11 @@ def test_gap_detection(tmp_path: Path) -> None:
     assert rep.fs == pytest.approx(100.0)  # gaps do not bias the rate estimate
     assert len(rep.warnings) == 1 and "2 gap(s)" in rep.warnings[0] and "row 600" in rep.warnings[0]
     d = rep.to_dict()
-    assert d["gap_rows"] == [600, 800] and d["n_gaps"] == 2 and d["longest_gap_s"] == pytest.approx(3.01)
+    assert (
+        d["gap_rows"] == [600, 800]
+        and d["n_gaps"] == 2
+        and d["longest_gap_s"] == pytest.approx(3.01)
+    )
 
 
 def test_gap_threshold_is_one_and_a_half_median(tmp_path: Path) -> None:
@@ -220,7 +243,9 @@ def test_user_fs_disagreeing_with_timestamps(tmp_path: Path) -> None:
     off = load(path, fs=102.0)  # 2 %
     assert off.fs == 102.0  # the user's rate is used …
     assert off.sampling.fs_estimated == 100.0
-    assert len(off.warnings) == 1 and "102" in off.warnings[0] and "2 %" in off.warnings[0]  # … and reported
+    assert (
+        len(off.warnings) == 1 and "102" in off.warnings[0] and "2 %" in off.warnings[0]
+    )  # … and reported
 
 
 def test_sampling_report_str_and_defaults() -> None:
@@ -241,7 +266,9 @@ def test_caller_file_unchanged_and_array_independent(tmp_path: Path) -> None:
     st.lists(st.floats(-1e6, 1e6, allow_nan=False, allow_subnormal=False), min_size=2, max_size=30),
     st.sampled_from([",", ";", "\t", " "]),
 )
-def test_text_round_trip_property(tmp_path_factory: pytest.TempPathFactory, values: list[float], delimiter: str) -> None:
+def test_text_round_trip_property(
+    tmp_path_factory: pytest.TempPathFactory, values: list[float], delimiter: str
+) -> None:
     x = np.array(values).reshape(-1, 1)
     rows = np.column_stack([x, -x])
     path = tmp_path_factory.mktemp("prop") / "p.csv"
@@ -285,11 +312,15 @@ def test_header_without_rows(tmp_path: Path) -> None:
 def test_unknown_column_lists_available(tmp_path: Path) -> None:
     t, x = _log(10)
     path = _write(tmp_path / "log.csv", "t,gx,gy,gz", np.column_stack([t, x]))
-    with pytest.raises(ValueError, match="unknown column 'wx' in log.csv; available: t, gx, gy, gz"):
+    with pytest.raises(
+        ValueError, match="unknown column 'wx' in log.csv; available: t, gx, gy, gz"
+    ):
         load(path, columns=["gx", "wx"])
     with pytest.raises(ValueError, match="unknown time column 'time'.*available: t, gx"):
         load(path, time_column="time")
-    with pytest.raises(ValueError, match=r"column index 4 out of range: log.csv has 4 columns \(0..3\)"):
+    with pytest.raises(
+        ValueError, match=r"column index 4 out of range: log.csv has 4 columns \(0..3\)"
+    ):
         load(path, columns=[4])
     with pytest.raises(ValueError, match="time column is also listed"):
         load(path, columns=["t", "gx"], time_column="t")
@@ -316,7 +347,9 @@ def test_only_time_column(tmp_path: Path) -> None:
 def test_non_numeric_cell_names_line_and_column(tmp_path: Path) -> None:
     path = tmp_path / "bad.csv"
     path.write_text("t,gx,gy\n0,1,2\n# note\n0.01,2,3\n0.02,oops,4\n")
-    with pytest.raises(ValueError, match=r"bad.csv: 'oops' \(not a number\) in column 'gx' at line 5"):
+    with pytest.raises(
+        ValueError, match=r"bad.csv: 'oops' \(not a number\) in column 'gx' at line 5"
+    ):
         load(path)
 
 
@@ -338,7 +371,9 @@ def test_decimal_comma_hint(tmp_path: Path) -> None:
 def test_nan_cell_names_line_and_column(tmp_path: Path, bad: str) -> None:
     path = tmp_path / "nan.csv"
     path.write_text(f"t,gx,gy\n0,1,2\n\n0.01,2,3\n0.02,3,{bad}\n0.03,4,{bad}\n")
-    with pytest.raises(ValueError, match=r"in column 'gy' at line 5 \(2 non-finite value\(s\) in all\)"):
+    with pytest.raises(
+        ValueError, match=r"in column 'gy' at line 5 \(2 non-finite value\(s\) in all\)"
+    ):
         load(path)
 
 
@@ -409,7 +444,9 @@ def test_npy_errors(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match="not real numeric"):
         load(tmp_path / "s.npy", fs=1.0)
     np.save(tmp_path / "3d.npy", np.ones((2, 2, 2)))
-    with pytest.raises(ValueError, match=re.escape("1-D or 2-D array (samples × channels), got shape (2, 2, 2)")):
+    with pytest.raises(
+        ValueError, match=re.escape("1-D or 2-D array (samples × channels), got shape (2, 2, 2)")
+    ):
         load(tmp_path / "3d.npy", fs=1.0)
     np.save(tmp_path / "e.npy", np.ones((0, 3)))
     with pytest.raises(ValueError, match="empty"):
@@ -427,7 +464,9 @@ def test_compressed_text(tmp_path: Path, suffix: str) -> None:
 
     opener: Any = {".gz": gzip.open, ".bz2": bz2.open, ".xz": lzma.open}[suffix]
     t, x = _log(100)
-    text = "t,a,b,c\n" + "".join(f"{ti!r},{a!r},{b!r},{c!r}\n" for ti, (a, b, c) in zip(t.tolist(), x.tolist()))
+    text = "t,a,b,c\n" + "".join(
+        f"{ti!r},{a!r},{b!r},{c!r}\n" for ti, (a, b, c) in zip(t.tolist(), x.tolist())
+    )
     path = tmp_path / f"log.csv{suffix}"
     with opener(path, "wt") as fh:
         fh.write(text)

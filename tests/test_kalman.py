@@ -7,7 +7,6 @@ import pickle
 
 import numpy as np
 import pytest
-from tests import reference_kalman as ref
 from hypothesis import given
 from hypothesis import strategies as st
 
@@ -22,6 +21,7 @@ from gyrobias.kalman import (
     qomega_for_bandwidth,
     rrw_from_deg_per_hour_1p5,
 )
+from tests import reference_kalman as ref
 
 FS = 200.0
 # [NR]'s example: ARW 0.1667 °/√h, RRW 1200 °/h^1.5 at T = 5 ms, in °/s units.
@@ -31,7 +31,11 @@ RRW = rrw_from_deg_per_hour_1p5(1200.0)
 
 def nr_filter(q_deg_h2: float = 1000.0, form: str = "standard") -> FixedGainKalman:
     return FixedGainKalman(
-        FS, arw=ARW, rrw=RRW, q_omega=q_omega_from_deg_per_hour(q_deg_h2), form=form  # type: ignore[arg-type]
+        FS,
+        arw=ARW,
+        rrw=RRW,
+        q_omega=q_omega_from_deg_per_hour(q_deg_h2),
+        form=form,  # type: ignore[arg-type]
     )
 
 
@@ -117,7 +121,9 @@ def test_paper_form_bandwidth_is_capped():
     with pytest.raises(ValueError, match="bandwidth.*paper"):
         FixedGainKalman(FS, arw=ARW, rrw=RRW, bandwidth=10.0, form="paper")
     q = qomega_for_bandwidth(0.12, FS, arw=ARW, rrw=RRW, form="paper")
-    assert bandwidth_for_qomega(q, FS, arw=ARW, rrw=RRW, form="paper") == pytest.approx(0.12, rel=1e-10)
+    assert bandwidth_for_qomega(q, FS, arw=ARW, rrw=RRW, form="paper") == pytest.approx(
+        0.12, rel=1e-10
+    )
 
 
 # --- design against the paper's equations ---------------------------------------------------
@@ -254,7 +260,9 @@ def test_initial_state_and_x0():
     # The split persists in the unobservable mode: rate + bias tracks z, the split stays.
     np.testing.assert_allclose(rate + bias, 5.0, rtol=1e-15)
     np.testing.assert_allclose(rate, 1.0, rtol=1e-15)
-    per_axis = FixedGainKalman(FS, arw=ARW, rrw=RRW, q_omega=kf.q_omega, x0=[[1.0, 0.0], [2.0, 0.0]])
+    per_axis = FixedGainKalman(
+        FS, arw=ARW, rrw=RRW, q_omega=kf.q_omega, x0=[[1.0, 0.0], [2.0, 0.0]]
+    )
     assert per_axis.filter(np.zeros((2, 2))).state.n_axes == 2
     with pytest.raises(ValueError, match="x0"):
         per_axis.filter(np.zeros((2, 3)))
@@ -414,8 +422,20 @@ def test_cli_filter_round_trip(tmp_path, capsys):
     np.savetxt(log, z, delimiter=",", header="gx,gy", comments="")  # a header with names
     out = tmp_path / "filtered.csv"
     args = _parser(cli_filter.register).parse_args(
-        ["filter", str(log), "--fs", "200", "--bandwidth", "10", "--arw", str(ARW),
-         "--rrw", str(RRW), "-o", str(out)]
+        [
+            "filter",
+            str(log),
+            "--fs",
+            "200",
+            "--bandwidth",
+            "10",
+            "--arw",
+            str(ARW),
+            "--rrw",
+            str(RRW),
+            "-o",
+            str(out),
+        ]
     )
     assert args.func(args) == 0
     assert "bandwidth 10 Hz" in capsys.readouterr().out
@@ -428,8 +448,22 @@ def test_cli_filter_round_trip(tmp_path, capsys):
     np.testing.assert_allclose(got[:, 1::2], bias, rtol=1e-9, atol=1e-9)
     # Customary units: 0.1667 deg/sqrt(h) is the same filter as ARW in deg/sqrt(s).
     args = _parser(cli_filter.register).parse_args(
-        ["filter", str(log), "--fs", "200", "--q-omega", "1e-4", "--arw", "0.1667",
-         "--arw-unit", "deg/sqrt(h)", "--columns", "1", "-o", str(tmp_path / "f.npy")]
+        [
+            "filter",
+            str(log),
+            "--fs",
+            "200",
+            "--q-omega",
+            "1e-4",
+            "--arw",
+            "0.1667",
+            "--arw-unit",
+            "deg/sqrt(h)",
+            "--columns",
+            "1",
+            "-o",
+            str(tmp_path / "f.npy"),
+        ]
     )
     assert args.func(args) == 0
     ref_rate, _ = FixedGainKalman(FS, arw=ARW, rrw=0.0, q_omega=1e-4).filter(z[:, 1])

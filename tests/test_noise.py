@@ -17,7 +17,6 @@ from gyrobias import noise
 from gyrobias.allan import AllanResult, adev
 from gyrobias.cli import noise as cli_noise
 from gyrobias.units import base_unit, conversion_factor, parse_unit, sensor_kind
-
 from tests.reference_noise import FLICKER, fixed_slope_value, joint_irls, local_slopes, model_avar
 
 FS = 100.0
@@ -47,7 +46,9 @@ def eight_hour_all() -> dict[str, list[tuple[noise.NoiseCoefficients, noise.Nois
 
 
 @pytest.fixture(scope="module")
-def eight_hour_fits(eight_hour_all: dict) -> list[tuple[noise.NoiseCoefficients, noise.NoiseCoefficients]]:
+def eight_hour_fits(
+    eight_hour_all: dict,
+) -> list[tuple[noise.NoiseCoefficients, noise.NoiseCoefficients]]:
     return eight_hour_all["approximate"]
 
 
@@ -147,7 +148,9 @@ def test_recovery_on_eight_hour_logs(eight_hour_all: dict, edf: str) -> None:
     0.91, 1.14, 1.06 with the identified (Greenhall) EDF.
     """
     z: dict[str, list[float]] = {"N": [], "B": [], "K": []}
-    expected_source = "noise identification" if edf == "identified" else "SP1065 simple approximation"
+    expected_source = (
+        "noise identification" if edf == "identified" else "SP1065 simple approximation"
+    )
     for joint, _ in eight_hour_all[edf]:
         assert joint.edf_source == expected_source
         assert joint.N.value == pytest.approx(TRUE["arw"], rel=0.02)
@@ -194,8 +197,15 @@ def test_joint_fit_matches_scipy_nnls_reference() -> None:
     r = _curve(rate)
     edf = np.maximum(r.n_terms / (2.0 * r.m), 1.0)  # any fixed positive EDF: same in both
     given_edf = AllanResult(
-        taus=r.taus, avar=r.avar, n_terms=r.n_terms, fs=FS, data_type="rate", kind="adev",
-        overlapping=True, unit="deg/s", edf=edf,
+        taus=r.taus,
+        avar=r.avar,
+        n_terms=r.n_terms,
+        fs=FS,
+        data_type="rate",
+        kind="adev",
+        overlapping=True,
+        unit="deg/s",
+        edf=edf,
     )
     # Every point (no automatic range selection): the reference solves the same problem.
     c = noise.fit(given_edf, auto_range=False)
@@ -213,8 +223,14 @@ def test_exact_model_curve_is_recovered_by_both_methods() -> None:
     sq = np.array([0.0, TRUE["arw"] ** 2, 0.0, 0.0, 0.0])
     avar = model_avar(sq, taus)
     r = AllanResult(
-        taus=taus, avar=avar, n_terms=N_8H + 1 - 2 * m, fs=FS, data_type="rate", kind="adev",
-        overlapping=True, unit="deg/s",
+        taus=taus,
+        avar=avar,
+        n_terms=N_8H + 1 - 2 * m,
+        fs=FS,
+        data_type="rate",
+        kind="adev",
+        overlapping=True,
+        unit="deg/s",
     )
     j = noise.fit(r)
     i = noise.fit(r, method="ieee")

@@ -12,7 +12,6 @@ from hypothesis import strategies as st
 
 from gyrobias import noise
 from gyrobias.allan import AllanResult, adev
-
 from tests.reference_noise import gauss_markov_avar_reference, sensor_like_log
 
 FS = 100.0

@@ -30,15 +30,24 @@ def _close_figures() -> Iterator[None]:
 
 def _results(k: int = 3, *, ci: bool = True) -> tuple[AllanResult, ...]:
     rate = np.random.default_rng(7).normal(0.0, 0.05, (20_000, k))
-    res = gyrobias.allan.adev(rate, 100.0, confidence=None, units="deg/s", axis_names=["x", "y", "z"][:k])
+    res = gyrobias.allan.adev(
+        rate, 100.0, confidence=None, units="deg/s", axis_names=["x", "y", "z"][:k]
+    )
     assert isinstance(res, tuple)
     if not ci:
         return res
     # the plot only reads ci_low/ci_high: hand-made asymmetric bounds (−20 %, +50 %) make the
     # bar geometry checkable independently of how the intervals are computed
     return tuple(
-        replace(r, confidence=0.683, edf=np.full(len(r.taus), 10.0), alpha=np.zeros(len(r.taus), dtype=np.int64),
-                ci_low=0.8 * r.adev, ci_high=1.5 * r.adev, noise_type=("white rate (angle random walk)",) * len(r.taus))
+        replace(
+            r,
+            confidence=0.683,
+            edf=np.full(len(r.taus), 10.0),
+            alpha=np.zeros(len(r.taus), dtype=np.int64),
+            ci_low=0.8 * r.adev,
+            ci_high=1.5 * r.adev,
+            noise_type=("white rate (angle random walk)",) * len(r.taus),
+        )
         for r in res
     )
 

@@ -10,11 +10,11 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
-from tests.reference_predict import arfima_type2, dense_predict, literal_filter
 
 import gyrobias
 from gyrobias import predict
 from gyrobias.predict import FractionalKalmanPredictor
+from tests.reference_predict import arfima_type2, dense_predict, literal_filter
 
 MEANS = ["sample", "diffuse", "none", (2.0, 3.0), (2.0, 0.0)]
 
@@ -38,12 +38,16 @@ def test_cm_ma_match_definition(y, h):
     ref = np.array([np.mean(y[k - j :]) if j <= k else np.mean(y) for j in range(1, h + 1)])
     # Compensated running sums: agreement to a few ulps of the data range.
     np.testing.assert_allclose(ma, ref, rtol=1e-12, atol=1e-12 * 1e3)
-    np.testing.assert_allclose(predict.calibration_mean(y, h), np.full(h, np.mean(y)), rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(
+        predict.calibration_mean(y, h), np.full(h, np.mean(y)), rtol=1e-12, atol=1e-9
+    )
 
 
 def test_cm_ma_2d_and_values():
     y = np.array([[1.0, 2.0, 3.0, 4.0], [0.0, 0.0, 0.0, 8.0]])
-    np.testing.assert_array_equal(predict.moving_average(y, 5), [[4, 3.5, 3, 2.5, 2.5], [8, 4, 8 / 3, 2, 2]])
+    np.testing.assert_array_equal(
+        predict.moving_average(y, 5), [[4, 3.5, 3, 2.5, 2.5], [8, 4, 8 / 3, 2, 2]]
+    )
     np.testing.assert_array_equal(predict.calibration_mean(y, 2), [[2.5, 2.5], [2, 2]])
 
 
@@ -181,7 +185,9 @@ def test_from_noise_on_simulated_data():
     # white: σ² = N²/τ; estimator scatter at τ = 0.1 s over 1000 s is ~1 % in variance.
     np.testing.assert_allclose(res.avar * res.taus, N**2, rtol=0.05)
     taus = np.array([0.1, 0.5, 2.0])
-    avar = np.mean([gyrobias.allan.avar(s, fs, taus=taus, confidence=None).avar for s in flick], axis=0)
+    avar = np.mean(
+        [gyrobias.allan.avar(s, fs, taus=taus, confidence=None).avar for s in flick], axis=0
+    )
     b_hat = np.sqrt(avar) / math.sqrt(2 * math.log(2) / math.pi)
     # The discrete type-II process shows the flicker plateau 0.664·√q to ~1 % over these τ;
     # the average of 20 series has ~1 % scatter in deviation at τ = 2 s: 5 % bound.

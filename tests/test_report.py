@@ -10,9 +10,10 @@ import subprocess
 from html.parser import HTMLParser
 from pathlib import Path
 
-import gyrobias
 import numpy as np
 import pytest
+
+import gyrobias
 from gyrobias import io, report
 from gyrobias.cli import main
 

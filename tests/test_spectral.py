@@ -43,7 +43,12 @@ def conditioning_tolerance(t: np.ndarray, f: np.ndarray) -> np.ndarray:
     value (checked at 50 digits with mpmath), in opposite directions.
     """
     kappa = np.array(
-        [np.linalg.cond(np.c_[np.ones_like(t), np.cos(2 * np.pi * fk * t), np.sin(2 * np.pi * fk * t)]) for fk in f]
+        [
+            np.linalg.cond(
+                np.c_[np.ones_like(t), np.cos(2 * np.pi * fk * t), np.sin(2 * np.pi * fk * t)]
+            )
+            for fk in f
+        ]
     )
     return ATOL + kappa**2 * np.finfo(float).eps
 
@@ -54,16 +59,22 @@ def test_equals_astropy_unequal_spacing(seed: int, n: int) -> None:
     t, y = irregular(n, seed)
     f = np.linspace(0.002, 0.5, 300)
     r = spectral.lssa(t, y, f)
-    ref = LombScargle(t, y, fit_mean=True, center_data=True, normalization="standard").power(f, method="cython")
+    ref = LombScargle(t, y, fit_mean=True, center_data=True, normalization="standard").power(
+        f, method="cython"
+    )
     tolerance = conditioning_tolerance(t, f)
     worst = np.max(np.abs(r.spectrum - ref) / tolerance)
-    assert worst <= 1.0, f"gyrobias and astropy differ by {worst:.3g} times the conditioning allowance"
+    assert worst <= 1.0, (
+        f"gyrobias and astropy differ by {worst:.3g} times the conditioning allowance"
+    )
 
 
 def test_equals_astropy_weighted_and_irregular_grid() -> None:
     t, y = irregular(500, 11)
     dy = np.random.default_rng(2).uniform(0.5, 2.0, t.size)
-    f = np.sort(np.random.default_rng(3).uniform(0.001, 0.4, 200))  # non-uniform grid: direct sin/cos
+    f = np.sort(
+        np.random.default_rng(3).uniform(0.001, 0.4, 200)
+    )  # non-uniform grid: direct sin/cos
     r = spectral.lssa(t, y, f, weights=1 / dy**2)
     ref = LombScargle(t, y, dy, fit_mean=True, center_data=True).power(f, method="cython")
     assert_allclose(r.spectrum, ref, rtol=0, atol=ATOL)
@@ -131,7 +142,10 @@ def test_known_constituent_suppressed_without_shifting_peaks() -> None:
     assert known.spectrum[near].max() < known.critical_value
     # The 1/3.7 Hz peak is still significant, at the same frequency bin.
     other = np.abs(f - 1 / 3.7) < 0.01
-    assert plain.frequencies[other][np.argmax(plain.spectrum[other])] == known.frequencies[other][np.argmax(known.spectrum[other])]
+    assert (
+        plain.frequencies[other][np.argmax(plain.spectrum[other])]
+        == known.frequencies[other][np.argmax(known.spectrum[other])]
+    )
     assert known.spectrum[other].max() > plain.spectrum[other].max()  # larger share of the residual
     assert known.n_known == 3
     # The fitted known amplitude (cos, sin at t_ref) has the injected magnitude 1.5.
@@ -141,7 +155,9 @@ def test_known_constituent_suppressed_without_shifting_peaks() -> None:
 
 
 def test_critical_value_and_significance() -> None:
-    assert gyrobias._core.spectral.critical_value(600, 1, 0.01) == pytest.approx(0.01530931, abs=5e-9)
+    assert gyrobias._core.spectral.critical_value(600, 1, 0.01) == pytest.approx(
+        0.01530931, abs=5e-9
+    )
     rng = np.random.default_rng(8)
     t = np.sort(rng.uniform(0, 500, 600))
     r = spectral.lssa(t, rng.normal(size=600), alpha=0.01)
@@ -221,7 +237,12 @@ def test_bad_lssa_input() -> None:
         spectral.lssa(["a"] * 50, y, f)
     big = 4001
     with pytest.raises(ValueError, match="cov.*4000"):
-        spectral.lssa(np.arange(big, dtype=float), np.random.default_rng(0).normal(size=big), [0.1], cov=np.zeros((big, big)))
+        spectral.lssa(
+            np.arange(big, dtype=float),
+            np.random.default_rng(0).normal(size=big),
+            [0.1],
+            cov=np.zeros((big, big)),
+        )
 
 
 # --- PSD ---------------------------------------------------------------------------------------

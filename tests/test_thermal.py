@@ -89,7 +89,9 @@ CAR = np.array([0.2935, -0.1413, -0.2444, -0.1223])  # [TS] Table 2, MotionPakII
 
 
 def model(method: str, degree: int = 2) -> thermal.TemperatureModel:
-    return thermal.TemperatureModel(TEMPS, {"arw": ARW, "c_ar": CAR}, units={"arw": "deg/√h"}, method=method, degree=degree)
+    return thermal.TemperatureModel(
+        TEMPS, {"arw": ARW, "c_ar": CAR}, units={"arw": "deg/√h"}, method=method, degree=degree
+    )
 
 
 def test_linear_equals_numpy_interp() -> None:
@@ -232,13 +234,21 @@ def run_cli(argv: list[str]) -> int:
     return int(args.func(args))
 
 
-def test_cli_prints_table_and_writes_model(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_cli_prints_table_and_writes_model(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     logs = white_logs(30_000)
     tags = []
     for t, x in logs.items():
         if t == 0.0:
             p = tmp_path / "zero.csv"
-            np.savetxt(p, np.c_[np.arange(x.size) / 100.0, x], delimiter=",", header="time,rate", comments="")
+            np.savetxt(
+                p,
+                np.c_[np.arange(x.size) / 100.0, x],
+                delimiter=",",
+                header="time,rate",
+                comments="",
+            )
             tags.append(f"{p}@{t:g}")
         else:
             p = tmp_path / f"log{t:g}.npy"
@@ -248,7 +258,11 @@ def test_cli_prints_table_and_writes_model(tmp_path: Path, capsys: pytest.Captur
     assert run_cli([*tags, "--fs", "100", "--json", str(out_json)]) == 0
     text = capsys.readouterr().out
     assert "C_AR = -c" in text and "IEEE 952" in text
-    rows = [line for line in text.splitlines() if line.strip().startswith(("-30.0", "0.0", "30.0", "60.0"))]
+    rows = [
+        line
+        for line in text.splitlines()
+        if line.strip().startswith(("-30.0", "0.0", "30.0", "60.0"))
+    ]
     assert len(rows) == 4
     model = thermal.TemperatureModel.from_json(out_json.read_text())
     assert model("arw", 0.0) == pytest.approx(0.001, rel=0.1)

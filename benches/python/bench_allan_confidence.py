@@ -50,8 +50,10 @@ def main() -> None:
     without, without_cpu = best_of(3, lambda: gyrobias.allan.adev(rate, fs, confidence=None))
     print(f"n = {n:.0e} samples, octave tau (wall / CPU of all threads)")
     print(f"gyrobias adev, no CI        : {without:8.3f} s / {without_cpu:.3f} s")
-    print(f"gyrobias adev + 68.3% CI    : {with_ci:8.3f} s / {with_ci_cpu:.3f} s   (target < {TARGET_SECONDS} s wall: "
-          f"{'OK' if with_ci < TARGET_SECONDS else 'MISSED'}; CI overhead {with_ci - without:.3f} s wall)")
+    print(
+        f"gyrobias adev + 68.3% CI    : {with_ci:8.3f} s / {with_ci_cpu:.3f} s   (target < {TARGET_SECONDS} s wall: "
+        f"{'OK' if with_ci < TARGET_SECONDS else 'MISSED'}; CI overhead {with_ci - without:.3f} s wall)"
+    )
 
     if not baseline:
         return
@@ -64,15 +66,19 @@ def main() -> None:
             m = int(round(tau * fs))
             if len(phase) // m < 30:  # AllanTools' noise id needs 30 points
                 continue
-            allantools.ci.confidence_interval_noiseID(phase, dev, m, dev_type="oadev", data_type="phase")
+            allantools.ci.confidence_interval_noiseID(
+                phase, dev, m, dev_type="oadev", data_type="phase"
+            )
 
     t = time.perf_counter()
     allantools_run()
     base = time.perf_counter() - t
     ratio = base / with_ci
     print(f"allantools oadev + CI       : {base:8.3f} s")
-    print(f"speed-up                    : {ratio:8.1f}x   (target >= {TARGET_RATIO:.0f}x: "
-          f"{'OK' if ratio >= TARGET_RATIO else 'MISSED'})")
+    print(
+        f"speed-up                    : {ratio:8.1f}x   (target >= {TARGET_RATIO:.0f}x: "
+        f"{'OK' if ratio >= TARGET_RATIO else 'MISSED'})"
+    )
 
 
 if __name__ == "__main__":

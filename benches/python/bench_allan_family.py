@@ -26,9 +26,10 @@ from __future__ import annotations
 import argparse
 import time
 
-import gyrobias
 import numpy as np
 from _timing import best_of
+
+import gyrobias
 
 
 def _once(fn: object) -> float:
@@ -44,7 +45,10 @@ def bench_total(n: int, max_m_allantools: int) -> list[tuple[str, float, float]]
     rate = rng.normal(size=n) + np.cumsum(rng.normal(size=n)) * 1e-2
     full = [m for m in (2**k for k in range(20)) if m <= (n + 1) // 3]
     sub = [m for m in full if m <= max_m_allantools]
-    work = lambda mm: sum((n + 1 - 3 * m) * 6 * m for m in mm)
+
+    def work(mm):
+        return sum((n + 1 - 3 * m) * 6 * m for m in mm)
+
     rows = []
     for name, ours, theirs in (
         ("mtotdev", gyrobias.allan.mtotdev, allantools.mtotdev),
@@ -52,9 +56,7 @@ def bench_total(n: int, max_m_allantools: int) -> list[tuple[str, float, float]]
     ):
         taus = np.array(sub, dtype=float)
         t_ours = best_of(lambda f=ours, t=taus: f(rate, 1.0, taus=t, confidence=None))
-        t_theirs = _once(
-            lambda f=theirs, t=taus: f(rate, rate=1.0, data_type="freq", taus=t)
-        )
+        t_theirs = _once(lambda f=theirs, t=taus: f(rate, rate=1.0, data_type="freq", taus=t))
         rows.append((f"{name} N={n:.0e} m=1…{sub[-1]}", t_ours, t_theirs))
         t_full = best_of(lambda f=ours: f(rate, 1.0, taus="octave", confidence=None))
         rows.append(
@@ -74,24 +76,21 @@ def bench_theo1(n: int, max_m: int) -> list[tuple[str, float, float]]:
     rate = rng.normal(size=n)
     ms = [m for m in (2**k for k in range(1, 20)) if m <= max_m]
     taus = 0.75 * np.array(ms, dtype=float)
-    t_ours = best_of(
-        lambda: gyrobias.allan.theo1(rate, 1.0, taus=taus, confidence=None)
-    )
+    t_ours = best_of(lambda: gyrobias.allan.theo1(rate, 1.0, taus=taus, confidence=None))
     phase = allantools.frequency2phase(rate, 1.0)
     t_theirs = _once(
-        lambda: allantools.theo1(
-            phase, rate=1.0, data_type="phase", taus=np.array(ms, float)
-        )
+        lambda: allantools.theo1(phase, rate=1.0, data_type="phase", taus=np.array(ms, float))
     )
     rows = [(f"theo1 N={n:.0e} m=2…{ms[-1]}", t_ours, t_theirs)]
     # Full octave set: ours measured, AllanTools extrapolated from its cost per inner term.
     n_ph = n + 1
     full = [m for m in (2**k for k in range(1, 40)) if m <= n_ph - 1]
-    work = lambda mm: sum((n_ph - m) * (m // 2) for m in mm)
+
+    def work(mm):
+        return sum((n_ph - m) * (m // 2) for m in mm)
+
     per_term = t_theirs / work(ms)
-    t_full = best_of(
-        lambda: gyrobias.allan.theo1(rate, 1.0, confidence=None), repeats=1
-    )
+    t_full = best_of(lambda: gyrobias.allan.theo1(rate, 1.0, confidence=None), repeats=1)
     rows.append(
         (
             f"theo1 N={n:.0e} full octave m=2…{full[-1]} (AllanTools extrapolated)",

@@ -12,10 +12,9 @@ from collections.abc import Callable
 
 import numpy as np
 import scipy.signal as ss
-
-from gyrobias import fir
 from _timing import best_of
 
+from gyrobias import fir
 
 
 def best(fn: Callable[[], object], repeats: int = 5) -> float:
@@ -31,10 +30,14 @@ def main() -> None:
     lfilt = best(lambda: ss.lfilter(filt.taps, [1.0], x))
     err = np.abs(filt.apply(x) - ss.filtfilt(filt.taps, [1.0], x)).max()
     print(f"FIR {filt.numtaps} taps, n = {x.size:,} samples")
-    print(f"  zero phase: gyrobias {ours * 1e3:8.1f} ms   scipy filtfilt {scipy_t * 1e3:8.1f} ms   "
-          f"ratio {scipy_t / ours:5.2f}x  (target: < 1000 ms and >= 1x)  max |diff| {err:.1e}")
-    print(f"  causal:     gyrobias {causal * 1e3:8.1f} ms   scipy lfilter  {lfilt * 1e3:8.1f} ms   "
-          f"ratio {lfilt / causal:5.2f}x")
+    print(
+        f"  zero phase: gyrobias {ours * 1e3:8.1f} ms   scipy filtfilt {scipy_t * 1e3:8.1f} ms   "
+        f"ratio {scipy_t / ours:5.2f}x  (target: < 1000 ms and >= 1x)  max |diff| {err:.1e}"
+    )
+    print(
+        f"  causal:     gyrobias {causal * 1e3:8.1f} ms   scipy lfilter  {lfilt * 1e3:8.1f} ms   "
+        f"ratio {lfilt / causal:5.2f}x"
+    )
     ok = ours < 1.0 and ours <= scipy_t
     print("  target met" if ok else "  TARGET MISSED")
 

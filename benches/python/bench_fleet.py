@@ -41,8 +41,12 @@ parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--units", type=int, default=64)
 parser.add_argument("--samples", type=int, default=1_000_000)
 parser.add_argument("--axes", type=int, default=3)
-parser.add_argument("--repeats", type=int, default=3, help="interleaved rounds; the best time per mode is kept")
-parser.add_argument("--dir", type=Path, default=None, help="where to write the logs (default: a temp dir)")
+parser.add_argument(
+    "--repeats", type=int, default=3, help="interleaved rounds; the best time per mode is kept"
+)
+parser.add_argument(
+    "--dir", type=Path, default=None, help="where to write the logs (default: a temp dir)"
+)
 ARGS = parser.parse_args()
 
 FS = 100.0
@@ -51,7 +55,9 @@ FS = 100.0
 def make_logs(directory: Path) -> list[str]:
     paths = []
     for unit in range(ARGS.units):
-        rate = noise.simulate(ARGS.samples, FS, arw=0.2 / 60, rrw=10 / 216000, axes=ARGS.axes, seed=unit)
+        rate = noise.simulate(
+            ARGS.samples, FS, arw=0.2 / 60, rrw=10 / 216000, axes=ARGS.axes, seed=unit
+        )
         path = directory / f"unit{unit:04d}.npy"
         np.save(path, rate)
         paths.append(str(path))
@@ -70,9 +76,11 @@ def main() -> None:
     from distributed import Client, LocalCluster
 
     total = ARGS.units * ARGS.samples * ARGS.axes
-    print(f"fleet: {ARGS.units} units × {ARGS.samples:,} samples × {ARGS.axes} axes "
-          f"({total * 8 / 1e9:.2f} GB of float64), {os.cpu_count()} cores, best of {ARGS.repeats} "
-          "interleaved rounds")
+    print(
+        f"fleet: {ARGS.units} units × {ARGS.samples:,} samples × {ARGS.axes} axes "
+        f"({total * 8 / 1e9:.2f} GB of float64), {os.cpu_count()} cores, best of {ARGS.repeats} "
+        "interleaved rounds"
+    )
     directory = ARGS.dir or Path(tempfile.mkdtemp(prefix="gyrobias_fleet_"))
     directory.mkdir(parents=True, exist_ok=True)
     with ExitStack() as stack:
@@ -81,7 +89,9 @@ def main() -> None:
         t = time.perf_counter()
         paths = make_logs(directory)
         print(f"simulated and wrote the logs in {time.perf_counter() - t:.1f} s ({directory})")
-        check = fleet.analyse(paths[:2], fs=FS, units="deg/s")  # imports and page cache warm for every mode
+        check = fleet.analyse(
+            paths[:2], fs=FS, units="deg/s"
+        )  # imports and page cache warm for every mode
 
         def cluster(workers: int, kernel_threads: int | None, trim: bool = False) -> Client:
             # distributed's Nanny sets MALLOC_TRIM_THRESHOLD_=65536 in its workers, which turns off
@@ -89,22 +99,37 @@ def main() -> None:
             # anew (measured 40–54 % slower here). None unsets it (README, fleets).
             env = {} if kernel_threads is None else {"RAYON_NUM_THREADS": str(kernel_threads)}
             trim_value = 65536 if trim else None
-            with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": trim_value}):
-                cl = stack.enter_context(LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                                      dashboard_address=":0", env=env))
+            with dask.config.set(
+                {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": trim_value}
+            ):
+                cl = stack.enter_context(
+                    LocalCluster(
+                        n_workers=workers,
+                        threads_per_worker=1,
+                        processes=True,
+                        dashboard_address=":0",
+                        env=env,
+                    )
+                )
             # The nanny also writes the variable into this process's environment, whence every
             # later worker would inherit it: take it out again.
             os.environ.pop("MALLOC_TRIM_THRESHOLD_", None)
             client = stack.enter_context(Client(cl))
-            run_fleet(client)  # start-up: the workers import gyrobias and read the logs once; not timed
+            run_fleet(
+                client
+            )  # start-up: the workers import gyrobias and read the logs once; not timed
             return client
 
         def run_fleet(client: object = None) -> None:
             table = fleet.analyse(paths, fs=FS, units="deg/s", client=client)
             assert table["error"].isna().all(), table["error"].dropna().tolist()[:3]
-            np.testing.assert_array_equal(table["N"].to_numpy()[: len(check)], check["N"].to_numpy())
+            np.testing.assert_array_equal(
+                table["N"].to_numpy()[: len(check)], check["N"].to_numpy()
+            )
 
-        rates = np.stack([np.load(p) for p in paths])  # the same fleet as one (units, n, axes) array
+        rates = np.stack(
+            [np.load(p) for p in paths]
+        )  # the same fleet as one (units, n, axes) array
 
         def array_loop() -> None:
             for unit in rates:
@@ -112,7 +137,9 @@ def main() -> None:
 
         def array_fleet() -> None:
             table = fleet.analyse(rates, fs=FS, units="deg/s")
-            np.testing.assert_array_equal(table["N"].to_numpy()[: len(check)], check["N"].to_numpy())
+            np.testing.assert_array_equal(
+                table["N"].to_numpy()[: len(check)], check["N"].to_numpy()
+            )
 
         modes = {
             "Python loop (baseline)": lambda: loop(paths),
@@ -137,22 +164,34 @@ def main() -> None:
         times = {name: min(ts) for name, ts in rounds.items()}
 
     base = times["Python loop (baseline)"]
-    print(f"\n{'mode':<46} {'best [s]':>9} {'worst [s]':>9} {'units/s':>8} {'MS/s':>7} {'vs loop':>8}")
+    print(
+        f"\n{'mode':<46} {'best [s]':>9} {'worst [s]':>9} {'units/s':>8} {'MS/s':>7} {'vs loop':>8}"
+    )
     for name, t in times.items():
-        print(f"{name:<46} {t:9.2f} {max(rounds[name]):9.2f} {ARGS.units / t:8.2f} {total / t / 1e6:7.1f} "
-              f"{base / t:7.2f}×")
+        print(
+            f"{name:<46} {t:9.2f} {max(rounds[name]):9.2f} {ARGS.units / t:8.2f} {total / t / 1e6:7.1f} "
+            f"{base / t:7.2f}×"
+        )
     one = times["LocalCluster, 1 worker, all cores"]
     single = times["LocalCluster, 1 worker × 1 kernel thread"]
     two = times["LocalCluster, 2 workers × 1 kernel thread"]
-    print(f"\nDask overhead over the loop, one worker with the same cores: {100 * (one / base - 1):+.1f} % "
-          "(goal ≤ 10 %)")
-    print(f"Dask threads vs the loop: {100 * (times['Dask threads (local scheduler)'] / base - 1):+.1f} % (files), "
-          f"{100 * (times['array in memory: Dask threads, adev_batch'] / times['array in memory: Python loop'] - 1):+.1f} %"
-          " (array)")
-    print(f"distributed's default MALLOC_TRIM_THRESHOLD_=65536 costs "
-          f"{100 * (times['LocalCluster, 1 worker, all cores, trim 64k'] / one - 1):+.1f} %")
-    print(f"speed-up from 1 to 2 single-threaded workers: {single / two:.2f}× (linear: 2×; "
-          f"{os.cpu_count()} cores, shared with whatever else runs on the machine)")
+    print(
+        f"\nDask overhead over the loop, one worker with the same cores: {100 * (one / base - 1):+.1f} % "
+        "(goal ≤ 10 %)"
+    )
+    print(
+        f"Dask threads vs the loop: {100 * (times['Dask threads (local scheduler)'] / base - 1):+.1f} % (files), "
+        f"{100 * (times['array in memory: Dask threads, adev_batch'] / times['array in memory: Python loop'] - 1):+.1f} %"
+        " (array)"
+    )
+    print(
+        f"distributed's default MALLOC_TRIM_THRESHOLD_=65536 costs "
+        f"{100 * (times['LocalCluster, 1 worker, all cores, trim 64k'] / one - 1):+.1f} %"
+    )
+    print(
+        f"speed-up from 1 to 2 single-threaded workers: {single / two:.2f}× (linear: 2×; "
+        f"{os.cpu_count()} cores, shared with whatever else runs on the machine)"
+    )
 
 
 if __name__ == "__main__":

@@ -17,11 +17,10 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
+from _timing import best_of
 from scipy.signal import fftconvolve
 
 from gyrobias import fractional as fr
-from _timing import best_of
-
 
 
 def best(fn: Callable[[], object], repeats: int = 3) -> float:
@@ -43,9 +42,7 @@ def main() -> int:
         def baseline() -> np.ndarray:
             return fdiff(mid, d, window=mid.size)
     except Exception as exc:  # noqa: BLE001 - any import failure means: use the stand-in
-        baseline_name = (
-            f"NumPy np.convolve full-memory stand-in (fracdiff not importable: {exc!r})"
-        )
+        baseline_name = f"NumPy np.convolve full-memory stand-in (fracdiff not importable: {exc!r})"
         w_mid = fr.weights(d, mid.size)
 
         def baseline() -> np.ndarray:
@@ -71,9 +68,15 @@ def main() -> int:
     r2 = t_scipy_big / t_int_big
     r3 = t_base_mid / t_diff_mid
     ok1, ok2, ok3 = r1 > 1.0, r2 > 1.0, r3 >= 100.0
-    print(f"diff 1e6:      {r1:6.1f}x faster than SciPy fftconvolve (target > 1x)   {'PASS' if ok1 else 'FAIL'}")
-    print(f"integrate 1e6: {r2:6.1f}x faster than SciPy fftconvolve (target > 1x)   {'PASS' if ok2 else 'FAIL'}")
-    print(f"diff 1e5:      {r3:6.0f}x faster than the full-memory baseline (target >= 100x)   {'PASS' if ok3 else 'FAIL'}")
+    print(
+        f"diff 1e6:      {r1:6.1f}x faster than SciPy fftconvolve (target > 1x)   {'PASS' if ok1 else 'FAIL'}"
+    )
+    print(
+        f"integrate 1e6: {r2:6.1f}x faster than SciPy fftconvolve (target > 1x)   {'PASS' if ok2 else 'FAIL'}"
+    )
+    print(
+        f"diff 1e5:      {r3:6.0f}x faster than the full-memory baseline (target >= 100x)   {'PASS' if ok3 else 'FAIL'}"
+    )
     return 0 if (ok1 and ok2 and ok3) else 1
 
 

@@ -9,16 +9,14 @@ Run: ``PYTHONPATH=python python benches/python/bench_noise.py``
 
 from __future__ import annotations
 
-
 import numpy as np
+from _timing import best_of
 
 import gyrobias
-from _timing import best_of
 
 FS = 100.0
 N = 8 * 3600 * 100
 TRUE = {"arw": 0.2 / 60.0, "bias_instability": 3.0 / 3600.0, "rrw": 10.0 / 216000.0}
-
 
 
 def best(fn, repeats: int = 3) -> float:
@@ -48,9 +46,13 @@ def main() -> None:
     results = gyrobias.allan.adev(rate, FS, confidence=None, units="deg/s")
     t_joint = best(lambda: gyrobias.noise.fit(results))
     t_ieee = best(lambda: gyrobias.noise.fit(results, method="ieee"))
-    print(f"simulate 8 h × 3 axes @ 100 Hz: gyrobias {t_sim:.2f} s, NumPy+allantools {t_base:.2f} s "
-          f"(ratio {t_base / t_sim:.1f}x; no target in the issue)")
-    print(f"joint fit, 3 axes: {t_joint * 1e3:.1f} ms; IEEE read-off, 3 axes: {t_ieee * 1e3:.1f} ms")
+    print(
+        f"simulate 8 h × 3 axes @ 100 Hz: gyrobias {t_sim:.2f} s, NumPy+allantools {t_base:.2f} s "
+        f"(ratio {t_base / t_sim:.1f}x; no target in the issue)"
+    )
+    print(
+        f"joint fit, 3 axes: {t_joint * 1e3:.1f} ms; IEEE read-off, 3 axes: {t_ieee * 1e3:.1f} ms"
+    )
 
 
 if __name__ == "__main__":

@@ -35,7 +35,10 @@ def peak_rss(code: str, *args: str) -> tuple[int, float]:
     """``(maximum resident set size in bytes, wall seconds)`` of ``python -c code args``."""
     t0 = time.perf_counter()
     out = subprocess.run(
-        ["/usr/bin/time", "-v", sys.executable, "-c", code, *args], check=True, capture_output=True, text=True
+        ["/usr/bin/time", "-v", sys.executable, "-c", code, *args],
+        check=True,
+        capture_output=True,
+        text=True,
     )
     wall = time.perf_counter() - t0
     match = re.search(r"Maximum resident set size \(kbytes\): (\d+)", out.stderr)
@@ -65,8 +68,12 @@ def main() -> int:
         base, _ = peak_rss(BASELINE)
         peak, wall = peak_rss(ANALYSE, str(path))
     ratio = peak / size
-    print(f"out-of-core adev with confidence intervals, {n:.3e} samples ({size / 1e9:.2f} GB .npy, mmap_mode='r')")
-    print(f"  peak RSS (/usr/bin/time -v)   {peak / 1e6:9.1f} MB = {100 * ratio:5.1f} % of the file   (target <= 25 %)")
+    print(
+        f"out-of-core adev with confidence intervals, {n:.3e} samples ({size / 1e9:.2f} GB .npy, mmap_mode='r')"
+    )
+    print(
+        f"  peak RSS (/usr/bin/time -v)   {peak / 1e6:9.1f} MB = {100 * ratio:5.1f} % of the file   (target <= 25 %)"
+    )
     print(f"  interpreter baseline          {base / 1e6:9.1f} MB")
     print(f"  wall time                     {wall:9.1f} s")
     print(json.dumps({"out_of_core_peak_rss_fraction": ratio, "out_of_core_seconds": wall}))

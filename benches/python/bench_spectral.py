@@ -14,11 +14,10 @@ from collections.abc import Callable
 
 import numpy as np
 import scipy.signal as ss
+from _timing import best_of
 from astropy.timeseries import LombScargle
 
 from gyrobias import spectral
-from _timing import best_of
-
 
 
 def best(fn: Callable[[], object], repeats: int = 3) -> float:
@@ -36,15 +35,19 @@ def main() -> None:
     cy = best(lambda: ls.power(f, method="cython"), repeats=2)
     slow = best(lambda: ls.power(f, method="slow"), repeats=1)
     err = np.abs(spectral.lssa(t, y, f).spectrum - ls.power(f, method="cython")).max()
-    print(f"LSSA n = {n:,} unequally spaced points, {m:,} frequencies (max |s - astropy| {err:.1e})")
+    print(
+        f"LSSA n = {n:,} unequally spaced points, {m:,} frequencies (max |s - astropy| {err:.1e})"
+    )
     print(f"  gyrobias            {ours * 1e3:9.1f} ms")
     print(f"  astropy 'cython'    {cy * 1e3:9.1f} ms   ratio {cy / ours:6.1f}x  (target >= 5x)")
     print(f"  astropy 'slow'      {slow * 1e3:9.1f} ms   ratio {slow / ours:6.1f}x  (target >= 5x)")
     x = rng.normal(size=1_080_000)
     w_ours = best(lambda: spectral.psd(x, 100.0, nperseg=4096))
     w_sp = best(lambda: ss.welch(x, 100.0, nperseg=4096))
-    print(f"Welch PSD n = {x.size:,}, nperseg 4096: gyrobias {w_ours * 1e3:.1f} ms, "
-          f"scipy {w_sp * 1e3:.1f} ms, ratio {w_sp / w_ours:.1f}x")
+    print(
+        f"Welch PSD n = {x.size:,}, nperseg 4096: gyrobias {w_ours * 1e3:.1f} ms, "
+        f"scipy {w_sp * 1e3:.1f} ms, ratio {w_sp / w_ours:.1f}x"
+    )
     ok = cy / ours >= 5 and slow / ours >= 5
     print("  target met" if ok else "  TARGET MISSED")
 

@@ -34,7 +34,9 @@ def as_float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> NDAr
         )
     if arr.ndim not in ndims:
         want = " or ".join(f"{d}-D" for d in ndims)
-        raise ValueError(f"{name} must be a {want} array, got a {arr.ndim}-D array of shape {arr.shape}")
+        raise ValueError(
+            f"{name} must be a {want} array, got a {arr.ndim}-D array of shape {arr.shape}"
+        )
     if arr.size == 0:
         raise ValueError(f"{name} is empty")
     return np.ascontiguousarray(arr, dtype=np.float64)

@@ -196,7 +196,9 @@ class AllanResult:
         name = f" axis {self.axis}" if self.axis else ""
         return f"{self.label}{name} (fs = {self.fs:g} Hz, {self.data_type} data)\n{self.table()}"
 
-    def plot(self, ax: Any = None, *, label: str | None = None, fit: Any = None, **kwargs: Any) -> Any:
+    def plot(
+        self, ax: Any = None, *, label: str | None = None, fit: Any = None, **kwargs: Any
+    ) -> Any:
         """Log-log plot of the deviation with confidence bars (needs ``matplotlib``).
 
         Parameters
@@ -236,7 +238,9 @@ def _options(
     fs = positive_float("fs", fs)
     choice("data_type", data_type, ("rate", "angle"))
     per_decade = integer("per_decade", per_decade)  # >= 1: the core's check
-    confidence = None if confidence is None else real("confidence", confidence)  # (0, 1): the core's
+    confidence = (
+        None if confidence is None else real("confidence", confidence)
+    )  # (0, 1): the core's
     if kind == "adev":
         estimator = "overlapping" if overlapping else "non-overlapping"
     else:
@@ -310,7 +314,9 @@ def _analyse(
     if _file_readers(data) is not None:
         arr = np.asarray(data)  # validated below; not converted (that would read the whole file)
         if arr.ndim not in (1, 2):
-            raise ValueError(f"data must be a 1-D or 2-D array, got a {arr.ndim}-D array of shape {arr.shape}")
+            raise ValueError(
+                f"data must be a 1-D or 2-D array, got a {arr.ndim}-D array of shape {arr.shape}"
+            )
         if arr.size == 0:
             raise ValueError("data is empty")
     else:
@@ -335,15 +341,32 @@ def _analyse(
             step = None if progress is None else _axis_progress(progress, axis, len(readers))
             raw.append(
                 _core.allan.analyse_stream(
-                    reader, reader.n_samples, 1.0 / fs, data_type, spec, int(per_decade), explicit,
-                    confidence, _STREAM_BLOCK, step,
+                    reader,
+                    reader.n_samples,
+                    1.0 / fs,
+                    data_type,
+                    spec,
+                    int(per_decade),
+                    explicit,
+                    confidence,
+                    _STREAM_BLOCK,
+                    step,
                 )
             )
     else:
         # One core call for all τ and axes; progress is reported from inside the kernel, so the
         # numbers are the same with or without it.
         raw = _core.allan.analyse(
-            matrix, 1.0 / fs, data_type, estimator, spec, int(per_decade), explicit, confidence, gaps, progress
+            matrix,
+            1.0 / fs,
+            data_type,
+            estimator,
+            spec,
+            int(per_decade),
+            explicit,
+            confidence,
+            gaps,
+            progress,
         )
     results = tuple(
         _result(
@@ -375,7 +398,9 @@ class _ColumnReader:
     are never touched and do not count in the resident memory.
     """
 
-    def __init__(self, path: str, position: int, row_stride: int, dtype: np.dtype[Any], n_samples: int) -> None:
+    def __init__(
+        self, path: str, position: int, row_stride: int, dtype: np.dtype[Any], n_samples: int
+    ) -> None:
         self.path = path
         self.position = position
         self.row_stride = row_stride
@@ -395,9 +420,13 @@ class _ColumnReader:
             while done < span:
                 got = f.readinto(view[done:])
                 if not got:
-                    raise OSError(f"{self.path}: file ended while reading rows {start}..{start + count}")
+                    raise OSError(
+                        f"{self.path}: file ended while reading rows {start}..{start + count}"
+                    )
                 done += got
-        column = np.ndarray((count,), dtype=self.dtype, buffer=self._raw, strides=(self.row_stride,))
+        column = np.ndarray(
+            (count,), dtype=self.dtype, buffer=self._raw, strides=(self.row_stride,)
+        )
         if self._out.size < count:
             self._out = np.empty(count)
         out = self._out[:count]
@@ -412,7 +441,12 @@ def _file_readers(data: object) -> list[_ColumnReader] | None:
         return None
     mapping = getattr(data, "_mmap", None)
     path = getattr(data, "filename", None)
-    if mapping is None or path is None or data.dtype.kind != "f" or any(s <= 0 for s in data.strides):
+    if (
+        mapping is None
+        or path is None
+        or data.dtype.kind != "f"
+        or any(s <= 0 for s in data.strides)
+    ):
         return None
     import mmap
     import os
@@ -427,12 +461,16 @@ def _file_readers(data: object) -> list[_ColumnReader] | None:
     n_axes = 1 if data.ndim == 1 else data.shape[1]
     col_stride = 0 if data.ndim == 1 else data.strides[1]
     return [
-        _ColumnReader(str(path), position + axis * col_stride, data.strides[0], data.dtype, data.shape[0])
+        _ColumnReader(
+            str(path), position + axis * col_stride, data.strides[0], data.dtype, data.shape[0]
+        )
         for axis in range(n_axes)
     ]
 
 
-def _axis_progress(progress: Callable[[float], None], axis: int, n_axes: int) -> Callable[[float], None]:
+def _axis_progress(
+    progress: Callable[[float], None], axis: int, n_axes: int
+) -> Callable[[float], None]:
     """``progress`` for axis ``axis`` of ``n_axes`` analysed one after the other."""
     return lambda fraction: progress((axis + fraction) / n_axes)
 
@@ -502,7 +540,16 @@ def adev_batch(
     if axis_names is not None and len(axis_names) != n_axes:
         raise ValueError(f"axis_names has {len(axis_names)} names for {n_axes} axes")
     raw_batch: list[list[Any]] = _core.allan.analyse_batch(
-        batch, 1.0 / fs, data_type, estimator, spec, int(per_decade), explicit, confidence, gaps, progress
+        batch,
+        1.0 / fs,
+        data_type,
+        estimator,
+        spec,
+        int(per_decade),
+        explicit,
+        confidence,
+        gaps,
+        progress,
     )
     return tuple(
         tuple(
@@ -627,7 +674,20 @@ def avar(
     >>> g.n_terms.tolist()                                            # terms avoiding the gap
     [89998, 89602]
     """
-    return _analyse("adev", data, fs, taus, per_decade, data_type, overlapping, confidence, units, axis_names, progress, gaps)
+    return _analyse(
+        "adev",
+        data,
+        fs,
+        taus,
+        per_decade,
+        data_type,
+        overlapping,
+        confidence,
+        units,
+        axis_names,
+        progress,
+        gaps,
+    )
 
 
 def adev(
@@ -649,7 +709,20 @@ def adev(
     The result carries both ``adev`` (σ) and ``avar`` (σ²); the two functions differ only in
     name, for users coming from either convention.
     """
-    return _analyse("adev", data, fs, taus, per_decade, data_type, overlapping, confidence, units, axis_names, progress, gaps)
+    return _analyse(
+        "adev",
+        data,
+        fs,
+        taus,
+        per_decade,
+        data_type,
+        overlapping,
+        confidence,
+        units,
+        axis_names,
+        progress,
+        gaps,
+    )
 
 
 def mdev(
@@ -671,7 +744,20 @@ def mdev(
     on the M-point angle series. It separates white from flicker angle noise, which the
     ordinary Allan deviation cannot.
     """
-    return _analyse("mdev", data, fs, taus, per_decade, data_type, True, confidence, units, axis_names, progress, gaps)
+    return _analyse(
+        "mdev",
+        data,
+        fs,
+        taus,
+        per_decade,
+        data_type,
+        True,
+        confidence,
+        units,
+        axis_names,
+        progress,
+        gaps,
+    )
 
 
 def hdev(
@@ -713,10 +799,33 @@ def hdev(
     if not overlapping:
         choice("gaps", gaps, ("error",))  # the disjoint-difference estimator has no gap-aware form
         return _analyse_family(
-            "hdev", "non-overlapping-hadamard", data, fs, taus, per_decade, data_type, confidence, units,
-            axis_names, progress, overlapping=False,
+            "hdev",
+            "non-overlapping-hadamard",
+            data,
+            fs,
+            taus,
+            per_decade,
+            data_type,
+            confidence,
+            units,
+            axis_names,
+            progress,
+            overlapping=False,
         )
-    return _analyse("hdev", data, fs, taus, per_decade, data_type, True, confidence, units, axis_names, progress, gaps)
+    return _analyse(
+        "hdev",
+        data,
+        fs,
+        taus,
+        per_decade,
+        data_type,
+        True,
+        confidence,
+        units,
+        axis_names,
+        progress,
+        gaps,
+    )
 
 
 def totdev(
@@ -737,7 +846,20 @@ def totdev(
     The overlapping Allan variance of the angle series extended by reflection at both ends,
     divided by ``2τ²(M − 2)``; better confidence at long τ. τ is limited to half the record.
     """
-    return _analyse("totdev", data, fs, taus, per_decade, data_type, True, confidence, units, axis_names, progress, gaps)
+    return _analyse(
+        "totdev",
+        data,
+        fs,
+        taus,
+        per_decade,
+        data_type,
+        True,
+        confidence,
+        units,
+        axis_names,
+        progress,
+        gaps,
+    )
 
 
 # --- the rest of the Allan family (issue 15) -----------------------------------------------------
@@ -763,7 +885,11 @@ _LONG_LABEL = {
 
 def _label(kind: str, overlapping: bool) -> str:
     if kind == "hdev":
-        return "OHDEV (overlapping Hadamard)" if overlapping else "HDEV (non-overlapping Hadamard, Stable32's HDEV)"
+        return (
+            "OHDEV (overlapping Hadamard)"
+            if overlapping
+            else "HDEV (non-overlapping Hadamard, Stable32's HDEV)"
+        )
     return _LONG_LABEL.get(kind, kind.upper())
 
 
@@ -801,12 +927,18 @@ def _analyse_family(
     fs = positive_float("fs", fs)
     choice("data_type", data_type, ("rate", "angle"))
     units = checked_units("units", units)
-    if isinstance(per_decade, bool) or not isinstance(per_decade, (int, np.integer)) or per_decade < 1:
+    if (
+        isinstance(per_decade, bool)
+        or not isinstance(per_decade, (int, np.integer))
+        or per_decade < 1
+    ):
         raise ValueError(f"per_decade must be an integer >= 1, got {per_decade!r}")
     if confidence is not None:
         c = real("confidence", confidence)
         if not 0.0 < c < 1.0:
-            raise ValueError(f"confidence must lie strictly between 0 and 1 (or be None), got {confidence!r}")
+            raise ValueError(
+                f"confidence must lie strictly between 0 and 1 (or be None), got {confidence!r}"
+            )
         confidence = c
     explicit: NDArray[np.float64] | None = None
     spec = "octave"
@@ -822,7 +954,14 @@ def _analyse_family(
     if progress is not None:
         progress(0.0)
     raw = _core.allan.family_analyse(
-        np.ascontiguousarray(matrix), t0, data_type, statistic, spec, int(per_decade), explicit, confidence
+        np.ascontiguousarray(matrix),
+        t0,
+        data_type,
+        statistic,
+        spec,
+        int(per_decade),
+        explicit,
+        confidence,
     )
     if progress is not None:
         progress(1.0)
@@ -892,7 +1031,17 @@ def tdev(
     ('deg', 'TDEV (time deviation)')
     """
     return _analyse_family(
-        "tdev", "time", data, fs, taus, per_decade, data_type, confidence, units, axis_names, progress
+        "tdev",
+        "time",
+        data,
+        fs,
+        taus,
+        per_decade,
+        data_type,
+        confidence,
+        units,
+        axis_names,
+        progress,
     )
 
 
@@ -926,7 +1075,16 @@ def mtotdev(
     True
     """
     return _analyse_family(
-        "mtotdev", "modified-total", data, fs, taus, per_decade, data_type, confidence, units, axis_names,
+        "mtotdev",
+        "modified-total",
+        data,
+        fs,
+        taus,
+        per_decade,
+        data_type,
+        confidence,
+        units,
+        axis_names,
         progress,
     )
 
@@ -960,7 +1118,16 @@ def htotdev(
     'HTOTDEV (Hadamard total deviation)'
     """
     return _analyse_family(
-        "htotdev", "hadamard-total", data, fs, taus, per_decade, data_type, confidence, units, axis_names,
+        "htotdev",
+        "hadamard-total",
+        data,
+        fs,
+        taus,
+        per_decade,
+        data_type,
+        confidence,
+        units,
+        axis_names,
         progress,
     )
 
@@ -1001,7 +1168,17 @@ def theo1(
     ([2, 4, 1000], [1.5, 3.0, 750.0])
     """
     return _analyse_family(
-        "theo1", "theo1", data, fs, taus, per_decade, data_type, confidence, units, axis_names, progress
+        "theo1",
+        "theo1",
+        data,
+        fs,
+        taus,
+        per_decade,
+        data_type,
+        confidence,
+        units,
+        axis_names,
+        progress,
     )
 
 
@@ -1034,7 +1211,17 @@ def theobr(
     (512, 384.0)
     """
     return _analyse_family(
-        "theobr", "theobr", data, fs, taus, per_decade, data_type, confidence, units, axis_names, progress
+        "theobr",
+        "theobr",
+        data,
+        fs,
+        taus,
+        per_decade,
+        data_type,
+        confidence,
+        units,
+        axis_names,
+        progress,
     )
 
 
@@ -1067,7 +1254,17 @@ def theoh(
     True
     """
     return _analyse_family(
-        "theoh", "theoh", data, fs, taus, per_decade, data_type, confidence, units, axis_names, progress
+        "theoh",
+        "theoh",
+        data,
+        fs,
+        taus,
+        per_decade,
+        data_type,
+        confidence,
+        units,
+        axis_names,
+        progress,
     )
 
 
@@ -1212,7 +1409,11 @@ def dynamic_adev(
     choice("data_type", data_type, ("rate", "angle"))
     window = _positive_int("window", window)
     step = _positive_int("step", step)
-    if isinstance(per_decade, bool) or not isinstance(per_decade, (int, np.integer)) or per_decade < 1:
+    if (
+        isinstance(per_decade, bool)
+        or not isinstance(per_decade, (int, np.integer))
+        or per_decade < 1
+    ):
         raise ValueError(f"per_decade must be an integer >= 1, got {per_decade!r}")
     explicit: NDArray[np.float64] | None = None
     spec = "octave"
@@ -1221,7 +1422,9 @@ def dynamic_adev(
     else:
         explicit = as_float_array("taus", taus, ndims=(1,))
     t0 = 1.0 / fs
-    raw = _core.allan.dynamic_avar(np.ascontiguousarray(arr), t0, data_type, window, step, spec, int(per_decade), explicit)
+    raw = _core.allan.dynamic_avar(
+        np.ascontiguousarray(arr), t0, data_type, window, step, spec, int(per_decade), explicit
+    )
     starts = np.asarray(raw["starts"]).astype(np.int64)
     unit = units
     if units is not None and data_type == "angle":

@@ -300,7 +300,11 @@ def apply(
     if arr.ndim == 0:
         raise ValueError("x must have at least one dimension")
     arr = as_float_array("x", arr, ndims=(arr.ndim,))
-    if isinstance(axis, bool) or not isinstance(axis, (int, np.integer)) or not -arr.ndim <= axis < arr.ndim:
+    if (
+        isinstance(axis, bool)
+        or not isinstance(axis, (int, np.integer))
+        or not -arr.ndim <= axis < arr.ndim
+    ):
         raise ValueError(f"axis {axis!r} is out of range for an array of {arr.ndim} dimensions")
     choice("padtype", padtype, _PADTYPES)
     if padlen is None:
@@ -310,7 +314,9 @@ def apply(
     moved = np.moveaxis(arr, axis, -1)
     shape = moved.shape
     rows = np.ascontiguousarray(moved.reshape(-1, shape[-1]))
-    out = _core.fir.filter_rows(h, rows, bool(zero_phase), padtype, int(padlen) if zero_phase else 0)
+    out = _core.fir.filter_rows(
+        h, rows, bool(zero_phase), padtype, int(padlen) if zero_phase else 0
+    )
     return np.moveaxis(out.reshape(shape), -1, axis)
 
 
@@ -360,7 +366,11 @@ def stream(
     if arr.ndim == 0:
         raise ValueError("x must have at least one dimension")
     arr = as_float_array("x", arr, ndims=(arr.ndim,))
-    if isinstance(axis, bool) or not isinstance(axis, (int, np.integer)) or not -arr.ndim <= axis < arr.ndim:
+    if (
+        isinstance(axis, bool)
+        or not isinstance(axis, (int, np.integer))
+        or not -arr.ndim <= axis < arr.ndim
+    ):
         raise ValueError(f"axis {axis!r} is out of range for an array of {arr.ndim} dimensions")
     moved = np.moveaxis(arr, axis, -1)
     shape = moved.shape

@@ -156,7 +156,9 @@ def _rows_for(
     return _fit_rows(source, results, int(matrix.shape[0]), fs, axis_units, opts, sampling)
 
 
-def _allan_options(axis_names: Sequence[str], axis_units: Sequence[str | None], opts: _Options) -> dict[str, Any]:
+def _allan_options(
+    axis_names: Sequence[str], axis_units: Sequence[str | None], opts: _Options
+) -> dict[str, Any]:
     """Keyword arguments of ``allan.adev``/``adev_batch`` (one unit label when all axes share it)."""
     return {
         "taus": opts.taus if isinstance(opts.taus, str) else np.asarray(opts.taus),
@@ -213,7 +215,9 @@ def _fit_rows(
             continue
         for t in c.terms:
             row[t.symbol] = math.nan if t.value is None else float(t.value)
-            row[f"{t.symbol}_uncertainty"] = math.nan if t.uncertainty is None else float(t.uncertainty)
+            row[f"{t.symbol}_uncertainty"] = (
+                math.nan if t.uncertainty is None else float(t.uncertainty)
+            )
             row[f"{t.symbol}_unit"] = _term_unit(unit, t.symbol)
         row["chi2"] = math.nan if c.chi2 is None else float(c.chi2)
         row["dof"] = c.dof
@@ -230,7 +234,9 @@ def _analyse_file(path: str, opts: _Options) -> list[dict[str, Any]]:
     try:
         log = io.load(path, fs=opts.fs, **opts.load)
         if log.fs is None:
-            raise ValueError(f"{os.path.basename(path)} has no time column: give the sample rate (fs)")
+            raise ValueError(
+                f"{os.path.basename(path)} has no time column: give the sample rate (fs)"
+            )
         names: Sequence[str] = log.columns
         if opts.axis_names is not None:
             if len(opts.axis_names) != len(log.columns):
@@ -239,7 +245,9 @@ def _analyse_file(path: str, opts: _Options) -> list[dict[str, Any]]:
                     f"channels of {os.path.basename(path)} ({', '.join(log.columns)})"
                 )
             names = opts.axis_names
-        units = tuple(log.units) if len(log.units) == len(log.columns) else (None,) * len(log.columns)
+        units = (
+            tuple(log.units) if len(log.units) == len(log.columns) else (None,) * len(log.columns)
+        )
         return _rows_for(path, log.data, float(log.fs), names, units, opts, log.sampling)
     except Exception as exc:  # noqa: BLE001 - a failed file is a row with its error
         row = _empty_row(path)
@@ -288,7 +296,11 @@ def _expand(sources: Any) -> list[str] | NDArray[np.float64]:
         items = [sources]
     elif isinstance(sources, np.ndarray):
         return as_float_array("sources", sources, ndims=(2, 3))
-    elif isinstance(sources, Sequence) and sources and all(isinstance(s, (str, os.PathLike)) for s in sources):
+    elif (
+        isinstance(sources, Sequence)
+        and sources
+        and all(isinstance(s, (str, os.PathLike)) for s in sources)
+    ):
         items = list(sources)
     elif isinstance(sources, Sequence) and not sources:
         raise ValueError("sources is empty")
@@ -484,10 +496,14 @@ def analyse(
     if confidence is not None:
         c = float(confidence)
         if not 0.0 < c < 1.0:
-            raise ValueError(f"confidence must lie strictly between 0 and 1 (or be None), got {confidence!r}")
+            raise ValueError(
+                f"confidence must lie strictly between 0 and 1 (or be None), got {confidence!r}"
+            )
         confidence = c
     threshold = positive_float("threshold", threshold)
-    if num_workers is not None and (isinstance(num_workers, bool) or not isinstance(num_workers, int) or num_workers < 1):
+    if num_workers is not None and (
+        isinstance(num_workers, bool) or not isinstance(num_workers, int) or num_workers < 1
+    ):
         raise ValueError(f"num_workers must be an integer >= 1, got {num_workers!r}")
     tau_spec: str | tuple[float, ...]
     if isinstance(taus, str):
@@ -497,7 +513,9 @@ def analyse(
     load = dict(load_options or {})
     for key in ("path", "fs"):
         if key in load:
-            raise ValueError(f"load_options must not contain {key!r} (it is an argument of analyse)")
+            raise ValueError(
+                f"load_options must not contain {key!r} (it is an argument of analyse)"
+            )
     if columns is not None:
         load["columns"] = columns
     if time_column is not None:
@@ -514,7 +532,9 @@ def analyse(
         if names is not None and len(names) != n_axes:
             raise ValueError(f"axis_names has {len(names)} names for {n_axes} axes")
         names = names or tuple(f"col{i}" for i in range(n_axes))
-        array_units = io._resolve_units(units, names, None, "sources")  # the reader's rules for units=
+        array_units = io._resolve_units(
+            units, names, None, "sources"
+        )  # the reader's rules for units=
     opts = _Options(
         fs=fs,
         fit=fit,
@@ -537,7 +557,10 @@ def analyse(
             blocks: list[Any] = [expanded[a:b] for a, b in ranges]
             if client is not None:
                 blocks = client.scatter(blocks)
-            tasks = [(_analyse_block, (blk, a, opts), f"array[{a}:{b}]") for blk, (a, b) in zip(blocks, ranges)]
+            tasks = [
+                (_analyse_block, (blk, a, opts), f"array[{a}:{b}]")
+                for blk, (a, b) in zip(blocks, ranges)
+            ]
         else:
             tasks = [(_analyse_file, (p, opts), p) for p in expanded]
         parts = _run(tasks, client, num_workers, progress)
@@ -555,12 +578,34 @@ _COUNTS = ("n_samples", "n_gaps", "missing_samples", "n_duplicates", "dof")
 
 def _columns() -> list[str]:
     cols = [
-        "source", "axis", "sensor", "data_unit", "fs", "duration", "n_samples",
-        "n_gaps", "missing_samples", "longest_gap", "n_duplicates", "sampling_warnings", "fit_method",
+        "source",
+        "axis",
+        "sensor",
+        "data_unit",
+        "fs",
+        "duration",
+        "n_samples",
+        "n_gaps",
+        "missing_samples",
+        "longest_gap",
+        "n_duplicates",
+        "sampling_warnings",
+        "fit_method",
     ]
     for t in TERMS:
         cols += [t, f"{t}_uncertainty", f"{t}_unit", f"{t}_z"]
-    cols += ["chi2", "dof", "chi2_reduced", "p_value", "fit_warnings", "out_of_family", "out_of_family_terms", "error", "adev_tau", "adev"]
+    cols += [
+        "chi2",
+        "dof",
+        "chi2_reduced",
+        "p_value",
+        "fit_warnings",
+        "out_of_family",
+        "out_of_family_terms",
+        "error",
+        "adev_tau",
+        "adev",
+    ]
     return cols
 
 
@@ -568,8 +613,16 @@ def _finish(pd: Any, rows: list[dict[str, Any]], threshold: float) -> DataFrame:
     table = pd.DataFrame.from_records(rows, columns=_columns())
     for name in _COUNTS:
         table[name] = table[name].astype("Int64")
-    for name in ("fs", "duration", "longest_gap", "chi2", "chi2_reduced", "p_value", *TERMS,
-                 *(f"{t}_uncertainty" for t in TERMS)):
+    for name in (
+        "fs",
+        "duration",
+        "longest_gap",
+        "chi2",
+        "chi2_reduced",
+        "p_value",
+        *TERMS,
+        *(f"{t}_uncertainty" for t in TERMS),
+    ):
         table[name] = table[name].astype("float64")
     z = {t: np.full(len(table), np.nan) for t in TERMS}
     flag = np.zeros(len(table), dtype=bool)
@@ -583,7 +636,9 @@ def _finish(pd: Any, rows: list[dict[str, Any]], threshold: float) -> DataFrame:
             have = np.isfinite(values)
             if have.sum() < MIN_UNITS:
                 continue
-            z[t][pos[have]] = _robust_z(values[have], np.where(np.isfinite(unc[have]), unc[have], 0.0))
+            z[t][pos[have]] = _robust_z(
+                values[have], np.where(np.isfinite(unc[have]), unc[have], 0.0)
+            )
             known[pos[have]] = True
     terms_out = []
     for i in range(len(table)):
@@ -607,7 +662,11 @@ def _robust_z(values: NDArray[np.float64], unc: NDArray[np.float64]) -> NDArray[
     denom = np.sqrt(fleet_var + unc * unc + (math.pi / 2.0) * s * s / values.size)
     dev = values - m
     with np.errstate(divide="ignore", invalid="ignore"):
-        z = np.where(denom > 0.0, dev / np.where(denom > 0.0, denom, 1.0), np.where(dev == 0.0, 0.0, np.sign(dev) * np.inf))
+        z = np.where(
+            denom > 0.0,
+            dev / np.where(denom > 0.0, denom, 1.0),
+            np.where(dev == 0.0, 0.0, np.sign(dev) * np.inf),
+        )
     return np.asarray(z, dtype=np.float64)
 
 
@@ -616,7 +675,9 @@ def _chi2_sf(x: float, dof: int) -> float:
     return _core.stats.chi2_sf(x, float(dof))
 
 
-def _spread(x: NDArray[np.float64], u: NDArray[np.float64], alpha: float, min_ratio: float) -> dict[str, Any]:
+def _spread(
+    x: NDArray[np.float64], u: NDArray[np.float64], alpha: float, min_ratio: float
+) -> dict[str, Any]:
     """The statistics of one term over the units that have it (see :func:`summary`)."""
     med = float(np.median(x))
     spread = _MAD_TO_SD * float(np.median(np.abs(x - med)))
@@ -634,7 +695,9 @@ def _spread(x: NDArray[np.float64], u: NDArray[np.float64], alpha: float, min_ra
         "median": med,
         "spread": spread,
         "mean_uncertainty": mean_u,
-        "intrinsic_spread": math.sqrt(max(spread * spread - mean_u * mean_u, 0.0)) if math.isfinite(mean_u) else math.nan,
+        "intrinsic_spread": math.sqrt(max(spread * spread - mean_u * mean_u, 0.0))
+        if math.isfinite(mean_u)
+        else math.nan,
         "chi2": chi2,
         "dof": dof if dof >= 1 else None,
         "birge_ratio": ratio,
@@ -643,7 +706,9 @@ def _spread(x: NDArray[np.float64], u: NDArray[np.float64], alpha: float, min_ra
     }
 
 
-def summary(table: DataFrame, *, alpha: float = SPREAD_ALPHA, min_ratio: float = SPREAD_MIN_RATIO) -> DataFrame:
+def summary(
+    table: DataFrame, *, alpha: float = SPREAD_ALPHA, min_ratio: float = SPREAD_MIN_RATIO
+) -> DataFrame:
     """Per axis and term: median, spread, mean uncertainty, and whether the spread is real.
 
     Parameters
@@ -687,7 +752,11 @@ def summary(table: DataFrame, *, alpha: float = SPREAD_ALPHA, min_ratio: float =
                 continue
             stats = _spread(values[have], unc[have], alpha, min_ratio)
             units = group[f"{t}_unit"].dropna()
-            flagged = group["out_of_family_terms"].dropna().map(lambda text, t=t: t in str(text).split(","))
+            flagged = (
+                group["out_of_family_terms"]
+                .dropna()
+                .map(lambda text, t=t: t in str(text).split(","))
+            )
             out.append(
                 {
                     "axis": axis,
@@ -700,8 +769,22 @@ def summary(table: DataFrame, *, alpha: float = SPREAD_ALPHA, min_ratio: float =
             )
     result = pd.DataFrame.from_records(
         out,
-        columns=["axis", "term", "unit", "n", "median", "spread", "mean_uncertainty", "intrinsic_spread",
-                 "chi2", "dof", "birge_ratio", "p_value", "spread_real", "n_out_of_family"],
+        columns=[
+            "axis",
+            "term",
+            "unit",
+            "n",
+            "median",
+            "spread",
+            "mean_uncertainty",
+            "intrinsic_spread",
+            "chi2",
+            "dof",
+            "birge_ratio",
+            "p_value",
+            "spread_real",
+            "n_out_of_family",
+        ],
     )
     result["dof"] = result["dof"].astype("Int64")
     result["spread_real"] = result["spread_real"].astype("boolean")
@@ -716,7 +799,9 @@ def write_table(table: DataFrame, path: str | os.PathLike[str]) -> None:
     """
     _require("pyarrow")
     target = os.fspath(path)
-    tmp = os.path.join(os.path.dirname(os.path.abspath(target)), f".{os.path.basename(target)}.tmp{os.getpid()}")
+    tmp = os.path.join(
+        os.path.dirname(os.path.abspath(target)), f".{os.path.basename(target)}.tmp{os.getpid()}"
+    )
     try:
         table.to_parquet(tmp, engine="pyarrow", index=False)
         os.replace(tmp, target)

@@ -206,7 +206,9 @@ class FilterResult:
 # --- the filter -----------------------------------------------------------------------------
 
 
-def _rebuild(fs: float, arw: float, rrw: float, q_omega: float, form: str, x0: Any) -> FixedGainKalman:
+def _rebuild(
+    fs: float, arw: float, rrw: float, q_omega: float, form: str, x0: Any
+) -> FixedGainKalman:
     return FixedGainKalman(fs, arw=arw, rrw=rrw, q_omega=q_omega, form=form, x0=x0)  # type: ignore[arg-type]
 
 
@@ -288,7 +290,9 @@ class FixedGainKalman:
     def _check_x0(x0: ArrayLike) -> NDArray[np.float64]:
         arr = as_float_array("x0", x0, ndims=(1, 2))
         if arr.shape[-1] != 2:
-            raise ValueError(f"x0 must have shape (2,) or (axes, 2) of [rate, bias], got {arr.shape}")
+            raise ValueError(
+                f"x0 must have shape (2,) or (axes, 2) of [rate, bias], got {arr.shape}"
+            )
         if not np.all(np.isfinite(arr)):
             raise ValueError("x0 contains a non-finite value (NaN or inf)")
         arr = arr.copy()

@@ -289,7 +289,16 @@ class Term:
             raise ValueError(
                 f"cannot express {self.symbol} ({self.name}, in {self.unit}) in {unit!r}: different "
                 f"dimensions; customary units for it: "
-                + ", ".join(sorted({s[self.symbol] for k in CUSTOMARY.values() for s in k.values() if self.symbol in s}))
+                + ", ".join(
+                    sorted(
+                        {
+                            s[self.symbol]
+                            for k in CUSTOMARY.values()
+                            for s in k.values()
+                            if self.symbol in s
+                        }
+                    )
+                )
             )
         f = source.factor / target.factor
         return replace(
@@ -318,6 +327,7 @@ class Term:
         if self.uncertainty is None:  # datasheet values and conservative sets carry none
             return f"{self.symbol} ({self.name}) = {self.value:.4g}{unit}"
         return f"{self.symbol} ({self.name}) = {self.value:.4g} ± {self.uncertainty:.2g}{unit}"
+
 
 @dataclass(frozen=True)
 class GaussMarkovTerm:
@@ -430,14 +440,18 @@ class FitDiagnostics:
             "tau_range_s": list(self.tau_range),
             "residuals": [None if not np.isfinite(v) else float(v) for v in self.residuals],
             "taus_s": [float(t) for t in self.taus],
-            "excluded": [{"tau_low_s": a, "tau_high_s": b, "reason": r} for a, b, r in self.excluded],
+            "excluded": [
+                {"tau_low_s": a, "tau_high_s": b, "reason": r} for a, b, r in self.excluded
+            ],
             "warnings": list(self.warnings),
         }
 
     def summary(self) -> str:
         """Plain-text lines: the test, the excluded ranges and the warnings."""
         verdict = "passed" if self.passed else "REJECTED"
-        lines = [f"  goodness of fit: χ² = {self.chi2:.4g}, ν = {self.dof}, p = {self.p_value:.3g} ({verdict})"]
+        lines = [
+            f"  goodness of fit: χ² = {self.chi2:.4g}, ν = {self.dof}, p = {self.p_value:.3g} ({verdict})"
+        ]
         for a, b, r in self.excluded:
             lines.append(f"  excluded τ {a:.3g}–{b:.3g} s: {r}")
         for w in self.warnings:
@@ -577,9 +591,12 @@ class NoiseCoefficients:
         gm = self.gauss_markov
         if "B" in mapping:  # σ of a Gauss–Markov term has the dimension of B (a rate)
             gm = tuple(
-                replace(g, sigma=g.sigma.to(mapping["B"])) if g.sigma.unit is not None else g for g in gm
+                replace(g, sigma=g.sigma.to(mapping["B"])) if g.sigma.unit is not None else g
+                for g in gm
             )
-        return replace(self, Q=conv["Q"], N=conv["N"], B=conv["B"], K=conv["K"], R=conv["R"], gauss_markov=gm)
+        return replace(
+            self, Q=conv["Q"], N=conv["N"], B=conv["B"], K=conv["K"], R=conv["R"], gauss_markov=gm
+        )
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary with units and conventions stated."""
@@ -660,7 +677,9 @@ class NoiseCoefficients:
         return write_kalibr(path, gyro=[self], update_rate=update_rate, rostopic=rostopic)
 
     # Estimator parameters (issue 13): thin delegations to gyrobias.conservative/exports.
-    def conservative(self, confidence: float = 0.95, *, terms: Iterable[str] | None = None) -> ConservativeCoefficients:
+    def conservative(
+        self, confidence: float = 0.95, *, terms: Iterable[str] | None = None
+    ) -> ConservativeCoefficients:
         """Coefficients whose model overbounds the curve's upper confidence bound at every τ.
 
         See :func:`gyrobias.conservative.conservative` (Lethander & Taylor 2023).
@@ -723,7 +742,9 @@ class NoiseCoefficients:
         base = self.to("base") if self.data_unit is not None else self
         return [0.0 if t.value is None else float(t.value) ** 2 for t in base.terms]
 
-    def plot(self, ax: Any = None, *, allan: AllanResult | None = None, show_data: bool = True) -> Any:
+    def plot(
+        self, ax: Any = None, *, allan: AllanResult | None = None, show_data: bool = True
+    ) -> Any:
         """Draw the fitted model, each term's asymptote and the labelled read-off points.
 
         Parameters
@@ -754,14 +775,22 @@ class NoiseCoefficients:
             lo, hi = self.tau_range
         grid = np.geomspace(lo, hi, 200)
         total, parts = self.model(grid)
-        colours = {"Q": "tab:purple", "N": "tab:blue", "B": "tab:green", "K": "tab:orange", "R": "tab:red"}
+        colours = {
+            "Q": "tab:purple",
+            "N": "tab:blue",
+            "B": "tab:green",
+            "K": "tab:orange",
+            "R": "tab:red",
+        }
         ax.loglog(grid, total, "-", color="k", lw=1.5, label=f"{self.method} model")
         unit = self.data_unit or ""
         for t, _b in zip(self.terms, base.terms):
             if t.value is None:
                 continue
             curve = parts[t.symbol]
-            ax.loglog(grid, curve, "--", color=colours[t.symbol], lw=1, label=f"{t.symbol} asymptote")
+            ax.loglog(
+                grid, curve, "--", color=colours[t.symbol], lw=1, label=f"{t.symbol} asymptote"
+            )
             if t.marker is not None:
                 mt, ms = t.marker
                 ax.loglog([mt], [ms], "s", color=colours[t.symbol], ms=7, mfc="none", mew=1.5)
@@ -792,10 +821,19 @@ class NoiseCoefficients:
                 )
         if self.diagnostics is not None:
             for k, (a, b, _) in enumerate(self.diagnostics.excluded):
-                ax.axvspan(a, b, color="0.85", alpha=0.5, lw=0, label="excluded from the fit" if k == 0 else None)
+                ax.axvspan(
+                    a,
+                    b,
+                    color="0.85",
+                    alpha=0.5,
+                    lw=0,
+                    label="excluded from the fit" if k == 0 else None,
+                )
         # Keep the view on the data and model: asymptotes of negligible terms run far below.
         markers = [t.marker[1] for t in self.terms if t.value is not None and t.marker is not None]
-        shown = np.concatenate([total, np.asarray(allan.adev) if allan is not None else total, markers])
+        shown = np.concatenate(
+            [total, np.asarray(allan.adev) if allan is not None else total, markers]
+        )
         shown = shown[np.isfinite(shown) & (shown > 0)]
         if shown.size:
             ax.set_ylim(shown.min() / 5.0, shown.max() * 3.0)
@@ -996,7 +1034,9 @@ def fit(
     """
     if not hasattr(allan, "avar"):
         if isinstance(allan, (str, bytes)) or not isinstance(allan, Sequence):
-            raise TypeError(f"allan must be an AllanResult or a sequence of them, got {type(allan).__name__}")
+            raise TypeError(
+                f"allan must be an AllanResult or a sequence of them, got {type(allan).__name__}"
+            )
         return tuple(
             fit(
                 a,
@@ -1029,13 +1069,17 @@ def fit(
     if tau_range is not None:
         lo, hi = (float(v) for v in tau_range)
         if not (lo >= 0.0 and hi > lo):
-            raise ValueError(f"tau_range must be (low, high) seconds with 0 <= low < high, got {tau_range!r}")
+            raise ValueError(
+                f"tau_range must be (low, high) seconds with 0 <= low < high, got {tau_range!r}"
+            )
         tau_range = (lo, hi)
     if correlation_time is not None:
         try:
             t_lo, t_hi = (float(v) for v in correlation_time)
         except (TypeError, ValueError):
-            raise TypeError(f"correlation_time must be a pair (low, high) of seconds, got {correlation_time!r}") from None
+            raise TypeError(
+                f"correlation_time must be a pair (low, high) of seconds, got {correlation_time!r}"
+            ) from None
         correlation_time = (t_lo, t_hi)
     if not isinstance(auto_range, bool):
         raise TypeError(f"auto_range must be a bool, got {type(auto_range).__name__}")
@@ -1048,9 +1092,20 @@ def fit(
     raw: Mapping[str, Any]
     if method == "joint":
         if regions is not None:
-            raise ValueError("regions applies to method='ieee' only; use tau_range for the joint fit")
+            raise ValueError(
+                "regions applies to method='ieee' only; use tau_range for the joint fit"
+            )
         raw = _core.noise.fit(
-            taus, variance, m, n_terms, result.overlapping, edf, term_list, tau_range, correlation_time, auto_range
+            taus,
+            variance,
+            m,
+            n_terms,
+            result.overlapping,
+            edf,
+            term_list,
+            tau_range,
+            correlation_time,
+            auto_range,
         )
         extra: dict[str, Any] = {
             "chi2": float(raw["chi2"]),
@@ -1062,9 +1117,15 @@ def fit(
         diagnostics_raw = raw["diagnostics"]
     else:
         if any(t in _GM_SYMBOLS for t in term_list):
-            raise ValueError("Gauss–Markov terms ('GM', 'GM2') need method='joint' (or gyrobias.noise.gmwm)")
+            raise ValueError(
+                "Gauss–Markov terms ('GM', 'GM2') need method='joint' (or gyrobias.noise.gmwm)"
+            )
         slope_tolerance = positive_float("slope_tolerance", slope_tolerance)
-        if isinstance(min_points, bool) or not isinstance(min_points, (int, np.integer)) or min_points < 1:
+        if (
+            isinstance(min_points, bool)
+            or not isinstance(min_points, (int, np.integer))
+            or min_points < 1
+        ):
             raise ValueError(f"min_points must be an integer >= 1, got {min_points!r}")
         region_list: list[tuple[float, float] | None] = [None] * 5
         for key, rng in (regions or {}).items():
@@ -1072,13 +1133,29 @@ def fit(
             lo, hi = (float(v) for v in rng)
             region_list[_SYMBOLS.index(key)] = (lo, hi)
         raw = _core.noise.read_off(
-            taus, variance, m, n_terms, result.overlapping, edf, term_list, region_list,
-            slope_tolerance, int(min_points),
+            taus,
+            variance,
+            m,
+            n_terms,
+            result.overlapping,
+            edf,
+            term_list,
+            region_list,
+            slope_tolerance,
+            int(min_points),
         )
         extra = {"tau_range": (float(taus[0]), float(taus[-1]))}
         read = [0.0 if d["value"] is None else float(d["value"]) ** 2 for d in raw["terms"]]
         diagnostics_raw = _core.noise.diagnose(
-            taus, variance, m, n_terms, result.overlapping, edf, read, [], sum(v > 0.0 for v in read)
+            taus,
+            variance,
+            m,
+            n_terms,
+            result.overlapping,
+            edf,
+            read,
+            [],
+            sum(v > 0.0 for v in read),
         )
     return _assemble(
         raw["terms"],
@@ -1130,10 +1207,21 @@ def _assemble(
     gm_terms = []
     for k, g in enumerate(gm_dicts):
         symbol = "GM" if k == 0 else f"GM{k + 1}"
-        rng = None if g["tau_range"] is None else (float(g["tau_range"][0]), float(g["tau_range"][1]))
+        rng = (
+            None if g["tau_range"] is None else (float(g["tau_range"][0]), float(g["tau_range"][1]))
+        )
         gm_terms.append(
             GaussMarkovTerm(
-                sigma=Term(symbol, "Gauss–Markov σ", g["sigma"], g["sigma_uncertainty"], rate_unit, rng, None, g["missing"]),
+                sigma=Term(
+                    symbol,
+                    "Gauss–Markov σ",
+                    g["sigma"],
+                    g["sigma_uncertainty"],
+                    rate_unit,
+                    rng,
+                    None,
+                    g["missing"],
+                ),
                 correlation_time=Term(
                     symbol,
                     "Gauss–Markov correlation time",
@@ -1318,7 +1406,9 @@ def gmwm(
 # --- Kalibr --------------------------------------------------------------------------------------
 
 
-def _worst(coefficients: Sequence[NoiseCoefficients], symbol: str, unit: str) -> tuple[float | None, str]:
+def _worst(
+    coefficients: Sequence[NoiseCoefficients], symbol: str, unit: str
+) -> tuple[float | None, str]:
     """Largest value over axes (the conservative choice for a filter) and a comment."""
     values = []
     missing = []
@@ -1380,9 +1470,13 @@ def write_kalibr(
             if not isinstance(c, NoiseCoefficients):
                 raise TypeError(f"{name} must contain NoiseCoefficients, got {type(c).__name__}")
             if c.data_unit is None:
-                raise ValueError(f"{name}: the data unit is unknown; Kalibr needs SI units (pass units=)")
+                raise ValueError(
+                    f"{name}: the data unit is unknown; Kalibr needs SI units (pass units=)"
+                )
             if c.sensor != kind:
-                raise ValueError(f"{name}: coefficients of data in {c.data_unit!r} are not {kind} data")
+                raise ValueError(
+                    f"{name}: coefficients of data in {c.data_unit!r} are not {kind} data"
+                )
     if update_rate is None:
         update_rate = max(c.fs for c in gyro + accel)
     update_rate = positive_float("update_rate", update_rate)

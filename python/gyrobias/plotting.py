@@ -29,10 +29,26 @@ __all__ = [
 _SYMBOL = {"adev": "σ(τ)", "mdev": "Mod σ(τ)", "hdev": "Hadamard σ(τ)", "totdev": "Tot σ(τ)"}
 _NAME = {"adev": "Allan", "mdev": "modified Allan", "hdev": "Hadamard", "totdev": "total"}
 # The rest of the Allan family (issue 15).
-_SYMBOL.update({"tdev": "σ_x(τ)", "mtotdev": "Mod σ_total(τ)", "htotdev": "Hadamard σ_total(τ)",
-                "theo1": "Théo1 σ(τ)", "theobr": "ThéoBR σ(τ)", "theoh": "ThéoH σ(τ)"})
-_NAME.update({"tdev": "time", "mtotdev": "modified total", "htotdev": "Hadamard total",
-              "theo1": "Théo1", "theobr": "bias-removed Théo1", "theoh": "hybrid ThéoH"})
+_SYMBOL.update(
+    {
+        "tdev": "σ_x(τ)",
+        "mtotdev": "Mod σ_total(τ)",
+        "htotdev": "Hadamard σ_total(τ)",
+        "theo1": "Théo1 σ(τ)",
+        "theobr": "ThéoBR σ(τ)",
+        "theoh": "ThéoH σ(τ)",
+    }
+)
+_NAME.update(
+    {
+        "tdev": "time",
+        "mtotdev": "modified total",
+        "htotdev": "Hadamard total",
+        "theo1": "Théo1",
+        "theobr": "bias-removed Théo1",
+        "theoh": "hybrid ThéoH",
+    }
+)
 
 
 def _require_matplotlib() -> Any:
@@ -41,7 +57,7 @@ def _require_matplotlib() -> Any:
     except ImportError as exc:
         raise ImportError(
             "plotting needs matplotlib, which is not installed; install it with "
-            "pip install \"gyrobias[plot]\" (or pip install matplotlib)"
+            'pip install "gyrobias[plot]" (or pip install matplotlib)'
         ) from exc
     return matplotlib
 
@@ -149,9 +165,17 @@ def save_allan_plot(
         for k, unit in enumerate(units):
             pick = [i for i, r in enumerate(items) if r.unit == unit]
             ax = fig.add_subplot(1, len(units), k + 1)
-            _draw(ax, [items[i] for i in pick], None if labels is None else [labels[i] for i in pick],
-                  _sensor_title(unit), bars, dict(kwargs))
-            _overlay_fits(ax, [items[i] for i in pick], None if fits is None else [fits[i] for i in pick])
+            _draw(
+                ax,
+                [items[i] for i in pick],
+                None if labels is None else [labels[i] for i in pick],
+                _sensor_title(unit),
+                bars,
+                dict(kwargs),
+            )
+            _overlay_fits(
+                ax, [items[i] for i in pick], None if fits is None else [fits[i] for i in pick]
+            )
         fig.savefig(os.fspath(path), dpi=dpi)
         return
     fig = Figure(figsize=(7.5, 5.0), layout="constrained")
@@ -195,7 +219,9 @@ def _draw(
         yerr = None
         if confidence_bars and r.ci_low is not None and r.ci_high is not None:
             dev = r.adev
-            yerr = np.vstack([np.clip(dev - r.ci_low, 0.0, None), np.clip(r.ci_high - dev, 0.0, None)])
+            yerr = np.vstack(
+                [np.clip(dev - r.ci_low, 0.0, None), np.clip(r.ci_high - dev, 0.0, None)]
+            )
             if r.confidence is not None:
                 levels.add(r.confidence)
         ax.errorbar(r.taus, r.adev, yerr=yerr, label=label, **style)
@@ -214,7 +240,9 @@ def _draw(
         if kind != "adev":
             title = f"{_NAME[kind][0].upper()}{_NAME[kind][1:]} deviation"
         if kind == "hdev":  # overlapping = Stable32 OHDEV, non-overlapping = Stable32 HDEV
-            title = f"{'Overlapping' if items[0].overlapping else 'Non-overlapping'} Hadamard deviation"
+            title = (
+                f"{'Overlapping' if items[0].overlapping else 'Non-overlapping'} Hadamard deviation"
+            )
     if title:
         ax.set_title(title)
     if labels is not None or levels:
@@ -224,7 +252,9 @@ def _draw(
         if labels is not None:
             ax.legend(title=legend_title)
         elif legend_title:
-            ax.text(0.98, 0.98, legend_title, transform=ax.transAxes, ha="right", va="top", fontsize=9)
+            ax.text(
+                0.98, 0.98, legend_title, transform=ax.transAxes, ha="right", va="top", fontsize=9
+            )
 
 
 def _sensor_title(unit: str | None) -> str:
@@ -306,7 +336,9 @@ def plot_fleet(table: Any, fig: Any = None, *, title: str | None = None) -> Any:
     return fig
 
 
-def save_fleet_plot(table: Any, path: str | os.PathLike[str], *, title: str | None = None, dpi: int = 150) -> None:
+def save_fleet_plot(
+    table: Any, path: str | os.PathLike[str], *, title: str | None = None, dpi: int = 150
+) -> None:
     """Render :func:`plot_fleet` to an image file through a pyplot-free ``Figure`` (headless)."""
     _require_matplotlib()
     from matplotlib.figure import Figure
@@ -339,13 +371,24 @@ def _draw_fleet(fig: Any, ok: Any, title: str | None) -> None:
         curves = []
         flagged = rows["out_of_family"].astype("boolean").fillna(False).to_numpy(dtype=bool)
         for tau_list, dev_list, bad in zip(rows["adev_tau"], rows["adev"], flagged):
-            tau, dev = np.asarray(tau_list, dtype=np.float64), np.asarray(dev_list, dtype=np.float64)
+            tau, dev = (
+                np.asarray(tau_list, dtype=np.float64),
+                np.asarray(dev_list, dtype=np.float64),
+            )
             curves.append((tau, dev))
-            ax.loglog(tau, dev, color="tab:red" if bad else "0.55", lw=1.1 if bad else 0.7,
-                      alpha=0.9 if bad else 0.45, zorder=3 if bad else 1)
+            ax.loglog(
+                tau,
+                dev,
+                color="tab:red" if bad else "0.55",
+                lw=1.1 if bad else 0.7,
+                alpha=0.9 if bad else 0.45,
+                zorder=3 if bad else 1,
+            )
         grid, med, lo, hi = _fleet_band(curves)
         if grid.size:
-            ax.fill_between(grid, lo, hi, color="tab:blue", alpha=0.25, lw=0, label="fleet 16–84 %", zorder=2)
+            ax.fill_between(
+                grid, lo, hi, color="tab:blue", alpha=0.25, lw=0, label="fleet 16–84 %", zorder=2
+            )
             ax.loglog(grid, med, color="black", lw=1.8, label="fleet median", zorder=4)
         unit = next((u for u in rows["data_unit"] if isinstance(u, str)), None)
         ax.set_title(f"axis {name} ({len(rows)} units)", fontsize=10)
@@ -374,18 +417,44 @@ def _draw_fleet(fig: Any, ok: Any, title: str | None) -> None:
             have = np.isfinite(values)
             if not have.any():
                 continue
-            flags = rows["out_of_family_terms"].map(lambda s, t=t: isinstance(s, str) and t in s.split(","))
+            flags = rows["out_of_family_terms"].map(
+                lambda s, t=t: isinstance(s, str) and t in s.split(",")
+            )
             out = flags.to_numpy(dtype=bool) & have
             x = k + rng.uniform(-0.18, 0.18, size=values.size)
-            ax.errorbar(x[have & ~out], values[have & ~out], yerr=np.nan_to_num(unc[have & ~out]),
-                        fmt="o", ms=3, color="tab:blue", alpha=0.6, elinewidth=0.6, capsize=0)
+            ax.errorbar(
+                x[have & ~out],
+                values[have & ~out],
+                yerr=np.nan_to_num(unc[have & ~out]),
+                fmt="o",
+                ms=3,
+                color="tab:blue",
+                alpha=0.6,
+                elinewidth=0.6,
+                capsize=0,
+            )
             ax.hlines(np.median(values[have]), k - 0.3, k + 0.3, color="black", lw=1.5)
             if out.any():
-                ax.errorbar(x[out], values[out], yerr=np.nan_to_num(unc[out]), fmt="x", ms=7, mew=1.8,
-                            color="tab:red", elinewidth=0.8, capsize=0)
+                ax.errorbar(
+                    x[out],
+                    values[out],
+                    yerr=np.nan_to_num(unc[out]),
+                    fmt="x",
+                    ms=7,
+                    mew=1.8,
+                    color="tab:red",
+                    elinewidth=0.8,
+                    capsize=0,
+                )
                 for xi, yi, src in zip(x[out], values[out], rows["source"].to_numpy()[out]):
-                    ax.annotate(os.path.basename(str(src)), (xi, yi), textcoords="offset points",
-                                xytext=(4, 3), fontsize=7, color="tab:red")
+                    ax.annotate(
+                        os.path.basename(str(src)),
+                        (xi, yi),
+                        textcoords="offset points",
+                        xytext=(4, 3),
+                        fontsize=7,
+                        color="tab:red",
+                    )
         ax.set_xticks(range(len(axes_names)), axes_names)
         ax.set_xlim(-0.6, len(axes_names) - 0.4)
         ax.set_title(t, fontsize=10)
@@ -449,7 +518,11 @@ def plot_dynamic_allan(
     def edges(c: np.ndarray, log: bool) -> np.ndarray:
         v = np.log(c) if log else c
         if v.size == 1:
-            mid = np.array([v[0] - 0.5, v[0] + 0.5]) if not log else np.array([v[0] - 0.35, v[0] + 0.35])
+            mid = (
+                np.array([v[0] - 0.5, v[0] + 0.5])
+                if not log
+                else np.array([v[0] - 0.35, v[0] + 0.35])
+            )
         else:
             inner = (v[1:] + v[:-1]) / 2
             mid = np.concatenate(([2 * v[0] - inner[0]], inner, [2 * v[-1] - inner[-1]]))
@@ -457,7 +530,9 @@ def plot_dynamic_allan(
 
     positive = dev[dev > 0]
     norm = LogNorm(vmin=positive.min(), vmax=positive.max()) if positive.size else None
-    mesh = ax.pcolormesh(edges(times, False), edges(taus, True), dev.T, cmap=cmap, norm=norm, shading="flat")
+    mesh = ax.pcolormesh(
+        edges(times, False), edges(taus, True), dev.T, cmap=cmap, norm=norm, shading="flat"
+    )
     ax.set_yscale("log")
     ax.set_xlabel("time (window centre) [s]")
     ax.set_ylabel("τ [s]")
@@ -513,7 +588,11 @@ def allan_report_svg(
         fig = Figure(figsize=(width, height), layout="constrained")
         ax = fig.add_subplot()
         r = items[0]
-        bars = f" ({100 * r.confidence:.3g} % intervals)" if r.confidence is not None and r.ci_low is not None else ""
+        bars = (
+            f" ({100 * r.confidence:.3g} % intervals)"
+            if r.confidence is not None and r.ci_low is not None
+            else ""
+        )
         _draw(ax, items, [f"measured{bars}"], title, True, {"color": "0.25"})
         lo, hi = float(r.taus[0]), float(r.taus[-1])
         grid = np.geomspace(lo, hi, 200)
@@ -525,11 +604,16 @@ def allan_report_svg(
             level = f"{100 * conservative.confidence:.3g} %"
             ax.loglog(grid, total, "--", color="tab:red", lw=1.6, label=f"conservative ({level})")
             ax.loglog(
-                conservative.taus, conservative.upper_bound, "v", color="tab:red", ms=4, mfc="none",
+                conservative.taus,
+                conservative.upper_bound,
+                "v",
+                color="tab:red",
+                ms=4,
+                mfc="none",
                 label=f"{level} upper bound",
             )
         ax.legend(fontsize=8, loc="best")
         buf = io.StringIO()
         fig.savefig(buf, format="svg", metadata={"Date": None, "Creator": None})
     text = buf.getvalue()
-    return text[text.index("<svg"):]
+    return text[text.index("<svg") :]

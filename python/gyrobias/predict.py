@@ -52,7 +52,9 @@ def _n_threads(n_threads: int | None) -> int:
 
 def _horizon(horizon: Any) -> int:
     if isinstance(horizon, bool) or not isinstance(horizon, (int, np.integer)):
-        raise TypeError(f"horizon must be an integer number of samples, got {type(horizon).__name__}")
+        raise TypeError(
+            f"horizon must be an integer number of samples, got {type(horizon).__name__}"
+        )
     if horizon < 1:
         raise ValueError(f"horizon must be at least 1 sample, got {horizon}")
     return int(horizon)
@@ -64,20 +66,30 @@ def _windows(name: str, value: Any) -> tuple[NDArray[np.float64], bool]:
         arr = as_float_array(name, value, ndims=(1, 2))
     except ValueError as exc:
         if "inhomogeneous" in str(exc) or "sequence" in str(exc):
-            raise ValueError(f"{name} has ragged rows: every window must have the same length") from exc
+            raise ValueError(
+                f"{name} has ragged rows: every window must have the same length"
+            ) from exc
         raise
     one = arr.ndim == 1
     arr2 = arr.reshape(1, -1) if one else arr
     if arr2.shape[1] < 2:
-        raise ValueError(f"calibration ({name}) is too short: at least 2 samples needed, got {arr2.shape[1]}")
+        raise ValueError(
+            f"calibration ({name}) is too short: at least 2 samples needed, got {arr2.shape[1]}"
+        )
     return arr2, one
 
 
 def _asarray_ragged(name: str, value: Any) -> Any:
-    if isinstance(value, (list, tuple)) and value and all(isinstance(v, (list, tuple, np.ndarray)) for v in value):
+    if (
+        isinstance(value, (list, tuple))
+        and value
+        and all(isinstance(v, (list, tuple, np.ndarray)) for v in value)
+    ):
         lengths = {len(v) for v in value}
         if len(lengths) > 1:
-            raise ValueError(f"{name} has ragged rows (lengths {sorted(lengths)}): every window must have the same length")
+            raise ValueError(
+                f"{name} has ragged rows (lengths {sorted(lengths)}): every window must have the same length"
+            )
     return value
 
 
@@ -187,14 +199,18 @@ def _mean_spec(mean: Any) -> tuple[str, float, float]:
         mu0, p0 = mean
         for nm, v in (("mu0", mu0), ("p0", p0)):
             if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
-                raise TypeError(f"mean=(mu0, p0): {nm} must be a real number, got {type(v).__name__}")
+                raise TypeError(
+                    f"mean=(mu0, p0): {nm} must be a real number, got {type(v).__name__}"
+                )
         mu0, p0 = float(mu0), float(p0)
         if not math.isfinite(mu0):
             raise ValueError(f"mean=(mu0, p0): mu0 must be finite, got {mu0}")
         if p0 == math.inf:
             return "diffuse", 0.0, 0.0
         if not (p0 >= 0.0 and math.isfinite(p0)):
-            raise ValueError(f"mean=(mu0, p0): p0 must be ≥ 0 (or inf for a diffuse prior), got {p0}")
+            raise ValueError(
+                f"mean=(mu0, p0): p0 must be ≥ 0 (or inf for a diffuse prior), got {p0}"
+            )
         return "proper", mu0, p0
     raise ValueError(f"mean must be 'sample', 'diffuse', 'none' or a pair (mu0, p0); got {mean!r}")
 
@@ -245,7 +261,9 @@ class CompiledPredictor:
         std = np.broadcast_to(self._inner.std, (rows, h))
         std_obs = np.broadcast_to(self._inner.std_observation, (rows, h))
         if one:
-            return Prediction(bias[0], std[0], std_obs[0], float(mean[0]), float(self._inner.mean_std))
+            return Prediction(
+                bias[0], std[0], std_obs[0], float(mean[0]), float(self._inner.mean_std)
+            )
         return Prediction(bias, std, std_obs, mean, float(self._inner.mean_std))
 
 
@@ -322,7 +340,9 @@ class FractionalKalmanPredictor:
         mode, mu0, p0 = self._spec
         return self.d, self.q, self.r, mode, mu0, p0
 
-    def predict(self, calibration: Any, horizon: int, *, n_threads: int | None = None) -> Prediction:
+    def predict(
+        self, calibration: Any, horizon: int, *, n_threads: int | None = None
+    ) -> Prediction:
         """Forecast the bias for ``horizon`` samples after each calibration window.
 
         Parameters
@@ -348,23 +368,37 @@ class FractionalKalmanPredictor:
         """
         arr, one = _windows("calibration", _asarray_ragged("calibration", calibration))
         h = _horizon(horizon)
-        res = _core.predict.fractional_kalman(arr, h, *self._args(), self.algorithm, _n_threads(n_threads))
+        res = _core.predict.fractional_kalman(
+            arr, h, *self._args(), self.algorithm, _n_threads(n_threads)
+        )
         rows = arr.shape[0]
         bias = res["bias"].reshape(rows, h)
         if one:
-            return Prediction(bias[0], res["std"], res["std_observation"], float(res["mean"][0]), float(res["mean_std"]))
+            return Prediction(
+                bias[0],
+                res["std"],
+                res["std_observation"],
+                float(res["mean"][0]),
+                float(res["mean_std"]),
+            )
         std = np.broadcast_to(res["std"], (rows, h))
         std_obs = np.broadcast_to(res["std_observation"], (rows, h))
         return Prediction(bias, std, std_obs, res["mean"], float(res["mean_std"]))
 
-    def compile(self, calibration_length: int, horizon: int, *, n_threads: int | None = None) -> CompiledPredictor:
+    def compile(
+        self, calibration_length: int, horizon: int, *, n_threads: int | None = None
+    ) -> CompiledPredictor:
         """Precompute the linear map ``ŷ = W·y + w0`` for windows of ``calibration_length``.
 
         Compiling costs O(n·k) memory and one triangular solve; afterwards a batch of R windows
         is one (R × k)·(k × h) matrix product.
         """
-        if isinstance(calibration_length, bool) or not isinstance(calibration_length, (int, np.integer)):
-            raise TypeError(f"calibration_length must be an integer, got {type(calibration_length).__name__}")
+        if isinstance(calibration_length, bool) or not isinstance(
+            calibration_length, (int, np.integer)
+        ):
+            raise TypeError(
+                f"calibration_length must be an integer, got {type(calibration_length).__name__}"
+            )
         k = int(calibration_length)
         if k < 2:
             raise ValueError(f"calibration_length must be at least 2 samples, got {k}")
@@ -490,7 +524,9 @@ class Evaluation:
     sections: int
     methods: dict[str, MethodStats]
 
-    def ratio(self, method: str, reference: str = "cm", statistic: str = "rsse") -> tuple[float, float]:
+    def ratio(
+        self, method: str, reference: str = "cm", statistic: str = "rsse"
+    ) -> tuple[float, float]:
         """Ratio of a statistic to the reference method's with a paired bootstrap standard error.
 
         ``statistic`` is ``"rsse"`` (ratio of mean RSSEs) or ``"ie_std"`` (ratio of IE standard
@@ -530,7 +566,9 @@ class Evaluation:
                     continue
                 r1, s1 = self.ratio(key, "cm", "rsse")
                 r2, s2 = self.ratio(key, "cm", "ie_std")
-                lines.append(f"  {key.upper()}/CM  RSSE {r1:.4f} ± {s1:.4f}   IE std {r2:.4f} ± {s2:.4f}")
+                lines.append(
+                    f"  {key.upper()}/CM  RSSE {r1:.4f} ± {s1:.4f}   IE std {r2:.4f} ± {s2:.4f}"
+                )
         return "\n".join(lines)
 
     def to_dict(self) -> dict[str, Any]:
@@ -574,7 +612,9 @@ def evaluate(
         deviation ([BP] Table I); ``.table()`` prints it with ratios to CM.
     """
     if isinstance(calibration, bool) or not isinstance(calibration, (int, np.integer)):
-        raise TypeError(f"calibration must be an integer number of samples, got {type(calibration).__name__}")
+        raise TypeError(
+            f"calibration must be an integer number of samples, got {type(calibration).__name__}"
+        )
     k = int(calibration)
     if k < 2:
         raise ValueError(f"calibration must be at least 2 samples, got {k}")
@@ -586,7 +626,9 @@ def evaluate(
             raise ValueError(f"log is too short: {arr.size} samples, one section needs {k + h}")
         arr = arr[: sections * (k + h)].reshape(sections, k + h)
     elif arr.shape[1] != k + h:
-        raise ValueError(f"log sections have {arr.shape[1]} samples, calibration + horizon = {k + h}")
+        raise ValueError(
+            f"log sections have {arr.shape[1]} samples, calibration + horizon = {k + h}"
+        )
     if not np.all(np.isfinite(arr)):
         raise ValueError("log contains a non-finite value (NaN or inf)")
     methods = list(methods)
@@ -604,7 +646,9 @@ def evaluate(
         else:
             yhat = calibration_mean(cal, h)
         yhat = np.asarray(yhat).reshape(arr.shape[0], h)
-        out[m] = MethodStats(m, np.asarray(integrated_error(fut, yhat)), np.asarray(rsse(fut, yhat)))
+        out[m] = MethodStats(
+            m, np.asarray(integrated_error(fut, yhat)), np.asarray(rsse(fut, yhat))
+        )
     return Evaluation(k, h, arr.shape[0], out)
 
 
@@ -614,4 +658,3 @@ PAPER_TABLE1 = {
     "ma": {"mean_rsse": 139.0, "ie_std": 2210.0, "rsse_std": 25.4},
     "cm": {"mean_rsse": 138.0, "ie_std": 2280.0, "rsse_std": 24.9},
 }
-

@@ -236,13 +236,17 @@ def lssa(
     try:
         periods = np.ascontiguousarray(np.asarray(known_periods, dtype=np.float64).reshape(-1))
     except (TypeError, ValueError) as exc:
-        raise TypeError(f"known_periods must be a sequence of numbers, got {known_periods!r}") from exc
+        raise TypeError(
+            f"known_periods must be a sequence of numbers, got {known_periods!r}"
+        ) from exc
     user = None
     if columns is not None:
         user = as_float_array("columns", columns, ndims=(1, 2))
         user = np.ascontiguousarray(user.reshape(tt.size, -1)) if user.shape[0] == tt.size else user
         if user.ndim != 2 or user.shape[0] != tt.size:
-            raise ValueError(f"columns must have {tt.size} rows (one per observation), got shape {user.shape}")
+            raise ValueError(
+                f"columns must have {tt.size} rows (one per observation), got shape {user.shape}"
+            )
     r = _core.spectral.lssa(tt, yy, ff, w, c, bool(trend), periods, user)
     n_known = int(r["n_known"])
     return LSSAResult(
@@ -404,7 +408,12 @@ class NoiseDensity:
 
     def to_dict(self) -> dict[str, Any]:
         """Plain-Python representation (without the spectrum)."""
-        return {"density": self.density, "arw": self.arw, "band": list(self.band), "unit": self.unit}
+        return {
+            "density": self.density,
+            "arw": self.arw,
+            "band": list(self.band),
+            "unit": self.unit,
+        }
 
 
 def noise_density(
@@ -445,8 +454,12 @@ def noise_density(
     spec = psd(x, fs, nperseg=nperseg, units=units)
     lo, hi = (0.05 * spec.fs, 0.25 * spec.fs) if band is None else (float(band[0]), float(band[1]))
     if not (0.0 <= lo < hi <= 0.5 * spec.fs):
-        raise ValueError(f"band must satisfy 0 <= low < high <= fs/2 = {0.5 * spec.fs}, got ({lo}, {hi})")
+        raise ValueError(
+            f"band must satisfy 0 <= low < high <= fs/2 = {0.5 * spec.fs}, got ({lo}, {hi})"
+        )
     mask = (spec.frequencies >= lo) & (spec.frequencies <= hi)
     if not mask.any():
-        raise ValueError(f"band ({lo}, {hi}) Hz contains no frequency bin (bin spacing {spec.fs / spec.nperseg} Hz)")
+        raise ValueError(
+            f"band ({lo}, {hi}) Hz contains no frequency bin (bin spacing {spec.fs / spec.nperseg} Hz)"
+        )
     return NoiseDensity(float(np.sqrt(np.mean(spec.psd[mask]))), (lo, hi), units, spec)

@@ -222,7 +222,11 @@ class TemperatureModel:
         if dup.size:
             raise ValueError(f"temperatures must be distinct, {st[dup[0]]} is given twice")
         choice("method", self.method, _METHODS)
-        if isinstance(self.degree, bool) or not isinstance(self.degree, (int, np.integer)) or self.degree < 0:
+        if (
+            isinstance(self.degree, bool)
+            or not isinstance(self.degree, (int, np.integer))
+            or self.degree < 0
+        ):
             raise ValueError(f"degree must be a non-negative integer, got {self.degree!r}")
         if self.method == "polynomial" and self.degree > temps.size - 1:
             raise ValueError(
@@ -236,7 +240,9 @@ class TemperatureModel:
                 raise TypeError(f"parameter names must be strings, got {name!r}")
             v = as_float_array(f"parameters[{name!r}]", values)
             if v.size != temps.size:
-                raise ValueError(f"parameters[{name!r}] has {v.size} values for {temps.size} temperatures")
+                raise ValueError(
+                    f"parameters[{name!r}] has {v.size} values for {temps.size} temperatures"
+                )
             if not np.all(np.isfinite(v)):
                 raise ValueError(f"parameters[{name!r}] contains a non-finite value")
             params[name] = v[order].copy()
@@ -268,7 +274,12 @@ class TemperatureModel:
         if flat.size == 0:
             raise ValueError("temperature is empty")
         out = _core.thermal.interpolate(
-            self.temperatures, self.parameters[name], self.method, self.degree, flat, bool(extrapolate)
+            self.temperatures,
+            self.parameters[name],
+            self.method,
+            self.degree,
+            flat,
+            bool(extrapolate),
         )
         if at.ndim == 0:
             return float(out[0])
@@ -298,7 +309,9 @@ class TemperatureModel:
         try:
             return cls(
                 temperatures=np.asarray(data["temperatures"], dtype=np.float64),
-                parameters={k: np.asarray(v, dtype=np.float64) for k, v in data["parameters"].items()},
+                parameters={
+                    k: np.asarray(v, dtype=np.float64) for k, v in data["parameters"].items()
+                },
                 units=dict(data.get("units", {})),
                 method=data.get("method", "pchip"),
                 degree=int(data.get("degree", 2)),
@@ -322,7 +335,11 @@ class TemperatureModel:
         names = list(items[0].parameters())
         params = {n: np.array([a.parameters()[n] for a in items]) for n in names}
         return cls(
-            np.array([a.temperature for a in items]), params, units=items[0].parameter_units(), method=method, degree=degree
+            np.array([a.temperature for a in items]),
+            params,
+            units=items[0].parameter_units(),
+            method=method,
+            degree=degree,
         )
 
     def table(self) -> str:
@@ -461,7 +478,9 @@ def analyse_log(
 
     arr = as_float_array("x", x)
     fs = positive_float("fs", fs)
-    if isinstance(temperature, bool) or not isinstance(temperature, (int, float, np.integer, np.floating)):
+    if isinstance(temperature, bool) or not isinstance(
+        temperature, (int, float, np.integer, np.floating)
+    ):
         raise TypeError(f"temperature must be a real number, got {type(temperature).__name__}")
     if not math.isfinite(float(temperature)):
         raise ValueError(f"temperature must be finite, got {temperature!r}")
@@ -486,7 +505,9 @@ def analyse_log(
         data = design.apply(arr, zero_phase=bool(zero_phase))
         if not zero_phase:
             if arr.size <= design.numtaps + 2:
-                raise ValueError(f"x is too short for the {design.numtaps}-tap prefilter: {arr.size} samples")
+                raise ValueError(
+                    f"x is too short for the {design.numtaps}-tap prefilter: {arr.size} samples"
+                )
             data = data[design.numtaps - 1 :]
     return ThermalAnalysis(
         temperature=float(temperature),
@@ -545,4 +566,6 @@ def build_temperature_model(
     >>> bool(m("arw", -30.0) < m("arw", 60.0))
     True
     """
-    return TemperatureModel.from_analyses(analyse_logs(logs, fs, **kwargs), method=method, degree=degree)
+    return TemperatureModel.from_analyses(
+        analyse_logs(logs, fs, **kwargs), method=method, degree=degree
+    )

@@ -124,7 +124,9 @@ _TOKEN = re.compile(r"\s*(sqrt|√|\^|\*|·|/|\(|\)|²|³|-?\d+(?:\.\d+)?|[A-Za-
 
 
 def _valid_units_message(text: str) -> str:
-    examples = sorted({u for kind in CUSTOMARY.values() for system in kind.values() for u in system.values()})
+    examples = sorted(
+        {u for kind in CUSTOMARY.values() for system in kind.values() for u in system.values()}
+    )
     return (
         f"unknown unit {text!r}; valid symbols are {', '.join(SYMBOLS)} combined with '/', '·' or "
         f"'*', powers '^p', '²', '³' and '√'/'sqrt()'; customary units: {', '.join(examples)}"
@@ -283,8 +285,10 @@ def base_unit(data_unit: str, symbol: str) -> str:
     m = re.fullmatch(r"(.+?)/s(?:\^(\d)|(²)|(³))?", data_unit.strip())
     if m:
         numerator = m.group(1)
-        t = 1 if m.group(2) is None and m.group(3) is None and m.group(4) is None else (
-            int(m.group(2)) if m.group(2) else (2 if m.group(3) else 3)
+        t = (
+            1
+            if m.group(2) is None and m.group(3) is None and m.group(4) is None
+            else (int(m.group(2)) if m.group(2) else (2 if m.group(3) else 3))
         )
         exponent = p - t
     else:

@@ -49,13 +49,17 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"gyrobias {__version__}")
     parser.add_argument(
-        "--traceback", action="store_true", help="show the full traceback on errors (for bug reports)"
+        "--traceback",
+        action="store_true",
+        help="show the full traceback on errors (for bug reports)",
     )
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in SUBCOMMANDS:
         importlib.import_module(name).register(subparsers)
     if EXPERIMENTS:
-        exp = subparsers.add_parser("experiment", help="laboratory experiments (planning and evaluation)")
+        exp = subparsers.add_parser(
+            "experiment", help="laboratory experiments (planning and evaluation)"
+        )
         exp_subparsers = exp.add_subparsers(dest="experiment", metavar="EXPERIMENT", required=True)
         for name in EXPERIMENTS:
             importlib.import_module(name).register_experiment(exp_subparsers)

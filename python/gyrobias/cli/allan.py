@@ -23,13 +23,28 @@ from typing import Any
 
 from gyrobias import allan
 from gyrobias.cli import noise as noise_cli
-from gyrobias.cli._common import ProgressBar, add_read_arguments, describe_source, read_log, require_fs
+from gyrobias.cli._common import (
+    ProgressBar,
+    add_read_arguments,
+    describe_source,
+    read_log,
+    require_fs,
+)
 
 __all__ = ["ProgressBar", "register", "run"]
 
-_FUNCTIONS = {"adev": allan.adev, "mdev": allan.mdev, "hdev": allan.hdev, "totdev": allan.totdev,
-              "tdev": allan.tdev, "mtotdev": allan.mtotdev, "htotdev": allan.htotdev, "theo1": allan.theo1,
-              "theobr": allan.theobr, "theoh": allan.theoh}
+_FUNCTIONS = {
+    "adev": allan.adev,
+    "mdev": allan.mdev,
+    "hdev": allan.hdev,
+    "totdev": allan.totdev,
+    "tdev": allan.tdev,
+    "mtotdev": allan.mtotdev,
+    "htotdev": allan.htotdev,
+    "theo1": allan.theo1,
+    "theobr": allan.theobr,
+    "theoh": allan.theoh,
+}
 #: Logs with at least this many samples × channels get a progress bar on a terminal.
 PROGRESS_MIN_VALUES = 1_000_000
 
@@ -48,28 +63,69 @@ def register(subparsers: Any) -> None:
         "          gyrobias allan imu.bag --fit --kalibr imu.yaml",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("log", type=Path, metavar="LOG",
-                   help="log: .csv/.tsv/.txt (delimited text), .npy, .bag, .mcap, .db3 or a ROS2 bag directory")
+    p.add_argument(
+        "log",
+        type=Path,
+        metavar="LOG",
+        help="log: .csv/.tsv/.txt (delimited text), .npy, .bag, .mcap, .db3 or a ROS2 bag directory",
+    )
     src = add_read_arguments(p)
-    src.add_argument("--data-type", choices=("rate", "angle"), default="rate", help="rate (default) or integrated angle samples")
+    src.add_argument(
+        "--data-type",
+        choices=("rate", "angle"),
+        default="rate",
+        help="rate (default) or integrated angle samples",
+    )
     ana = p.add_argument_group("analysis")
-    ana.add_argument("--kind", choices=tuple(_FUNCTIONS), default="adev",
-                     help="deviation (default adev): adev, mdev, hdev (overlapping = Stable32 OHDEV; with "
-                          "--non-overlapping Stable32 HDEV), totdev, tdev (time deviation, angle unit), "
-                          "mtotdev, htotdev, theo1 / theobr / theoh (τ = 0.75·m/fs out to 75 %% of the log)")
-    ana.add_argument("--taus", choices=("octave", "decade", "log", "all"), default="octave",
-                     help="τ grid: octave (m = 1, 2, 4, …, default), decade (1, 2, 4, 10, 20, …), log, "
-                          "all (every m: slow on long logs)")
-    ana.add_argument("--per-decade", type=int, default=10, metavar="N", help="points per decade for --taus log")
-    ana.add_argument("--non-overlapping", action="store_true",
-                     help="non-overlapping ADEV ([BP] eq. 2) or HDEV (Stable32 HDEV) instead of overlapping")
-    ana.add_argument("--confidence", type=float, default=0.683, metavar="P",
-                     help="confidence level of the intervals (default 0.683 ≈ 1σ)")
-    ana.add_argument("--no-confidence", action="store_true", help="skip noise identification and confidence intervals")
+    ana.add_argument(
+        "--kind",
+        choices=tuple(_FUNCTIONS),
+        default="adev",
+        help="deviation (default adev): adev, mdev, hdev (overlapping = Stable32 OHDEV; with "
+        "--non-overlapping Stable32 HDEV), totdev, tdev (time deviation, angle unit), "
+        "mtotdev, htotdev, theo1 / theobr / theoh (τ = 0.75·m/fs out to 75 %% of the log)",
+    )
+    ana.add_argument(
+        "--taus",
+        choices=("octave", "decade", "log", "all"),
+        default="octave",
+        help="τ grid: octave (m = 1, 2, 4, …, default), decade (1, 2, 4, 10, 20, …), log, "
+        "all (every m: slow on long logs)",
+    )
+    ana.add_argument(
+        "--per-decade", type=int, default=10, metavar="N", help="points per decade for --taus log"
+    )
+    ana.add_argument(
+        "--non-overlapping",
+        action="store_true",
+        help="non-overlapping ADEV ([BP] eq. 2) or HDEV (Stable32 HDEV) instead of overlapping",
+    )
+    ana.add_argument(
+        "--confidence",
+        type=float,
+        default=0.683,
+        metavar="P",
+        help="confidence level of the intervals (default 0.683 ≈ 1σ)",
+    )
+    ana.add_argument(
+        "--no-confidence",
+        action="store_true",
+        help="skip noise identification and confidence intervals",
+    )
     out = p.add_argument_group("output")
     noise_cli.add_fit_arguments(p)
-    out.add_argument("--json", type=Path, metavar="FILE", help="write all axes, units, fs and the sampling report as JSON")
-    out.add_argument("--plot", type=Path, metavar="FILE", help="save a log-log plot (png, pdf, svg) with confidence bars")
+    out.add_argument(
+        "--json",
+        type=Path,
+        metavar="FILE",
+        help="write all axes, units, fs and the sampling report as JSON",
+    )
+    out.add_argument(
+        "--plot",
+        type=Path,
+        metavar="FILE",
+        help="save a log-log plot (png, pdf, svg) with confidence bars",
+    )
     p.set_defaults(func=run)
 
 
@@ -133,13 +189,17 @@ def run(args: argparse.Namespace) -> int:
 
     duration = log.n_samples / fs
     source = f" ({describe_source(log)})" if log.topic else ""
-    print(f"{args.log}{source}: {log.n_samples} samples × {len(log.columns)} channels, "
-          f"{_duration(duration)} at {fs:.9g} Hz")
+    print(
+        f"{args.log}{source}: {log.n_samples} samples × {len(log.columns)} channels, "
+        f"{_duration(duration)} at {fs:.9g} Hz"
+    )
     for r in results:
         unit = f" [{r.unit}]" if r.unit else ""
-        print(f"\n{r.label.split(' (')[0] if r.kind == 'hdev' else r.kind.upper()} of {r.axis}{unit}"
-              f"{' (non-overlapping)' if not r.overlapping else ''}"
-              f"{f', {100 * r.confidence:.3g} % confidence intervals' if r.confidence else ''}")
+        print(
+            f"\n{r.label.split(' (')[0] if r.kind == 'hdev' else r.kind.upper()} of {r.axis}{unit}"
+            f"{' (non-overlapping)' if not r.overlapping else ''}"
+            f"{f', {100 * r.confidence:.3g} % confidence intervals' if r.confidence else ''}"
+        )
         print(r.table())
 
     noise_cli.run_fit(args, results)

@@ -50,9 +50,16 @@ def register(subparsers: Any) -> None:
             "coefficients, and save the plot and the log in OUTDIR."
         ),
     )
-    p.add_argument("--outdir", type=Path, default=Path("gyrobias-out"), help="where plots and the log go (default gyrobias-out/)")
+    p.add_argument(
+        "--outdir",
+        type=Path,
+        default=Path("gyrobias-out"),
+        help="where plots and the log go (default gyrobias-out/)",
+    )
     p.add_argument("--seed", type=int, default=2012, help="random seed (default 2012)")
-    p.add_argument("--hours", type=float, default=2.0, help="length of the simulated log in hours (default 2)")
+    p.add_argument(
+        "--hours", type=float, default=2.0, help="length of the simulated log in hours (default 2)"
+    )
     p.add_argument("--fs", type=float, default=100.0, help="sample rate in Hz (default 100)")
     p.set_defaults(func=run)
 
@@ -88,15 +95,19 @@ def run(args: argparse.Namespace) -> int:
     fs = positive_float("--fs", args.fs)
     n = int(round(hours * 3600.0 * fs))
     if n < 1000:
-        raise ValueError(f"--hours {hours:g} at --fs {fs:g} gives only {n} samples; use at least 1000")
+        raise ValueError(
+            f"--hours {hours:g} at --fs {fs:g} gives only {n} samples; use at least 1000"
+        )
     outdir: Path = args.outdir
     outdir.mkdir(parents=True, exist_ok=True)
 
     t = time.perf_counter()
     rate = _simulate(n, fs, args.seed)
     t_sim = time.perf_counter() - t
-    print(f"Simulated 3-axis MEMS gyro: {hours:g} h at {fs:g} Hz ({n} samples per axis, seed {args.seed}, "
-          f"{t_sim:.2f} s)\n")
+    print(
+        f"Simulated 3-axis MEMS gyro: {hours:g} h at {fs:g} Hz ({n} samples per axis, seed {args.seed}, "
+        f"{t_sim:.2f} s)\n"
+    )
     c = TRUE_COEFFICIENTS
     print("True noise terms          " + "".join(f"{a:>10}" for a in AXES))
     rows = [
@@ -112,15 +123,19 @@ def run(args: argparse.Namespace) -> int:
     results = allan.adev(rate, fs, units="deg/s", axis_names=list(AXES))
     t_adev = time.perf_counter() - t
     assert isinstance(results, tuple)
-    print(f"\nOverlapping Allan deviation, 68.3 % confidence intervals ({t_adev:.2f} s for all axes)")
+    print(
+        f"\nOverlapping Allan deviation, 68.3 % confidence intervals ({t_adev:.2f} s for all axes)"
+    )
     for r in results:
         print(f"\nADEV of axis {r.axis} [deg/s]")
         print(r.table())
 
     log_path = outdir / "demo_log.npy"
     np.save(log_path, rate)
-    print(f"\nwrote {log_path} (rate in deg/s, columns x, y, z); try:\n"
-          f"  gyrobias allan {log_path} --fs {fs:g} --units deg/s --plot {outdir / 'my_adev.png'}")
+    print(
+        f"\nwrote {log_path} (rate in deg/s, columns x, y, z); try:\n"
+        f"  gyrobias allan {log_path} --fs {fs:g} --units deg/s --plot {outdir / 'my_adev.png'}"
+    )
     try:
         from gyrobias.plotting import save_allan_plot
 

@@ -157,7 +157,7 @@ def simulate_tests(
             "amplitude_filtered": _sine_amplitude(rate, t, f),
             "std_raw": float(np.std(z - truth, ddof=1)),
             "std_filtered": float(np.std(rate - truth, ddof=1)),
-            "gain_at_f": float(abs(kf20.frequency_response(f)) ),
+            "gain_at_f": float(abs(kf20.frequency_response(f))),
             "amplitude_paper_form": _sine_amplitude(paper_rate, t, f),
         }
 
@@ -261,17 +261,23 @@ def demo_section(rate: NDArray[np.float64], fs: float, outdir: Path) -> None:
     bandwidth = min(10.0, fs / 4.0)
     kf = FixedGainKalman(fs, arw=arw, rrw=0.0, bandwidth=bandwidth)
     filtered, _ = kf.filter(rate)
-    print(f"Kalman filtering ([NR], fixed gain): {bandwidth:g} Hz bandwidth, "
-          f"ARW estimate {arw * 60:.4g} deg/sqrt(h), pole {kf.pole:.5f}")
-    print(f"  per-sample white noise reduced {1 / kf.white_noise_gain:.2f}x; "
-          "Allan deviation at tau >= 1 s unchanged (unity DC gain)")
+    print(
+        f"Kalman filtering ([NR], fixed gain): {bandwidth:g} Hz bandwidth, "
+        f"ARW estimate {arw * 60:.4g} deg/sqrt(h), pole {kf.pole:.5f}"
+    )
+    print(
+        f"  per-sample white noise reduced {1 / kf.white_noise_gain:.2f}x; "
+        "Allan deviation at tau >= 1 s unchanged (unity DC gain)"
+    )
     raw_res = adev(rate, fs, confidence=None)
     filt_res = adev(filtered, fs, confidence=None)
     assert isinstance(raw_res, tuple) and isinstance(filt_res, tuple)
     for axis, (r, f) in enumerate(zip(raw_res, filt_res, strict=True)):
         i = int(np.argmin(np.abs(r.taus - 1.0)))
-        print(f"  axis {axis}: sigma(tau={r.taus[0]:.3g} s) {r.adev[0]:.4g} -> {f.adev[0]:.4g}; "
-              f"sigma(tau={r.taus[i]:.3g} s) {r.adev[i]:.4g} -> {f.adev[i]:.4g} deg/s")
+        print(
+            f"  axis {axis}: sigma(tau={r.taus[0]:.3g} s) {r.adev[0]:.4g} -> {f.adev[0]:.4g}; "
+            f"sigma(tau={r.taus[i]:.3g} s) {r.adev[i]:.4g} -> {f.adev[i]:.4g} deg/s"
+        )
     try:
         import matplotlib
 
@@ -282,7 +288,7 @@ def demo_section(rate: NDArray[np.float64], fs: float, outdir: Path) -> None:
         return
     fig, ax = plt.subplots(figsize=(6.4, 4.8))
     for axis, (r, f) in enumerate(zip(raw_res, filt_res, strict=True)):
-        line, = ax.loglog(r.taus, r.adev, label=f"axis {axis} raw")
+        (line,) = ax.loglog(r.taus, r.adev, label=f"axis {axis} raw")
         ax.loglog(f.taus, f.adev, "--", color=line.get_color(), label=f"axis {axis} filtered")
     ax.set_xlabel("tau [s]")
     ax.set_ylabel("Allan deviation [deg/s]")

@@ -33,13 +33,24 @@ def register_experiment(exp_subparsers: Any) -> None:
         help="reproduce [BP] Table I (simulated 1/f data: KF vs moving average vs calibration mean)",
         description=__doc__.split("\n\n")[1] if __doc__ else None,
     )
-    p.add_argument("--runs", type=int, default=1000, help="simulated series (default 1000, as [BP])")
+    p.add_argument(
+        "--runs", type=int, default=1000, help="simulated series (default 1000, as [BP])"
+    )
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--sigma", type=float, default=2.5, help="driving noise std σ (default 2.5)")
-    p.add_argument("--bias", type=float, default=0.0, help="constant bias added to every series (default 0)")
-    p.add_argument("--calibration", type=int, default=1000, help="calibration samples (default 1000)")
+    p.add_argument(
+        "--bias", type=float, default=0.0, help="constant bias added to every series (default 0)"
+    )
+    p.add_argument(
+        "--calibration", type=int, default=1000, help="calibration samples (default 1000)"
+    )
     p.add_argument("--horizon", type=int, default=1000, help="predicted samples (default 1000)")
-    p.add_argument("--mean", choices=("sample", "diffuse"), default="sample", help="KF mean-state prior (default sample)")
+    p.add_argument(
+        "--mean",
+        choices=("sample", "diffuse"),
+        default="sample",
+        help="KF mean-state prior (default sample)",
+    )
     p.add_argument("--threads", type=int, default=None, help="threads (default: all)")
     p.set_defaults(func=run)
 
@@ -70,14 +81,20 @@ def run(args: argparse.Namespace) -> int:
         n_threads=args.threads,
     )
     t2 = time.perf_counter()
-    print(f"[BP] Table I, simulated: {args.runs} runs of type-II ARFIMA(0, 1/2, 0), σ = {args.sigma:g}, "
-          f"seed {args.seed}, KF mean={args.mean!r}")
-    print(f"{'method':<6} {'mean RSSE':>10} {'(paper)':>8} {'RSSE std':>9} {'(paper)':>8} "
-          f"{'IE std':>9} {'(paper)':>8} {'mean IE':>9}")
+    print(
+        f"[BP] Table I, simulated: {args.runs} runs of type-II ARFIMA(0, 1/2, 0), σ = {args.sigma:g}, "
+        f"seed {args.seed}, KF mean={args.mean!r}"
+    )
+    print(
+        f"{'method':<6} {'mean RSSE':>10} {'(paper)':>8} {'RSSE std':>9} {'(paper)':>8} "
+        f"{'IE std':>9} {'(paper)':>8} {'mean IE':>9}"
+    )
     for key, st in ev.methods.items():
         pp = PAPER_TABLE1[key]
-        print(f"{key.upper():<6} {st.mean_rsse:>10.1f} {pp['mean_rsse']:>8.0f} {st.rsse_std:>9.1f} "
-              f"{pp['rsse_std']:>8.1f} {st.ie_std:>9.0f} {pp['ie_std']:>8.0f} {st.mean_ie:>9.1f}")
+        print(
+            f"{key.upper():<6} {st.mean_rsse:>10.1f} {pp['mean_rsse']:>8.0f} {st.rsse_std:>9.1f} "
+            f"{pp['rsse_std']:>8.1f} {st.ie_std:>9.0f} {pp['ie_std']:>8.0f} {st.mean_ie:>9.1f}"
+        )
     print("ratios to CM (± bootstrap s.e.)         ours                 paper    expected (exact)")
     for key in ("kf", "ma"):
         r1, s1 = ev.ratio(key, "cm", "rsse")
@@ -85,7 +102,11 @@ def run(args: argparse.Namespace) -> int:
         p1 = PAPER_TABLE1[key]["mean_rsse"] / PAPER_TABLE1["cm"]["mean_rsse"]
         p2 = PAPER_TABLE1[key]["ie_std"] / PAPER_TABLE1["cm"]["ie_std"]
         e1, e2 = EXPECTED_RATIOS[key]
-        print(f"  {key.upper()}/CM mean RSSE               {r1:.4f} ± {s1:.4f}     {p1:.4f}   {e1:.4f}")
-        print(f"  {key.upper()}/CM IE std                  {r2:.4f} ± {s2:.4f}     {p2:.4f}   {e2:.4f}")
+        print(
+            f"  {key.upper()}/CM mean RSSE               {r1:.4f} ± {s1:.4f}     {p1:.4f}   {e1:.4f}"
+        )
+        print(
+            f"  {key.upper()}/CM IE std                  {r2:.4f} ± {s2:.4f}     {p2:.4f}   {e2:.4f}"
+        )
     print(f"time: simulation {t1 - t0:.2f} s, prediction and statistics {t2 - t1:.2f} s")
     return 0

@@ -39,25 +39,60 @@ def register(subparsers: Any) -> None:
         ),
         epilog="example: gyrobias fleet 'logs/*.csv' --units deg/s --out fleet.parquet --plot fleet.png",
     )
-    p.add_argument("sources", nargs="+", metavar="LOG",
-                   help="log files or quoted glob patterns ('logs/*.csv', 'runs/**/*.npy')")
+    p.add_argument(
+        "sources",
+        nargs="+",
+        metavar="LOG",
+        help="log files or quoted glob patterns ('logs/*.csv', 'runs/**/*.npy')",
+    )
     src = add_read_arguments(p)
-    src.add_argument("--axis-names", metavar="X,Y,…",
-                     help="names for the channels of every log (compares logs whose headers differ, e.g. CSV and NPY)")
+    src.add_argument(
+        "--axis-names",
+        metavar="X,Y,…",
+        help="names for the channels of every log (compares logs whose headers differ, e.g. CSV and NPY)",
+    )
     ana = p.add_argument_group("analysis")
-    ana.add_argument("--fit-method", choices=("joint", "ieee"), default="joint",
-                     help="joint weighted NNLS fit (default) or IEEE-952 slope read-off")
-    ana.add_argument("--taus", choices=("octave", "decade", "log", "all"), default="octave", help="τ grid (default octave)")
-    ana.add_argument("--threshold", type=float, default=fleet.OUT_OF_FAMILY_THRESHOLD, metavar="Z",
-                     help=f"robust |z| above which a term is out of family (default {fleet.OUT_OF_FAMILY_THRESHOLD})")
+    ana.add_argument(
+        "--fit-method",
+        choices=("joint", "ieee"),
+        default="joint",
+        help="joint weighted NNLS fit (default) or IEEE-952 slope read-off",
+    )
+    ana.add_argument(
+        "--taus",
+        choices=("octave", "decade", "log", "all"),
+        default="octave",
+        help="τ grid (default octave)",
+    )
+    ana.add_argument(
+        "--threshold",
+        type=float,
+        default=fleet.OUT_OF_FAMILY_THRESHOLD,
+        metavar="Z",
+        help=f"robust |z| above which a term is out of family (default {fleet.OUT_OF_FAMILY_THRESHOLD})",
+    )
     run_group = p.add_argument_group("where it runs")
-    run_group.add_argument("--scheduler", metavar="ADDRESS",
-                           help="Dask scheduler address (tcp://host:8786); default: local threads")
-    run_group.add_argument("--workers", type=int, metavar="N", help="threads of the local scheduler (default: one per core)")
+    run_group.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="Dask scheduler address (tcp://host:8786); default: local threads",
+    )
+    run_group.add_argument(
+        "--workers",
+        type=int,
+        metavar="N",
+        help="threads of the local scheduler (default: one per core)",
+    )
     out = p.add_argument_group("output")
-    out.add_argument("--out", type=Path, metavar="FILE",
-                     help="write the table: .parquet (pyarrow, with the Allan curves) or .csv (without them)")
-    out.add_argument("--plot", type=Path, metavar="FILE", help="save the fleet figure (png, pdf, svg)")
+    out.add_argument(
+        "--out",
+        type=Path,
+        metavar="FILE",
+        help="write the table: .parquet (pyarrow, with the Allan curves) or .csv (without them)",
+    )
+    out.add_argument(
+        "--plot", type=Path, metavar="FILE", help="save the fleet figure (png, pdf, svg)"
+    )
     p.set_defaults(func=run)
 
 
@@ -71,9 +106,11 @@ def _print_table(table: Any) -> None:
     terms = [t for t in fleet.TERMS if table[t].notna().any()]
     ok = table[table["error"].isna()]
     units = {t: next((u for u in ok[f"{t}_unit"] if isinstance(u, str)), None) for t in terms}
-    head = f"{'source':<28} {'axis':<6}" + "".join(
-        f" {t + (f' [{units[t]}]' if units[t] else ''):>22}" for t in terms
-    ) + "  flag"
+    head = (
+        f"{'source':<28} {'axis':<6}"
+        + "".join(f" {t + (f' [{units[t]}]' if units[t] else ''):>22}" for t in terms)
+        + "  flag"
+    )
     print(head)
     for i, (_, row) in enumerate(table.iterrows()):
         if i == MAX_PRINTED_ROWS:
@@ -124,7 +161,9 @@ def run(args: argparse.Namespace) -> int:
             units=units,
             fit=args.fit_method,
             client=args.scheduler,
-            axis_names=None if args.axis_names is None else [a.strip() for a in args.axis_names.split(",") if a.strip()],
+            axis_names=None
+            if args.axis_names is None
+            else [a.strip() for a in args.axis_names.split(",") if a.strip()],
             load_options=options,
             taus=args.taus,
             gaps="omit" if args.fill_gaps else "error",
@@ -138,19 +177,32 @@ def run(args: argparse.Namespace) -> int:
     failed = table[table["error"].notna()]
     ok = table[table["error"].isna()]
     n_sources = table["source"].nunique()
-    print(f"{n_sources} logs, {len(ok)} unit-axes analysed, {len(failed)} failed"
-          f"{f' (scheduler {args.scheduler})' if args.scheduler else ''}\n")
+    print(
+        f"{n_sources} logs, {len(ok)} unit-axes analysed, {len(failed)} failed"
+        f"{f' (scheduler {args.scheduler})' if args.scheduler else ''}\n"
+    )
     _print_table(table)
     summ = fleet.summary(table)
     if not summ.empty:
-        print("\nFleet summary (spread = 1.4826·MAD; mean 1σ = RMS of the reported uncertainties; the spread is "
-              f"real when the χ² homogeneity test gives p < {fleet.SPREAD_ALPHA:g} and the Birge ratio "
-              f"√(χ²/ν) ≥ {fleet.SPREAD_MIN_RATIO:g}):")
+        print(
+            "\nFleet summary (spread = 1.4826·MAD; mean 1σ = RMS of the reported uncertainties; the spread is "
+            f"real when the χ² homogeneity test gives p < {fleet.SPREAD_ALPHA:g} and the Birge ratio "
+            f"√(χ²/ν) ≥ {fleet.SPREAD_MIN_RATIO:g}):"
+        )
         _print_summary(summ)
     flagged = ok[ok["out_of_family"].fillna(False).astype(bool)]
-    print(f"\nout of family (|z| > {args.threshold:g}): "
-          + (", ".join(f"{os.path.basename(str(s))}:{a} ({t})" for s, a, t in
-                       zip(flagged["source"], flagged["axis"], flagged["out_of_family_terms"])) or "none"))
+    print(
+        f"\nout of family (|z| > {args.threshold:g}): "
+        + (
+            ", ".join(
+                f"{os.path.basename(str(s))}:{a} ({t})"
+                for s, a, t in zip(
+                    flagged["source"], flagged["axis"], flagged["out_of_family_terms"]
+                )
+            )
+            or "none"
+        )
+    )
     for _, row in failed.iterrows():
         print(f"gyrobias: warning: {row['source']}: {row['error']}", file=sys.stderr)
     if args.out is not None:

@@ -85,7 +85,9 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
     if not want_fit and kalibr is None and not export_specs:
         return
     method = getattr(args, "fit_method", "joint")
-    terms = [t.strip() for t in str(getattr(args, "fit_terms", "Q,N,B,K,R")).split(",") if t.strip()]
+    terms = [
+        t.strip() for t in str(getattr(args, "fit_terms", "Q,N,B,K,R")).split(",") if t.strip()
+    ]
     coefficients: list[NoiseCoefficients] = []
     for r in results:
         try:
@@ -114,10 +116,15 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
                 "write SI values"
             )
         try:
-            write_kalibr(kalibr, gyro=gyro, accel=accel, rostopic=getattr(args, "rostopic", None) or "/imu0")
+            write_kalibr(
+                kalibr, gyro=gyro, accel=accel, rostopic=getattr(args, "rostopic", None) or "/imu0"
+            )
         except (ValueError, OSError) as exc:
             raise SystemExit(f"gyrobias: cannot write {kalibr}: {exc}") from None
-        print(f"wrote {kalibr} (Kalibr imu.yaml, continuous-time densities in SI units)", file=sys.stderr)
+        print(
+            f"wrote {kalibr} (Kalibr imu.yaml, continuous-time densities in SI units)",
+            file=sys.stderr,
+        )
     if export_specs:
         _write_exports(export_specs, coefficients, getattr(args, "export_rate", None))
 
@@ -140,7 +147,9 @@ def _parse_exports(specs: Sequence[str] | None) -> list[tuple[str, Path]]:
     return out
 
 
-def _write_exports(specs: list[tuple[str, Path]], coefficients: Sequence[NoiseCoefficients], rate: float | None) -> None:
+def _write_exports(
+    specs: list[tuple[str, Path]], coefficients: Sequence[NoiseCoefficients], rate: float | None
+) -> None:
     from gyrobias.exports import DEFAULT_FILENAMES, export, export_all
 
     gyro = [c for c in coefficients if c.sensor == "gyro"]
@@ -153,7 +162,10 @@ def _write_exports(specs: list[tuple[str, Path]], coefficients: Sequence[NoiseCo
         try:
             if fmt == "all":
                 export_all(gyro or None, path, accel=accel or None, rate=rate)
-                print(f"wrote {', '.join(str(path / n) for n in DEFAULT_FILENAMES.values())}", file=sys.stderr)
+                print(
+                    f"wrote {', '.join(str(path / n) for n in DEFAULT_FILENAMES.values())}",
+                    file=sys.stderr,
+                )
             else:
                 export(gyro or None, fmt, path, accel=accel or None, rate=rate)
                 print(f"wrote {path} ({fmt})", file=sys.stderr)
@@ -177,7 +189,9 @@ _CUSTOMARY_KEYS = {
 }
 
 
-def _true_per_axis(true_coefficients: Mapping[str, Any] | None, n_axes: int) -> dict[str, list[float]]:
+def _true_per_axis(
+    true_coefficients: Mapping[str, Any] | None, n_axes: int
+) -> dict[str, list[float]]:
     """Normalise the true coefficients to {simulate keyword: [value per axis]} in base units."""
     out: dict[str, list[float]] = {}
     for key, value in (true_coefficients or {}).items():

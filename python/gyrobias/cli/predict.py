@@ -34,15 +34,47 @@ def register(subparsers: Any) -> None:
         ),
         epilog="example: gyrobias predict log.csv --fs 100 --column gz --calibration 1000 --horizon 1000",
     )
-    p.add_argument("log", type=Path, metavar="LOG", help="log: text, .npy, a ROS bag or an MCAP file")
-    p.add_argument("--calibration", type=int, default=1000, metavar="K", help="calibration samples per section (default 1000)")
-    p.add_argument("--horizon", type=int, default=1000, metavar="H", help="predicted samples per section (default 1000)")
-    p.add_argument("--d", type=float, default=0.5, help="memory parameter of the 1/f model (default 0.5)")
-    p.add_argument("--q", type=float, default=1.0, help="driving-noise variance per sample (default 1; irrelevant for r = 0 and --mean sample)")
-    p.add_argument("--r", type=float, default=0.0, help="white-noise variance per sample (default 0, as [BP])")
-    p.add_argument("--mean", choices=("sample", "diffuse", "none"), default="sample", help="mean-state prior (default sample)")
-    p.add_argument("--plot", type=Path, metavar="PNG", help="draw one example window with the ±2σ band")
-    p.add_argument("--window", type=int, default=0, metavar="I", help="section drawn by --plot (default 0)")
+    p.add_argument(
+        "log", type=Path, metavar="LOG", help="log: text, .npy, a ROS bag or an MCAP file"
+    )
+    p.add_argument(
+        "--calibration",
+        type=int,
+        default=1000,
+        metavar="K",
+        help="calibration samples per section (default 1000)",
+    )
+    p.add_argument(
+        "--horizon",
+        type=int,
+        default=1000,
+        metavar="H",
+        help="predicted samples per section (default 1000)",
+    )
+    p.add_argument(
+        "--d", type=float, default=0.5, help="memory parameter of the 1/f model (default 0.5)"
+    )
+    p.add_argument(
+        "--q",
+        type=float,
+        default=1.0,
+        help="driving-noise variance per sample (default 1; irrelevant for r = 0 and --mean sample)",
+    )
+    p.add_argument(
+        "--r", type=float, default=0.0, help="white-noise variance per sample (default 0, as [BP])"
+    )
+    p.add_argument(
+        "--mean",
+        choices=("sample", "diffuse", "none"),
+        default="sample",
+        help="mean-state prior (default sample)",
+    )
+    p.add_argument(
+        "--plot", type=Path, metavar="PNG", help="draw one example window with the ±2σ band"
+    )
+    p.add_argument(
+        "--window", type=int, default=0, metavar="I", help="section drawn by --plot (default 0)"
+    )
     from gyrobias.cli._common import add_read_arguments
 
     add_read_arguments(p, column_help="the channel, by name or 0-based index (default: the first)")
@@ -55,12 +87,19 @@ def _read_log(args: argparse.Namespace) -> tuple[NDArray[np.float64], float]:
 
     log = read_log(args)
     if log.data.shape[1] > 1 and args.columns is not None:
-        raise ValueError(f"predict analyses one channel; --column selected {len(log.columns)}: {', '.join(log.columns)}")
+        raise ValueError(
+            f"predict analyses one channel; --column selected {len(log.columns)}: {', '.join(log.columns)}"
+        )
     return np.ascontiguousarray(log.data[:, 0]), require_fs(log, args.log)
 
 
 def plot_window(
-    section: NDArray[np.float64], calibration: int, fs: float, predictor: Any, path: Path, title: str = ""
+    section: NDArray[np.float64],
+    calibration: int,
+    fs: float,
+    predictor: Any,
+    path: Path,
+    title: str = "",
 ) -> None:
     """Draw one section: data, the KF forecast with its ±2σ band, MA and CM ([BP] Figs. 2–3)."""
     import matplotlib
@@ -78,9 +117,18 @@ def plot_window(
     ax.plot(t, section, color="0.6", lw=0.6, label="data")
     ax.axvline(t[k], color="k", lw=0.8, ls=":")
     ax.plot(tf, pred.bias, color="C0", label="fractional Kalman")
-    ax.fill_between(tf, pred.bias - 2 * pred.std, pred.bias + 2 * pred.std, color="C0", alpha=0.2, label="±2σ (bias)")
+    ax.fill_between(
+        tf,
+        pred.bias - 2 * pred.std,
+        pred.bias + 2 * pred.std,
+        color="C0",
+        alpha=0.2,
+        label="±2σ (bias)",
+    )
     ax.plot(tf, predict.moving_average(section[:k], h), color="C1", label="moving average")
-    ax.plot(tf, predict.calibration_mean(section[:k], h), color="C2", ls="--", label="calibration mean")
+    ax.plot(
+        tf, predict.calibration_mean(section[:k], h), color="C2", ls="--", label="calibration mean"
+    )
     ax.set_xlabel("time (s)")
     ax.set_ylabel("rate")
     ax.set_title(title or "bias prediction")
@@ -104,7 +152,9 @@ def run(args: argparse.Namespace) -> int:
         i = args.window
         if not 0 <= i < ev.sections:
             raise ValueError(f"--window must be in 0..{ev.sections - 1}, got {i}")
-        plot_window(y[i * n : (i + 1) * n], args.calibration, fs, predictor, args.plot, f"section {i}")
+        plot_window(
+            y[i * n : (i + 1) * n], args.calibration, fs, predictor, args.plot, f"section {i}"
+        )
         print(f"plot written to {args.plot}")
     return 0
 
@@ -115,15 +165,19 @@ def demo_section(rate: NDArray[np.float64], fs: float, outdir: Path) -> None:
 
     y = np.ascontiguousarray(np.asarray(rate, dtype=float)[:, -1])
     k = h = int(min(1000, max(2, y.size // 20)))
-    print("\n== bias prediction ([BP] §V-C): z axis, sections of "
-          f"{k / fs:g} s calibration + {h / fs:g} s prediction")
+    print(
+        "\n== bias prediction ([BP] §V-C): z axis, sections of "
+        f"{k / fs:g} s calibration + {h / fs:g} s prediction"
+    )
     # The predictor's model comes from the log itself: Allan analysis → noise coefficients
     # (N, B) → (r, q) by FractionalKalmanPredictor.from_noise, as a user would do it.
     from gyrobias import allan, noise
 
     coefficients = noise.fit(allan.adev(y, fs, confidence=None), terms=("N", "B", "K"))
     predictor = FractionalKalmanPredictor.from_noise(coefficients, fs, d=0.5)
-    print(f"model from the log's Allan fit: d = 0.5, q = {predictor.q:.3g}, r = {predictor.r:.3g} (deg/s)²")
+    print(
+        f"model from the log's Allan fit: d = 0.5, q = {predictor.q:.3g}, r = {predictor.r:.3g} (deg/s)²"
+    )
     ev = evaluate(y, calibration=k, horizon=h, predictor=predictor)
     print(ev.table())
     try:

@@ -59,8 +59,12 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument("logs", nargs="+", metavar="LOG@T", help="log file and its temperature in °C")
     p.add_argument("--units", default="deg/s", help="unit of the samples (default deg/s)")
-    p.add_argument("--fpass", type=float, default=None, help="FIR pass-band edge, Hz (default 0.14·fs)")
-    p.add_argument("--fstop", type=float, default=None, help="FIR stop-band edge, Hz (default 0.18·fs)")
+    p.add_argument(
+        "--fpass", type=float, default=None, help="FIR pass-band edge, Hz (default 0.14·fs)"
+    )
+    p.add_argument(
+        "--fstop", type=float, default=None, help="FIR stop-band edge, Hz (default 0.18·fs)"
+    )
     p.add_argument("--apass-db", type=float, default=0.0001, help="pass-band attenuation, dB")
     p.add_argument("--astop-db", type=float, default=100.0, help="stop-band attenuation, dB")
     p.add_argument("--no-filter", action="store_true", help="fit AR(1) to the raw log")
@@ -69,8 +73,12 @@ def register(subparsers: Any) -> None:
     p.add_argument("--json", type=Path, default=None, help="write the temperature model here")
     from gyrobias.cli._common import add_read_arguments
 
-    add_read_arguments(p, fs_required=True, units=False,
-                       column_help="rate channel: name or 0-based index (default: the first channel)")
+    add_read_arguments(
+        p,
+        fs_required=True,
+        units=False,
+        column_help="rate channel: name or 0-based index (default: the first channel)",
+    )
     p.set_defaults(func=run)
 
 
@@ -107,7 +115,11 @@ def run(args: argparse.Namespace) -> int:
     print("  ARW N  = sigma_Allan(tau = 1 s) * sqrt(tau)   (IEEE 952 read-off)")
     print("  B      = min octave sigma_Allan / 0.664282    (IEEE 952 flicker floor)")
     print("  nd     = sqrt(mean one-sided Welch PSD, 0.05-0.25 fs) of the raw log")
-    filt = "raw log" if cut is None else f"log low-passed by a causal Kaiser FIR ([TS] eq. 20), fc = {cut:g} Hz"
+    filt = (
+        "raw log"
+        if cut is None
+        else f"log low-passed by a causal Kaiser FIR ([TS] eq. 20), fc = {cut:g} Hz"
+    )
     print(f"  AR(1)  b[k+1] = c b[k] + e fitted to the {filt}, mean removed;")
     print("         C_AR = -c is [TS]'s sign convention (b[k+1] + C_AR b[k] = e); tau_c = -dt/ln c")
     print()
@@ -130,7 +142,9 @@ def run(args: argparse.Namespace) -> int:
         )
     if args.json is not None:
         try:
-            model = thermal.TemperatureModel.from_analyses(analyses, method=args.method, degree=args.degree)
+            model = thermal.TemperatureModel.from_analyses(
+                analyses, method=args.method, degree=args.degree
+            )
             args.json.write_text(model.to_json(indent=2))
         except (OSError, ValueError) as exc:
             print(f"gyrobias thermal: error: {exc}", file=sys.stderr)

@@ -7,7 +7,7 @@
 //! ones, so the batch faults in about `threads × axes` N-sized buffers in total instead of one
 //! per unit and axis (on a fresh 80 MB buffer the page faults cost as much as the kernel).
 //!
-//! Each column is computed by exactly the code [`analyse_column`] runs for a single call and
+//! Each column is computed by exactly the code `analyse_column` runs for a single call and
 //! nothing in it depends on the workspace's previous contents, on the other units or on the
 //! thread that runs it: a batch gives the per-unit results bit for bit.
 

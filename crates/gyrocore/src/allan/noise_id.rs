@@ -346,7 +346,7 @@ fn decide(r1s: &[f64; 4], dmax: u32) -> Identification {
 /// Sample block of the joint sweep over several small factors (fits in L2 with the states).
 const SWEEP: usize = 16 * 1024;
 
-/// The joint sweep of [`lag1_acf_joint`] as a state machine fed with consecutive windows of
+/// The joint sweep of `lag1_acf_joint` as a state machine fed with consecutive windows of
 /// the angle series (two passes: trends, then autocorrelations), so that a series streamed from
 /// disk is identified exactly like one in memory. Windows must be the sample blocks
 /// `[s, min(s + SWEEP, n))`, `s = 0, SWEEP, 2·SWEEP, …`, in order, in each pass.

@@ -8,7 +8,7 @@
 //! Reporting never changes a result: the kernels run exactly the same arithmetic with or
 //! without a hook (the hook only observes a counter), which `tests::hook_does_not_change_results`
 //! in the parent module and `tests/test_determinism.py` check bit for bit. A cancelled analysis
-//! stops at the next block boundary with [`Error::Cancelled`](crate::Error::Cancelled).
+//! stops at the next block boundary with [`Error::Cancelled`].
 
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};

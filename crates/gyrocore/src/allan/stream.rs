@@ -3,7 +3,7 @@
 //! A [`Source`] hands out consecutive samples on request (a memory-mapped `.npy` read with
 //! `readinto`, a bag read message by message). [`analyse_stream`] computes the overlapping Allan
 //! variance (SP1065 eq. 11) and, when asked, the noise identification, EDF and chi-square
-//! intervals, with memory bounded by a few windows of [`fused::CHUNK`] samples per pass,
+//! intervals, with memory bounded by a few windows of `fused::CHUNK` samples per pass,
 //! however long the record. It reads the source several times:
 //!
 //! 1. the integration constants (rate input): block sums for the mean, then block sums of the
