@@ -13,7 +13,7 @@ import pytest
 import yaml
 
 import gyrobias
-from gyrobias import exports
+from gyrobias import allan, exports, noise
 from gyrobias.noise import NoiseCoefficients
 
 RATE = 200.0
@@ -256,3 +256,43 @@ def test_discrete_matches_simulation() -> None:
     assert d.gauss_markov == ()
     with pytest.raises(ValueError, match="rate"):
         ds.gyro.discrete(-1.0)
+
+
+def test_gauss_markov_terms_export_as_sigma_and_correlation_time(tmp_path: Path) -> None:
+    # A white + first-order Gauss–Markov log (σ ≈ 0.063 deg/s, T = 20 s): the fitted GM term
+    # goes into the JSON (σ and T with units), MATLAB's bias-instability filter
+    # (1/(1 − φz⁻¹), φ = exp(−Δt/T), driven by σ√(1 − φ²)) and coeffs.discrete().
+    fs, tc = 100.0, 20.0
+    phi_true = math.exp(-1.0 / (fs * tc))
+    rate = noise.simulate(400_000, fs, arw=0.01, ar1=(phi_true, 0.002), seed=3)
+    c = noise.fit(allan.adev(rate, fs, units="deg/s"), terms=("N", "GM"))
+    assert isinstance(c, NoiseCoefficients)
+    gm = c.gauss_markov[0]
+    assert gm.present and gm.correlation_time.value is not None and gm.sigma.value is not None
+    sigma_si = math.radians(gm.sigma.value)
+    tau_c = gm.correlation_time.value
+    phi = math.exp(-1.0 / (fs * tau_c))
+
+    c.export("json", tmp_path / "imu.json", rate=fs)
+    doc = json.loads((tmp_path / "imu.json").read_text())
+    (entry,) = doc["gauss_markov"]["gyro"]
+    assert entry["sigma"]["value"] == pytest.approx(gm.sigma.value, rel=1e-12)
+    assert entry["sigma"]["unit"] == "deg/s"
+    assert entry["correlation_time"]["value"] == pytest.approx(tau_c, rel=1e-12)
+    assert entry["correlation_time"]["unit"] == "s"
+
+    c.export("matlab", tmp_path / "imu.m", rate=fs)
+    text = (tmp_path / "imu.m").read_text()
+    denominator = re.search(r"'Denominator', \[1 (-[0-9.eE+-]+)\]", text)
+    instability = re.search(r"'BiasInstability', ([0-9.eE+-]+)", text)
+    assert denominator is not None and instability is not None
+    assert -float(denominator.group(1)) == pytest.approx(phi, rel=1e-9)
+    assert float(instability.group(1)) == pytest.approx(sigma_si * math.sqrt(1 - phi**2), rel=1e-6)
+
+    d = c.discrete(fs)
+    (phi_d, drive) = d.gauss_markov[0]
+    assert phi_d.value == pytest.approx(phi, rel=1e-12)
+    assert drive.value == pytest.approx(gm.sigma.value * math.sqrt(1 - phi**2), rel=1e-12)
+    # And the fit found the simulated process: T within 3σ of 20 s.
+    assert gm.correlation_time.uncertainty is not None
+    assert abs(tau_c - tc) < 3 * gm.correlation_time.uncertainty

@@ -420,7 +420,7 @@ def _render_liosam(
 def _gauss_markov(group: list[NoiseCoefficients]) -> list[Any]:
     """Gauss–Markov terms of the first axis that has them (empty when none)."""
     for c in group:
-        terms = tuple(getattr(c, "gauss_markov", ()) or ())
+        terms = c.gauss_markov
         if terms:
             return list(terms)
     return []
@@ -520,7 +520,7 @@ def _render_json(
             ]
         gm = []
         for c in group:
-            for t in tuple(getattr(c, "gauss_markov", ()) or ()):
+            for t in c.gauss_markov:
                 gm.append(
                     {
                         "axis": c.axis,
@@ -763,7 +763,7 @@ def discrete(coefficients: NoiseCoefficients, rate: float) -> DiscreteNoise:
         "K", 1.0 / root, "bias random-walk step", "sigma_walk = K*sqrt(dt) = K/sqrt(rate)"
     )
     gm_out = []
-    for t in tuple(getattr(coefficients, "gauss_markov", ()) or ()):
+    for t in coefficients.gauss_markov:
         tau = t.correlation_time.to("s")
         sigma = t.sigma.to(unit)
         if tau.value is None or sigma.value is None:

@@ -170,7 +170,7 @@ def _log_section(log: GyroLog, title: str) -> str:
             ),
         ),
     ]
-    if getattr(log, "topic", None):
+    if log.topic:
         rows.append(("topic", str(log.topic)))
     if s.time_unit is not None:
         rows += [
@@ -220,17 +220,15 @@ def _coefficient_table(c: NoiseCoefficients) -> str:
 def _fit_quality(c: NoiseCoefficients) -> tuple[str, list[str]]:
     """One line on goodness of fit and the fit's warnings."""
     warnings: list[str] = []
-    diagnostics = getattr(c, "diagnostics", None)
+    diagnostics = c.diagnostics
     parts = [
         f"{c.method} fit over τ {c.tau_range[0]:.3g}–{c.tau_range[1]:.3g} s, EDF from {c.edf_source}"
     ]
     if c.chi2 is not None and c.dof:
         parts.append(f"weighted χ²/ν = {c.chi2 / c.dof:.3g} (ν = {c.dof})")
     if diagnostics is not None:
-        p = getattr(diagnostics, "p_value", None)
-        if p is not None:
-            parts.append(f"p-value {p:.3g}")
-        warnings += [str(w) for w in getattr(diagnostics, "warnings", ()) or ()]
+        parts.append(f"p-value {diagnostics.p_value:.3g}")
+        warnings += [str(w) for w in diagnostics.warnings]
     elif c.chi2 is not None and c.dof and c.chi2 / c.dof > 3.0:
         warnings.append(
             f"χ²/ν = {c.chi2 / c.dof:.3g}: the five-term model does not explain the curve within its "
