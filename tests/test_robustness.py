@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
@@ -305,6 +305,7 @@ tokens = st.sampled_from(
 
 @BUDGET
 @given(argv=st.lists(tokens, max_size=8))
+@example(argv=["thermal", "--fs", "100", "allan"])  # issue 19 explore: "gyrobias thermal: error:"
 def test_cli_never_tracebacks(argv: list[str]) -> None:
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):

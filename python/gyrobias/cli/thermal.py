@@ -85,6 +85,7 @@ def register(subparsers: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run ``gyrobias thermal``; returns the exit status."""
     from gyrobias import thermal
+    from gyrobias.exports import atomic_write
 
     try:
         tagged = [_parse_tag(tag) for tag in args.logs]
@@ -104,7 +105,7 @@ def run(args: argparse.Namespace) -> int:
             units=args.units,
         )
     except (OSError, ValueError, TypeError) as exc:
-        print(f"gyrobias thermal: error: {exc}", file=sys.stderr)
+        print(f"gyrobias: error: {exc}", file=sys.stderr)
         return 2
 
     u = args.units
@@ -145,9 +146,9 @@ def run(args: argparse.Namespace) -> int:
             model = thermal.TemperatureModel.from_analyses(
                 analyses, method=args.method, degree=args.degree
             )
-            args.json.write_text(model.to_json(indent=2))
+            atomic_write(args.json, model.to_json(indent=2))
         except (OSError, ValueError) as exc:
-            print(f"gyrobias thermal: error: {exc}", file=sys.stderr)
+            print(f"gyrobias: error: {exc}", file=sys.stderr)
             return 2
         print(f"\ntemperature model ({args.method}) written to {args.json}")
     return 0
