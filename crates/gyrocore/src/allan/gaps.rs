@@ -260,15 +260,8 @@ mod tests {
     use super::*;
 
     fn noise(n: usize, seed: u64) -> Vec<f64> {
-        let mut s = seed;
-        (0..n)
-            .map(|_| {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-            })
-            .collect()
+        // Normal noise from the core's seeded generator (one PRNG for every test).
+        crate::random::normal_vec(n, seed)
     }
 
     fn config(estimator: Estimator, data_type: DataType) -> Config {
