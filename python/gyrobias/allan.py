@@ -83,9 +83,13 @@ class AllanResult:
     taus : ndarray
         Averaging times τ in seconds.
     avar : ndarray
-        Variance estimates σ²(τ) in ``unit``².
+        Variance estimates σ²(τ) in ``unit``² (``inf`` or 0 where σ² is beyond float64, for
+        data of extreme magnitude: ``adev`` stays exact there).
     adev : ndarray
         Deviations σ(τ) in ``unit`` (for ``kind="mdev"`` etc. the respective deviation).
+    deviation : ndarray or None
+        The deviations as computed by the core (what ``adev`` returns); ``None`` for results
+        built from variances alone (``adev`` is then ``√avar``).
     n_terms : ndarray
         Number of terms in each estimator sum.
     ci_low, ci_high : ndarray or None
@@ -128,10 +132,18 @@ class AllanResult:
     axis: str | None = None
     noise_type: tuple[str, ...] = field(default=())
     factors: NDArray[np.int64] | None = None
+    deviation: NDArray[np.float64] | None = None
 
     @property
     def adev(self) -> NDArray[np.float64]:
-        """Deviation σ(τ) = √σ²(τ) in ``unit``."""
+        """Deviation σ(τ) = √σ²(τ) in ``unit``.
+
+        Taken from ``deviation`` when the core gave it: computed before the data's scale was
+        restored, it stays finite for data of extreme magnitude whose variance over- or
+        underflows float64 (and equals ``√avar`` bit for bit otherwise).
+        """
+        if self.deviation is not None:
+            return self.deviation
         return np.sqrt(self.avar)
 
     @property
@@ -275,8 +287,8 @@ def _result(
         kw = {
             "edf": np.asarray(r["edf"], dtype=np.float64),
             "alpha": alpha,
-            "ci_low": np.sqrt(np.asarray(r["low"], dtype=np.float64)),
-            "ci_high": np.sqrt(np.asarray(r["high"], dtype=np.float64)),
+            "ci_low": np.asarray(r["deviation_low"], dtype=np.float64),
+            "ci_high": np.asarray(r["deviation_high"], dtype=np.float64),
             "noise_type": tuple(NOISE_NAMES.get(int(a), f"alpha={a}") for a in alpha),
         }
     unit = units
@@ -285,6 +297,7 @@ def _result(
     return AllanResult(
         taus=np.asarray(m * t0, dtype=np.float64),
         avar=var,
+        deviation=np.asarray(r["deviation"], dtype=np.float64),
         n_terms=np.asarray(r["n_terms"]).astype(np.int64),
         fs=fs,
         data_type=data_type,
@@ -978,14 +991,15 @@ def _analyse_family(
             kw = {
                 "edf": np.asarray(r["edf"], dtype=np.float64),
                 "alpha": alpha,
-                "ci_low": np.sqrt(np.asarray(r["low"], dtype=np.float64)),
-                "ci_high": np.sqrt(np.asarray(r["high"], dtype=np.float64)),
+                "ci_low": np.asarray(r["deviation_low"], dtype=np.float64),
+                "ci_high": np.asarray(r["deviation_high"], dtype=np.float64),
                 "noise_type": tuple(NOISE_NAMES.get(int(a), f"alpha={a}") for a in alpha),
             }
         results.append(
             AllanResult(
                 taus=np.asarray(r["tau_factor"], dtype=np.float64) * t0,
                 avar=np.asarray(r["variance"], dtype=np.float64),
+                deviation=np.asarray(r["deviation"], dtype=np.float64),
                 n_terms=np.asarray(r["n_terms"]).astype(np.int64),
                 fs=fs,
                 data_type=data_type,

@@ -160,6 +160,7 @@ fn to_dict(py: Python<'_>, r: allan::AllanAnalysis) -> PyResult<Bound<'_, PyDict
     let n: Vec<u64> = r.n_terms.iter().map(|&n| n as u64).collect();
     d.set_item("m", m.into_pyarray(py))?;
     d.set_item("variance", r.variance.into_pyarray(py))?;
+    d.set_item("deviation", r.deviation.into_pyarray(py))?;
     d.set_item("n_terms", n.into_pyarray(py))?;
     if let Some(c) = r.confidence {
         d.set_item("alpha", c.alpha.into_pyarray(py))?;
@@ -167,14 +168,19 @@ fn to_dict(py: Python<'_>, r: allan::AllanAnalysis) -> PyResult<Bound<'_, PyDict
         d.set_item("low", c.low.into_pyarray(py))?;
         d.set_item("high", c.high.into_pyarray(py))?;
     }
+    if let Some((low, high)) = r.deviation_bounds {
+        d.set_item("deviation_low", low.into_pyarray(py))?;
+        d.set_item("deviation_high", high.into_pyarray(py))?;
+    }
     Ok(d)
 }
 
 /// Allan-family analysis of each column of a (samples × axes) float64 array
 /// (`gyrocore::allan::analyse_matrix`).
 ///
-/// Returns one dict per axis with keys `m`, `variance`, `n_terms` and, when `confidence` is
-/// given, `alpha`, `edf`, `low`, `high`. `progress(fraction)` is called from the kernel.
+/// Returns one dict per axis with keys `m`, `variance`, `deviation`, `n_terms` and, when
+/// `confidence` is given, `alpha`, `edf`, `low`, `high` (variance bounds), `deviation_low`,
+/// `deviation_high`. `progress(fraction)` is called from the kernel.
 #[pyfunction]
 #[pyo3(signature = (data, t0, data_type, estimator, tau_spec, per_decade, taus, confidence, gaps="error", progress=None))]
 #[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
@@ -324,8 +330,9 @@ fn factors<'py>(
 /// Non-overlapping Hadamard, time, total and Théo statistics of each column
 /// (`gyrocore::allan::family::analyse_axes`).
 ///
-/// Returns one dict per axis with keys `m`, `tau_factor` (τ/t0), `theo`, `variance`, `n_terms`
-/// and, when `confidence` is given, `alpha`, `edf`, `low`, `high`.
+/// Returns one dict per axis with keys `m`, `tau_factor` (τ/t0), `theo`, `variance`,
+/// `deviation`, `n_terms` and, when `confidence` is given, `alpha`, `edf`, `low`, `high`,
+/// `deviation_low`, `deviation_high`.
 #[pyfunction]
 #[pyo3(signature = (data, t0, data_type, statistic, tau_spec, per_decade, taus, confidence))]
 #[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
@@ -361,12 +368,17 @@ fn family_analyse<'py>(
             d.set_item("tau_factor", f.into_pyarray(py))?;
             d.set_item("theo", theo)?;
             d.set_item("variance", r.variance.into_pyarray(py))?;
+            d.set_item("deviation", r.deviation.into_pyarray(py))?;
             d.set_item("n_terms", n.into_pyarray(py))?;
             if let Some(c) = r.confidence {
                 d.set_item("alpha", c.alpha.into_pyarray(py))?;
                 d.set_item("edf", c.edf.into_pyarray(py))?;
                 d.set_item("low", c.low.into_pyarray(py))?;
                 d.set_item("high", c.high.into_pyarray(py))?;
+            }
+            if let Some((low, high)) = r.deviation_bounds {
+                d.set_item("deviation_low", low.into_pyarray(py))?;
+                d.set_item("deviation_high", high.into_pyarray(py))?;
             }
             Ok(d)
         })

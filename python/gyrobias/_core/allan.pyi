@@ -17,15 +17,22 @@ __all__ = [
 
 @type_check_only
 class Analysis(TypedDict):
-    """One axis of :func:`analyse`: variances (not deviations) and their chi-square bounds."""
+    """One axis of :func:`analyse`: variances, deviations and their chi-square bounds.
+
+    ``deviation`` (and its bounds) are computed before the data's scale is restored, so they
+    stay finite where the variance over- or underflows float64 (data of extreme magnitude).
+    """
 
     m: NDArray[np.uint64]
     variance: NDArray[np.float64]
+    deviation: NDArray[np.float64]
     n_terms: NDArray[np.uint64]
     alpha: NotRequired[NDArray[np.int32]]
     edf: NotRequired[NDArray[np.float64]]
     low: NotRequired[NDArray[np.float64]]
     high: NotRequired[NDArray[np.float64]]
+    deviation_low: NotRequired[NDArray[np.float64]]
+    deviation_high: NotRequired[NDArray[np.float64]]
 
 def analyse(
     data: NDArray[np.float64],
@@ -81,11 +88,14 @@ class FamilyAnalysis(TypedDict):
     tau_factor: NDArray[np.float64]
     theo: list[bool]
     variance: NDArray[np.float64]
+    deviation: NDArray[np.float64]
     n_terms: NDArray[np.uint64]
     alpha: NotRequired[NDArray[np.int32]]
     edf: NotRequired[NDArray[np.float64]]
     low: NotRequired[NDArray[np.float64]]
     high: NotRequired[NDArray[np.float64]]
+    deviation_low: NotRequired[NDArray[np.float64]]
+    deviation_high: NotRequired[NDArray[np.float64]]
 
 @type_check_only
 class DynamicAvar(TypedDict):

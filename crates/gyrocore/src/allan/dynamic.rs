@@ -13,7 +13,9 @@
 
 use rayon::prelude::*;
 
-use super::{Column, DataType, Estimator, Taus, angle_series, resolve_factors, variances_into};
+use super::{
+    Column, DataType, Estimator, Taus, ldexp, resolve_factors, scaled_angle_series, variances_into,
+};
 use crate::{Error, Result};
 
 /// A time × τ dynamic Allan variance.
@@ -72,18 +74,23 @@ pub fn dynamic_avar(
         .par_iter()
         .with_max_len(1)
         .map(|&s| {
-            let x = angle_series(Column::contiguous(&data[s..s + window]), t0, data_type).map_err(
-                |e| match e {
-                    Error::NonFinite { name, index } => Error::NonFinite {
-                        name,
-                        index: index + s,
-                    },
-                    other => other,
-                },
-            )?;
+            // A window of extreme magnitude is analysed scaled by 2^-scale (exact) and its
+            // variances brought back (see `scale_exponent`).
+            let (x, scale) =
+                scaled_angle_series(Column::contiguous(&data[s..s + window]), t0, data_type)
+                    .map_err(|e| match e {
+                        Error::NonFinite { name, index } => Error::NonFinite {
+                            name,
+                            index: index + s,
+                        },
+                        other => other,
+                    })?;
             let mut v = vec![0.0; k];
             let mut t = vec![0usize; k];
             variances_into(&x, t0, &ms, Estimator::Overlapping, &mut v, &mut t)?;
+            for value in &mut v {
+                *value = ldexp(*value, 2 * scale);
+            }
             Ok((v, t))
         })
         .collect();

@@ -18,8 +18,8 @@ use rayon::prelude::*;
 
 use super::confidence::{Intervals, chi2_bounds};
 use super::{
-    Column, DataType, Estimator, Taus, angle_series, averaging_factors, edf, factors_from_taus,
-    hadamard, noise_id, theo, total, variances_into,
+    Column, DataType, Estimator, Taus, averaging_factors, edf, factors_from_taus, hadamard, ldexp,
+    noise_id, scaled_angle_series, theo, total, unscaled_deviation, variances_into,
 };
 use crate::{Error, Result};
 
@@ -128,8 +128,13 @@ pub struct FamilyAnalysis {
     pub variance: Vec<f64>,
     /// Number of terms of each estimate (windows for the total variances, N − m for Théo1).
     pub n_terms: Vec<usize>,
-    /// Confidence intervals, when asked for.
+    /// Confidence intervals of the variance, when asked for.
     pub confidence: Option<Intervals>,
+    /// Deviations `σ = √σ²`, computed before the data's scale is restored (see
+    /// [`super::scale_exponent`]): finite even where the variance over- or underflows.
+    pub deviation: Vec<f64>,
+    /// Confidence bounds `(low, high)` of the deviation, when asked for.
+    pub deviation_bounds: Option<(Vec<f64>, Vec<f64>)>,
 }
 
 fn explicit_theo(taus: &[f64], t0: f64, max_m: usize) -> Result<Vec<usize>> {
@@ -411,17 +416,30 @@ pub fn analyse(
         DataType::Angle => column.len(),
     };
     let points = resolve_points(taus, n_angle, t0, statistic)?;
-    let x = angle_series(column, t0, data_type)?;
+    // Data of extreme magnitude are analysed scaled by 2^-k (exact; see scale_exponent) and
+    // the variances, bounds and deviations brought back to the data's scale at the end.
+    let (x, k) = scaled_angle_series(column, t0, data_type)?;
     let (variance, n_terms) = variances(&x, t0, statistic, &points)?;
-    let confidence = match confidence_level {
+    let mut confidence = match confidence_level {
         Some(level) => Some(intervals(&x, statistic, &points, &variance, level)?),
         None => None,
     };
+    let deviation = variance.iter().map(|&v| unscaled_deviation(v, k)).collect();
+    let deviation_bounds = confidence.as_mut().map(|ci| {
+        let low = ci.low.iter().map(|&v| unscaled_deviation(v, k)).collect();
+        let high = ci.high.iter().map(|&v| unscaled_deviation(v, k)).collect();
+        for v in ci.low.iter_mut().chain(ci.high.iter_mut()) {
+            *v = ldexp(*v, 2 * k);
+        }
+        (low, high)
+    });
     Ok(FamilyAnalysis {
         points,
-        variance,
+        variance: variance.iter().map(|&v| ldexp(v, 2 * k)).collect(),
         n_terms,
         confidence,
+        deviation,
+        deviation_bounds,
     })
 }
 

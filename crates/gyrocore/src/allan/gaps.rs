@@ -41,8 +41,8 @@
 
 use super::{
     AllanAnalysis, Column, Config, DataType, Estimator, Progress, Taus, WORK_CONFIDENCE,
-    WORK_VARIANCES, Workspace, confidence, edf, integrate_rate_into, normalise, raw_sums,
-    resolve_factors, sum_squares,
+    WORK_VARIANCES, Workspace, confidence, edf, integrate_rate_into, normalise, pow2, raw_sums,
+    resolve_factors, scale_exponent, sum_squares, unscale,
 };
 use crate::{Error, Result};
 
@@ -124,7 +124,14 @@ pub(crate) fn analyse(
         other => other,
     })?;
 
-    // Angle series of every segment, concatenated in the workspace.
+    // One scale for the whole record (segments' sums are added): the largest finite magnitude.
+    let peak = column
+        .iter()
+        .filter(|v| !v.is_nan())
+        .fold(0.0_f64, |p, v| p.max(v.abs()));
+    let k = scale_exponent(peak);
+    let factor = pow2(-k);
+    // Angle series of every segment (data scaled by 2^-k), concatenated in the workspace.
     let buffer = &mut workspace.segments;
     buffer.clear();
     let mut ranges = Vec::with_capacity(segs.len());
@@ -133,10 +140,16 @@ pub(crate) fn analyse(
         let part = column.sub(s, e);
         match config.data_type {
             DataType::Rate => {
-                integrate_rate_into(part, config.t0, &mut workspace.angle, &Progress::none())?;
+                integrate_rate_into(
+                    part,
+                    config.t0,
+                    &mut workspace.angle,
+                    &Progress::none(),
+                    Some(k),
+                )?;
                 buffer.extend_from_slice(&workspace.angle);
             }
-            DataType::Angle => buffer.extend(part.iter()),
+            DataType::Angle => buffer.extend(part.iter().map(|v| v * factor)),
         }
         ranges.push((start, buffer.len()));
     }
@@ -246,12 +259,7 @@ pub(crate) fn analyse(
         }
         None => None,
     };
-    Ok(AllanAnalysis {
-        m: ms,
-        variance,
-        n_terms,
-        confidence,
-    })
+    Ok(unscale(ms, &variance, n_terms, confidence, k))
 }
 
 #[cfg(test)]

@@ -26,7 +26,8 @@ use rayon::prelude::*;
 
 use super::{
     AllanAnalysis, Config, DataType, Estimator, Gaps, INTEGRATION_BLOCK, Progress, Workspace,
-    analyse_column, confidence, edf, fused, lane_sum, noise_id, normalise, resolve_factors,
+    analyse_column, confidence, edf, fused, lane_sum, lane_sum_max, noise_id, normalise, pow2,
+    resolve_factors, scale_exponent, unscale,
 };
 use crate::validate;
 use crate::{Error, Result};
@@ -81,6 +82,9 @@ struct Integration {
     data_type: DataType,
     t0: f64,
     mean: f64,
+    /// The data are scaled by `factor = 2^-scale` ([`scale_exponent`]) as in memory.
+    scale: i32,
+    factor: f64,
     starts: Vec<f64>,
     n_samples: usize,
     block: usize,
@@ -105,11 +109,13 @@ impl Integration {
         let n = src.len();
         let mut buf = vec![0.0; INTEGRATION_BLOCK.min(n)];
         let mut sums = Vec::with_capacity(n.div_ceil(INTEGRATION_BLOCK));
+        let mut peak = 0.0_f64;
         for a in (0..n).step_by(INTEGRATION_BLOCK) {
             let len = INTEGRATION_BLOCK.min(n - a);
             let piece = &mut buf[..len];
             read_into(src, a, piece, block)?;
-            let s = lane_sum(0, len, |i| piece[i]);
+            let (s, p) = lane_sum_max(0, len, |i| piece[i]);
+            peak = peak.max(p);
             if !s.is_finite() {
                 if let Some(k) = piece.iter().position(|v| !v.is_finite()) {
                     return Err(Error::NonFinite {
@@ -122,16 +128,31 @@ impl Integration {
             progress.advance(len as f64);
             progress.check()?;
         }
+        let scale = scale_exponent(peak);
+        let factor = pow2(-scale);
         let mut integration = Integration {
             data_type,
             t0,
             mean: 0.0,
+            scale,
+            factor,
             starts: Vec::new(),
             n_samples: n,
             block,
         };
         if data_type == DataType::Angle {
             return Ok(integration);
+        }
+        if scale != 0 {
+            // Extreme data: the block sums again, of the scaled samples (as in memory).
+            sums.clear();
+            for a in (0..n).step_by(INTEGRATION_BLOCK) {
+                let len = INTEGRATION_BLOCK.min(n - a);
+                let piece = &mut buf[..len];
+                read_into(src, a, piece, block)?;
+                sums.push(lane_sum(0, len, |i| piece[i] * factor));
+                progress.check()?;
+            }
         }
         let mean = validate::neumaier_sum(sums.iter().copied()) / n as f64;
         if !mean.is_finite() {
@@ -145,7 +166,7 @@ impl Integration {
             let len = INTEGRATION_BLOCK.min(n - a);
             let piece = &mut buf[..len];
             read_into(src, a, piece, block)?;
-            let c = lane_sum(0, len, |i| piece[i] - mean);
+            let c = lane_sum(0, len, |i| piece[i] * factor - mean);
             integration.starts.push(sum + comp);
             let t = sum + c;
             if sum.abs() >= c.abs() {
@@ -187,7 +208,7 @@ impl Cursor {
                 cursor.rate.resize(i0 - b0, 0.0);
                 read_into(src, b0, &mut cursor.rate, integ.block)?;
                 for &r in &cursor.rate {
-                    cursor.acc += r - integ.mean;
+                    cursor.acc += r * integ.factor - integ.mean;
                 }
             }
         }
@@ -204,6 +225,11 @@ impl Cursor {
             match integ.data_type {
                 DataType::Angle => {
                     read_into(src, first, &mut out[..last - first], integ.block)?;
+                    if integ.scale != 0 {
+                        for v in &mut out[..last - first] {
+                            *v *= integ.factor;
+                        }
+                    }
                 }
                 DataType::Rate => {
                     // Rate samples behind x_first..x_last: i = j − 1.
@@ -213,7 +239,7 @@ impl Cursor {
                     if i_hi > i_lo {
                         read_into(src, i_lo, &mut self.rate, integ.block)?;
                     }
-                    let (mean, t0) = (integ.mean, integ.t0);
+                    let (mean, t0, factor) = (integ.mean, integ.t0, integ.factor);
                     for j in first..last {
                         if j == 0 {
                             out[0] = 0.0;
@@ -223,7 +249,7 @@ impl Cursor {
                         if i % INTEGRATION_BLOCK == 0 {
                             self.acc = integ.starts[i / INTEGRATION_BLOCK];
                         }
-                        self.acc += self.rate[i - i_lo] - mean;
+                        self.acc += self.rate[i - i_lo] * factor - mean;
                         out[j - first] = self.acc * t0;
                     }
                 }
@@ -486,12 +512,7 @@ pub fn analyse_stream(
         None => None,
     };
     progress.finish();
-    Ok(AllanAnalysis {
-        m: ms,
-        variance,
-        n_terms,
-        confidence,
-    })
+    Ok(unscale(ms, &variance, n_terms, confidence, integ.scale))
 }
 
 #[cfg(test)]
@@ -499,16 +520,17 @@ mod tests {
     use super::super::{Column, TauSpec, Taus};
     use super::*;
 
+    /// Normal noise on a slow random walk (cumulative sum of normal steps) around 5, from the
+    /// core's seeded generator.
     fn walk(n: usize) -> Vec<f64> {
-        let mut s = 3u64;
+        let noise = crate::random::normal_vec(n, 3);
+        let steps = crate::random::normal_vec(n, 4);
         let mut level = 0.0;
-        (0..n)
-            .map(|_| {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                let u = (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
-                level += 2e-3 * u;
+        noise
+            .iter()
+            .zip(&steps)
+            .map(|(&u, &s)| {
+                level += 2e-3 * s;
                 u + level + 5.0
             })
             .collect()
@@ -545,6 +567,37 @@ mod tests {
                             .unwrap();
                     assert_eq!(memory, streamed, "{data_type:?} block {block}");
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn extreme_magnitudes_stream_like_in_memory() {
+        // Data scaled internally by a power of two (scale_exponent) give the in-memory bits.
+        let base = walk(300_001);
+        for factor in [1e300, 1e-300, super::super::ldexp(1.0, -900)] {
+            let data: Vec<f64> = base.iter().map(|v| v * factor).collect();
+            for data_type in [DataType::Rate, DataType::Angle] {
+                let cfg = Config {
+                    t0: 0.01,
+                    data_type,
+                    estimator: Estimator::Overlapping,
+                    taus: Taus::Spec(TauSpec::Octave),
+                    confidence: Some(0.683),
+                    gaps: Gaps::Error,
+                };
+                let memory = analyse_column(
+                    Column::contiguous(&data),
+                    &cfg,
+                    &mut Workspace::new(),
+                    &Progress::none(),
+                )
+                .unwrap();
+                assert!(memory.deviation.iter().all(|d| d.is_finite() && *d > 0.0));
+                let streamed =
+                    analyse_stream(&mut SliceSource(&data), &cfg, 50_000, &Progress::none())
+                        .unwrap();
+                assert_eq!(memory, streamed, "{data_type:?} ×{factor:e}");
             }
         }
     }
