@@ -158,11 +158,103 @@ impl pulp::WithSimd for ChunkSums<'_> {
     }
 }
 
+/// Smallest averaging factor computed on a lattice (see [`difference_sums`]); smaller lags are
+/// served from cache by the block pass.
+const FAR: usize = 1 << 15;
+/// Largest `q = m / base` in one lattice group: the ring of `span·MAX_Q + 1` windows that one
+/// lattice walk keeps alive (≈ 264 KiB for the Allan difference) stays in L2.
+const MAX_Q: usize = 128;
+
+/// The far averaging factors that share one lattice: `m_j = q_j·base`, `q_j ≤ MAX_Q`.
+struct Lattice {
+    base: usize,
+    /// Indices into `ms`.
+    members: Vec<usize>,
+}
+
+/// Groups the factors that are multiples of [`BLOCK`] and at least [`FAR`] into lattices
+/// (greedily from the smallest), returning them and the indices of all other factors.
+fn plan(ms: &[usize]) -> (Vec<usize>, Vec<Lattice>) {
+    let mut near = Vec::new();
+    let mut far: Vec<usize> = Vec::new();
+    for (j, &m) in ms.iter().enumerate() {
+        if m >= FAR && m % BLOCK == 0 {
+            far.push(j);
+        } else {
+            near.push(j);
+        }
+    }
+    far.sort_by_key(|&j| ms[j]);
+    let mut lattices: Vec<Lattice> = Vec::new();
+    let mut left = far;
+    while let Some(&first) = left.first() {
+        let base = ms[first];
+        let (members, rest): (Vec<usize>, Vec<usize>) = left
+            .iter()
+            .partition(|&&j| ms[j] % base == 0 && ms[j] / base <= MAX_Q);
+        lattices.push(Lattice { base, members });
+        left = rest;
+    }
+    (near, lattices)
+}
+
+/// One walk of a lattice: the windows `x[s·base + r0 ..][..BLOCK]`, `s = 0, 1, …`, and for every
+/// member the sum of each [`BLOCK`] of terms starting there (`sums[i][s]`, member `i`). A
+/// window is fetched from memory once, at its largest offset, and reused from cache by the
+/// smaller offsets of the following steps.
+struct LatticeWalk<'a> {
+    x: &'a [f64],
+    ms: &'a [usize],
+    terms: &'a [usize],
+    base: usize,
+    r0: usize,
+    diff: Difference,
+    sums: &'a mut [Vec<f64>],
+}
+
+impl pulp::WithSimd for LatticeWalk<'_> {
+    type Output = ();
+
+    #[allow(clippy::inline_always)] // pulp's contract: inlined into the dispatched function
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let longest = self.terms.iter().copied().max().unwrap_or(0);
+        let mut p = self.r0;
+        while p < longest {
+            for ((&m, &t), out) in self.ms.iter().zip(self.terms).zip(self.sums.iter_mut()) {
+                if p < t {
+                    out.push(block_sum(self.x, m, p, (p + BLOCK).min(t), self.diff));
+                }
+            }
+            p += self.base;
+        }
+    }
+}
+
 /// `Σ_{k < n_terms(m)} diff(x, k, m)²` for every `m` in `ms`, with `n_terms = len − span·m`.
 ///
 /// Every `m` must satisfy `span·m < x.len()` (checked by the caller). `weight` progress units
-/// are reported as chunks complete; once cancelled, the remaining chunks are skipped (the
+/// are reported as work items complete; once cancelled, the remaining items are skipped (the
 /// caller checks [`Progress::check`]).
+///
+/// Every sum is defined the same way, whatever the traversal: the terms are cut into blocks of
+/// [`BLOCK`] (block sums in [`LANES`] lanes), the block sums of each chunk of [`CHUNK`] terms
+/// are added in order from zero, and the chunk sums are combined with compensated addition.
+/// Two traversals produce these numbers:
+///
+/// * the **block pass** (small factors): chunks in parallel, and inside a chunk every factor
+///   block by block, so that each region of `x` is fetched once and reused from cache by all
+///   factors whose lags stay within the cache;
+/// * **lattices** (factors `m = q·base`, `m ≥ FAR`, multiples of `BLOCK`, `q ≤ MAX_Q`): a
+///   lag of `m` is too far for reuse in the block pass (each far factor would stream `x` again
+///   from memory at its own two offsets). A lattice walks the windows `s·base + r0` in order of
+///   `s`, so the windows at offsets `q·base` and `2q·base` of one step are those of earlier
+///   steps still in cache: `x` is read from memory about once per lattice (octave factors up
+///   to `2^22` form two lattices). Walks (one per `r0`) run in parallel and store block sums,
+///   which are then added chunk by chunk exactly as the block pass adds them.
+///
+/// The result is bit-identical to a τ-by-τ evaluation of the same definition and does not
+/// depend on the number of threads.
 pub(crate) fn difference_sums(
     x: &[f64],
     ms: &[usize],
@@ -170,6 +262,82 @@ pub(crate) fn difference_sums(
     progress: &Progress<'_>,
     weight: f64,
 ) -> Vec<f64> {
+    let span = diff.span();
+    let (near, lattices) = plan(ms);
+    let near_ms: Vec<usize> = near.iter().map(|&j| ms[j]).collect();
+    let walks: usize = lattices.iter().map(|l| l.base / BLOCK).sum();
+    let near_sums = block_pass(x, &near_ms, diff, progress, weight, walks);
+    let mut out = vec![0.0; ms.len()];
+    for (&j, s) in near.iter().zip(near_sums) {
+        out[j] = s;
+    }
+    let per_walk = weight / (near_ms.len() + walks).max(1) as f64;
+    for lattice in &lattices {
+        let l_ms: Vec<usize> = lattice.members.iter().map(|&j| ms[j]).collect();
+        let l_terms: Vec<usize> = l_ms.iter().map(|&m| x.len() - span * m).collect();
+        let stage = progress.stage(
+            per_walk * (lattice.base / BLOCK) as f64,
+            lattice.base / BLOCK,
+        );
+        let walks: Vec<Vec<Vec<f64>>> = (0..lattice.base)
+            .step_by(BLOCK)
+            .collect::<Vec<_>>()
+            .par_iter()
+            .with_max_len(1)
+            .map(|&r0| {
+                let mut sums: Vec<Vec<f64>> = l_terms
+                    .iter()
+                    .map(|&t| Vec::with_capacity(t.div_ceil(lattice.base)))
+                    .collect();
+                if stage.is_cancelled() {
+                    return sums;
+                }
+                pulp::Arch::new().dispatch(LatticeWalk {
+                    x,
+                    ms: &l_ms,
+                    terms: &l_terms,
+                    base: lattice.base,
+                    r0,
+                    diff,
+                    sums: &mut sums,
+                });
+                stage.item_done();
+                sums
+            })
+            .collect();
+        if stage.is_cancelled() {
+            continue;
+        }
+        let stride = lattice.base / BLOCK;
+        for (i, &j) in lattice.members.iter().enumerate() {
+            let blocks = l_terms[i].div_ceil(BLOCK);
+            // Block q = s·stride + w was computed by walk w at step s.
+            let chunk_sums = (0..blocks).step_by(CHUNK / BLOCK).map(|q0| {
+                let mut sum = 0.0_f64;
+                for q in q0..(q0 + CHUNK / BLOCK).min(blocks) {
+                    sum += walks[q % stride][i][q / stride];
+                }
+                sum
+            });
+            out[j] = crate::validate::neumaier_sum(chunk_sums);
+        }
+    }
+    out
+}
+
+/// The block pass of [`difference_sums`] for the factors `ms`; `extra_items` later work items
+/// share `weight` with it.
+fn block_pass(
+    x: &[f64],
+    ms: &[usize],
+    diff: Difference,
+    progress: &Progress<'_>,
+    weight: f64,
+    extra_items: usize,
+) -> Vec<f64> {
+    if ms.is_empty() {
+        return Vec::new();
+    }
     let span = diff.span();
     let terms: Vec<usize> = ms.iter().map(|&m| x.len() - span * m).collect();
     let longest = terms.iter().copied().max().unwrap_or(0);
@@ -185,7 +353,8 @@ pub(crate) fn difference_sums(
         .iter()
         .flat_map(|&c0| (0..groups).map(move |g| (c0, g)))
         .collect();
-    let stage = progress.stage(weight, items.len());
+    let share = ms.len() as f64 / (ms.len() + extra_items) as f64;
+    let stage = progress.stage(weight * share, items.len());
     let partials: Vec<(usize, usize, Vec<f64>)> = items
         .par_iter()
         .map(|&(c0, g)| {
@@ -223,4 +392,68 @@ pub(crate) fn difference_sums(
         .iter()
         .map(|chunks| crate::validate::neumaier_sum(chunks.iter().copied()))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The definition of [`difference_sums`] evaluated τ by τ, chunk by chunk, block by block.
+    fn reference(x: &[f64], m: usize, diff: Difference) -> f64 {
+        let t = x.len() - diff.span() * m;
+        let chunks = (0..t).step_by(CHUNK).map(|c0| {
+            let mut sum = 0.0;
+            for b0 in (c0..(c0 + CHUNK).min(t)).step_by(BLOCK) {
+                sum += block_sum(x, m, b0, (b0 + BLOCK).min(t).min(c0 + CHUNK), diff);
+            }
+            sum
+        });
+        crate::validate::neumaier_sum(chunks)
+    }
+
+    #[test]
+    fn lattices_and_block_pass_equal_the_definition() {
+        // A random walk (cumulative sum of normal steps) long enough for two lattices.
+        let mut level = 0.0;
+        let x: Vec<f64> = crate::random::normal_vec(700_001, 21)
+            .into_iter()
+            .map(|z| {
+                level += z;
+                level
+            })
+            .collect();
+        let ms = [
+            1, 3, 1000, 1024, 4096, 8192, 9216, 16384, 24576, 32768, 65536, 131072, 139264, 196608,
+            229376,
+        ];
+        let (near, lattices) = plan(&ms);
+        assert!(lattices.len() >= 2 && !near.is_empty());
+        for diff in [Difference::Second, Difference::Third] {
+            let usable: Vec<usize> = ms
+                .iter()
+                .copied()
+                .filter(|&m| diff.span() * m < x.len())
+                .collect();
+            let run = |threads: usize| {
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap()
+                    .install(|| difference_sums(&x, &usable, diff, &Progress::none(), 1.0))
+            };
+            let got = run(2);
+            for (&m, &s) in usable.iter().zip(&got) {
+                assert_eq!(s, reference(&x, m, diff), "{diff:?} m={m}");
+            }
+            assert_eq!(got, run(1));
+            assert_eq!(got, run(5));
+            // One τ alone gives the same number as within the set.
+            for (&m, &s) in usable.iter().zip(&got) {
+                assert_eq!(
+                    difference_sums(&x, &[m], diff, &Progress::none(), 0.0)[0],
+                    s
+                );
+            }
+        }
+    }
 }
