@@ -540,11 +540,14 @@ fn integrate_rate_into(
         sum = t;
     }
     progress.check()?;
-    if out.len() == n + 1 {
-        out[0] = 0.0;
-    } else {
+    if out.capacity() < n + 1 {
         // Zeroed allocation: pages are faulted in by the parallel writers below.
         *out = vec![0.0; n + 1];
+    } else {
+        // A reused buffer (pages already mapped): every value is overwritten below.
+        out.truncate(n + 1);
+        out.resize(n + 1, 0.0);
+        out[0] = 0.0;
     }
     out[1..]
         .par_chunks_mut(INTEGRATION_BLOCK)
@@ -1074,7 +1077,44 @@ impl Workspace {
     pub fn new() -> Self {
         Self::default()
     }
+
+    /// A workspace whose angle buffer is an idle one from earlier calls when there is one
+    /// (see [`SPARE_BYTES`]), else empty.
+    fn pooled() -> Self {
+        let angle = SPARE
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .pop()
+            .unwrap_or_default();
+        Workspace {
+            angle,
+            segments: Vec::new(),
+        }
+    }
+
+    /// Hands the angle buffer back for later calls, within [`SPARE_BYTES`] in total.
+    fn recycle(self) {
+        let bytes = |v: &Vec<f64>| v.capacity() * std::mem::size_of::<f64>();
+        let mut spare = SPARE
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let held: usize = spare.iter().map(bytes).sum();
+        if self.angle.capacity() > 0 && held + bytes(&self.angle) <= SPARE_BYTES {
+            spare.push(self.angle);
+        }
+    }
 }
+
+/// Idle angle buffers kept between calls of [`analyse_matrix`] (at most [`SPARE_BYTES`]).
+///
+/// On these machines the first-touch page faults of a fresh N-sized buffer cost about as much
+/// as the whole kernel, so a second analysis of a long record reuses the pages of the first
+/// one instead of mapping new ones. Nothing in a result depends on a buffer's previous
+/// contents: every value is written before it is read.
+static SPARE: std::sync::Mutex<Vec<Vec<f64>>> = std::sync::Mutex::new(Vec::new());
+
+/// Most memory [`SPARE`] holds between calls (256 MiB: three axes of 10⁷ samples).
+const SPARE_BYTES: usize = 1 << 28;
 
 /// Full analysis of one column: angle series, variances at the requested τ and, when
 /// `confidence_level` is given, noise identification, EDF and chi-square intervals.
@@ -1180,11 +1220,14 @@ pub fn analyse_matrix(
 ) -> Result<Vec<AllanAnalysis>> {
     config.validate()?;
     let columns = columns_of(data, n_axes)?;
-    let mut workspaces: Vec<Workspace> = (0..n_axes).map(|_| Workspace::new()).collect();
+    let mut workspaces: Vec<Workspace> = (0..n_axes).map(|_| Workspace::pooled()).collect();
     progress.add_total(columns.iter().map(|c| config.work(c.len())).sum());
     progress.start();
-    let out = analyse_columns(&columns, config, &mut workspaces, progress)
-        .map_err(|(axis, e)| locate(e, None, axis, n_axes))?;
+    let out = analyse_columns(&columns, config, &mut workspaces, progress);
+    for w in workspaces {
+        w.recycle();
+    }
+    let out = out.map_err(|(axis, e)| locate(e, None, axis, n_axes))?;
     progress.finish();
     Ok(out)
 }
