@@ -161,8 +161,9 @@ impl pulp::WithSimd for ChunkSums<'_> {
 /// Smallest averaging factor computed on a lattice (see [`difference_sums`]); smaller lags are
 /// served from cache by the block pass.
 const FAR: usize = 1 << 15;
-/// Largest `q = m / base` in one lattice group: the ring of `span·MAX_Q + 1` windows that one
-/// lattice walk keeps alive (≈ 264 KiB for the Allan difference) stays in L2.
+/// Largest `q = m / base` in one lattice group: the `span·MAX_Q + 1` windows that one lattice
+/// walk keeps alive (≈ 2 MiB per thread for the Allan difference) stay in the last-level cache,
+/// and octave factors from `FAR` to `2^22` share one lattice.
 const MAX_Q: usize = 128;
 
 /// The far averaging factors that share one lattice: `m_j = q_j·base`, `q_j ≤ MAX_Q`.
@@ -250,7 +251,7 @@ impl pulp::WithSimd for LatticeWalk<'_> {
 ///   from memory at its own two offsets). A lattice walks the windows `s·base + r0` in order of
 ///   `s`, so the windows at offsets `q·base` and `2q·base` of one step are those of earlier
 ///   steps still in cache: `x` is read from memory about once per lattice (octave factors up
-///   to `2^22` form two lattices). Walks (one per `r0`) run in parallel and store block sums,
+///   to `2^22` form one lattice). Walks (one per `r0`) run in parallel and store block sums,
 ///   which are then added chunk by chunk exactly as the block pass adds them.
 ///
 /// The result is bit-identical to a τ-by-τ evaluation of the same definition and does not
