@@ -759,89 +759,11 @@ class NoiseCoefficients:
         Returns
         -------
         matplotlib Axes
+            Drawn by :func:`gyrobias.plotting.plot_noise_model`.
         """
-        import matplotlib.pyplot as plt
+        from gyrobias.plotting import plot_noise_model
 
-        if ax is None:
-            _, ax = plt.subplots(figsize=(7, 5))
-        allan = allan if allan is not None else self.allan
-        base = self.to("base") if self.data_unit is not None else self
-        if allan is not None:
-            taus = np.asarray(allan.taus, dtype=np.float64)
-            lo, hi = float(taus[0]), float(taus[-1])
-            if show_data:
-                ax.loglog(taus, allan.adev, "o", ms=3, color="0.3", label="Allan deviation")
-        else:
-            lo, hi = self.tau_range
-        grid = np.geomspace(lo, hi, 200)
-        total, parts = self.model(grid)
-        colours = {
-            "Q": "tab:purple",
-            "N": "tab:blue",
-            "B": "tab:green",
-            "K": "tab:orange",
-            "R": "tab:red",
-        }
-        ax.loglog(grid, total, "-", color="k", lw=1.5, label=f"{self.method} model")
-        unit = self.data_unit or ""
-        for t, _b in zip(self.terms, base.terms):
-            if t.value is None:
-                continue
-            curve = parts[t.symbol]
-            ax.loglog(
-                grid, curve, "--", color=colours[t.symbol], lw=1, label=f"{t.symbol} asymptote"
-            )
-            if t.marker is not None:
-                mt, ms = t.marker
-                ax.loglog([mt], [ms], "s", color=colours[t.symbol], ms=7, mfc="none", mew=1.5)
-                value = f"{t.value:.3g} {t.unit or ''}".strip()
-                if t.symbol != "B":
-                    where = f"σ at τ = {mt:.3g} s"
-                elif self.method == "ieee":
-                    where = "min σ / 0.664"
-                else:
-                    where = "plateau σ = 0.664·B"
-                ax.annotate(
-                    f"{t.symbol} = {value}\n({where})",
-                    (mt, ms),
-                    textcoords="offset points",
-                    xytext=(6, 6),
-                    fontsize=7,
-                    color=colours[t.symbol],
-                )
-        for g, colour in zip(self.gauss_markov, ("tab:brown", "tab:pink")):
-            if g.present and g.sigma.symbol in parts:
-                ax.loglog(
-                    grid,
-                    parts[g.sigma.symbol],
-                    ":",
-                    color=colour,
-                    lw=1.2,
-                    label=f"{g.sigma.symbol} (T = {g.correlation_time.value:.3g} s)",
-                )
-        if self.diagnostics is not None:
-            for k, (a, b, _) in enumerate(self.diagnostics.excluded):
-                ax.axvspan(
-                    a,
-                    b,
-                    color="0.85",
-                    alpha=0.5,
-                    lw=0,
-                    label="excluded from the fit" if k == 0 else None,
-                )
-        # Keep the view on the data and model: asymptotes of negligible terms run far below.
-        markers = [t.marker[1] for t in self.terms if t.value is not None and t.marker is not None]
-        shown = np.concatenate(
-            [total, np.asarray(allan.adev) if allan is not None else total, markers]
-        )
-        shown = shown[np.isfinite(shown) & (shown > 0)]
-        if shown.size:
-            ax.set_ylim(shown.min() / 5.0, shown.max() * 3.0)
-        ax.set_xlabel("τ [s]")
-        ax.set_ylabel(f"σ(τ) [{unit}]" if unit else "σ(τ)")
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7, loc="best")
-        return ax
+        return plot_noise_model(self, ax, allan=allan, show_data=show_data)
 
 
 def gauss_markov_avar(sigma: float, correlation_time: float, taus: Any) -> NDArray[np.float64]:
