@@ -23,7 +23,6 @@ References
 from __future__ import annotations
 
 import json
-import math
 import os
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -33,7 +32,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice, positive_float
+from gyrobias._validation import as_float_array, choice, integer, positive_float, real
+from gyrobias._validation import seed as seed_value
 from gyrobias.units import CUSTOMARY, base_unit, parse_unit, sensor_kind
 
 if TYPE_CHECKING:
@@ -57,8 +57,8 @@ __all__ = [
 ]
 
 #: Plateau factor of flicker rate noise in the Allan deviation: √(2 ln 2 / π) = 0.664282…
-#: (The same constant as ``gyrocore::noise::FLICKER_FACTOR``.)
-FLICKER_FACTOR: float = math.sqrt(2.0 * math.log(2.0) / math.pi)
+#: (``gyrocore::noise::FLICKER_FACTOR``, the one definition every layer uses.)
+FLICKER_FACTOR: float = _core.noise.FLICKER_FACTOR
 
 _SYMBOLS = ("Q", "N", "B", "K", "R")
 _GM_SYMBOLS = ("GM", "GM2")
@@ -83,41 +83,6 @@ TERM_NAMES: dict[str, dict[str, str]] = {
         "R": "acceleration ramp",
     },
 }
-
-#: Read-off τ (s) of each term on its asymptote (IEEE 952); B is read at the minimum.
-READ_OFF_TAU: dict[str, float | None] = {
-    "Q": math.sqrt(3.0),
-    "N": 1.0,
-    "B": None,
-    "K": 3.0,
-    "R": math.sqrt(2.0),
-}
-
-
-def _non_negative(name: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
-    v = float(value)
-    if not np.isfinite(v) or v < 0.0:
-        raise ValueError(f"{name} must be finite and >= 0, got {value!r}")
-    return v
-
-
-def _finite(name: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
-    v = float(value)
-    if not np.isfinite(v):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return v
-
-
-def _count(name: str, value: Any, minimum: int = 1) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
-    if value < minimum:
-        raise ValueError(f"{name} must be >= {minimum}, got {value!r}")
-    return int(value)
 
 
 def simulate(
@@ -189,39 +154,28 @@ def simulate(
     >>> rate.shape
     (1000, 3)
     """
-    n = _count("n", n)
-    fs = positive_float("fs", fs)
-    axes = _count("axes", axes)
+    # Types here; every range (n, axes >= 1, fs > 0, coefficients >= 0, |c| < 1) is the core's.
+    n = integer("n", n)
+    axes = integer("axes", axes)
     ar: tuple[float, float] | None = None
     if ar1 is not None:
         try:
             c, s = ar1
         except (TypeError, ValueError):
             raise TypeError(f"ar1 must be a pair (c, sigma) or None, got {ar1!r}") from None
-        c = _finite("ar1 coefficient", c)
-        if abs(c) >= 1.0:
-            raise ValueError(f"ar1 coefficient must satisfy |c| < 1, got {c!r}")
-        ar = (c, _non_negative("ar1 sigma", s))
-    if seed is None:
-        seed_value = int(np.random.SeedSequence().generate_state(1, dtype=np.uint64)[0])
-    else:
-        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-            raise TypeError(f"seed must be an integer or None, got {type(seed).__name__}")
-        if not 0 <= int(seed) < 2**64:
-            raise ValueError(f"seed must satisfy 0 <= seed < 2**64, got {seed!r}")
-        seed_value = int(seed)
+        ar = (real("ar1 coefficient", c), real("ar1 sigma", s))
     flat = _core.noise.simulate(
         n,
-        fs,
-        _non_negative("quantization", quantization),
-        _non_negative("arw", arw),
-        _non_negative("bias_instability", bias_instability),
-        _non_negative("rrw", rrw),
-        _finite("rate_ramp", rate_ramp),
+        real("fs", fs),
+        real("quantization", quantization),
+        real("arw", arw),
+        real("bias_instability", bias_instability),
+        real("rrw", rrw),
+        real("rate_ramp", rate_ramp),
         ar,
-        _finite("bias", bias),
+        real("bias", bias),
         axes,
-        seed_value,
+        seed_value("seed", seed),
     )
     return flat if axes == 1 else flat.reshape(n, axes)
 
@@ -797,12 +751,10 @@ def gauss_markov_avar(sigma: float, correlation_time: float, taus: Any) -> NDArr
     >>> round(float(v[0]) * 1e4 / (2 * 10.0), 4)  # 1 − 3T/(2τ) of the white noise 2σ²T/τ
     0.9985
     """
-    s = _non_negative("sigma", sigma)
-    t = positive_float("correlation_time", correlation_time)
     tau = as_float_array("taus", np.atleast_1d(np.asarray(taus, dtype=np.float64)), ndims=(1,))
-    if tau.size and not np.all(np.isfinite(tau) & (tau > 0)):
-        raise ValueError("taus must be finite and > 0")
-    return np.asarray(_core.noise.gauss_markov_variance([(s * s, t)], tau)[0], dtype=np.float64)
+    return _core.noise.gauss_markov_avar(
+        real("sigma", sigma), real("correlation_time", correlation_time), tau
+    )
 
 
 def _edf_source(result: AllanResult) -> str:
@@ -1266,15 +1218,8 @@ def gmwm(
         choice("terms", t, _SYMBOLS + _GM_SYMBOLS)
     if not isinstance(select, bool):
         raise TypeError(f"select must be a bool, got {type(select).__name__}")
-    replicates = _count("bootstrap", bootstrap, minimum=0)
-    if seed is None:
-        seed_value = int(np.random.SeedSequence().generate_state(1, dtype=np.uint64)[0])
-    else:
-        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-            raise TypeError(f"seed must be an integer or None, got {type(seed).__name__}")
-        if not 0 <= int(seed) < 2**64:
-            raise ValueError(f"seed must satisfy 0 <= seed < 2**64, got {seed!r}")
-        seed_value = int(seed)
+    replicates = integer("bootstrap", bootstrap)
+    seed_number = seed_value("seed", seed)
     sensor = sensor_kind(units) if units is not None else None
     matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
     n_axes = matrix.shape[1]
@@ -1284,7 +1229,7 @@ def gmwm(
     out = []
     for a in range(n_axes):
         column = np.ascontiguousarray(matrix[:, a], dtype=np.float64)
-        raw = _core.noise.gmwm(column, t0, term_list, select, replicates, seed_value, 8)
+        raw = _core.noise.gmwm(column, t0, term_list, select, replicates, seed_number, 8)
         wv = raw["wavelet"]
         m = np.asarray(wv["m"]).astype(np.int64)
         name = None if axis_names is None else str(axis_names[a])

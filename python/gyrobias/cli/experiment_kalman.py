@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gyrobias import noise
 from gyrobias.allan import AllanResult, adev
 from gyrobias.kalman import (
     FixedGainKalman,
@@ -83,9 +84,18 @@ def _allan_read_off(x: NDArray[np.float64], fs: float) -> tuple[float, float, Al
     ms = np.union1d(ms, [int(fs)])
     res = adev(x, fs, taus=ms / fs, confidence=None)
     assert isinstance(res, AllanResult)
-    one = int(np.flatnonzero(np.isclose(res.taus, 1.0))[0])
-    arw = float(res.adev[one]) * 60.0
-    bias_instability = float(res.adev.min()) / math.sqrt(2 * math.log(2) / math.pi) * 3600.0
+    # The IEEE-952 read-off of gyrobias.noise on [NR]'s regions: N on the −½ line through the
+    # point at τ = 1 s, B = min σ / FLICKER_FACTOR over the whole curve.
+    one = float(res.taus[int(np.flatnonzero(np.isclose(res.taus, 1.0))[0])])
+    read = noise.fit(
+        res,
+        method="ieee",
+        terms=("N", "B"),
+        regions={"N": (one, one), "B": (0.0, math.inf)},
+    )
+    arw_value, b_value = read.N.value, read.B.value
+    arw = (math.nan if arw_value is None else arw_value) * 60.0
+    bias_instability = (math.nan if b_value is None else b_value) * 3600.0
     return arw, bias_instability, res
 
 
