@@ -71,6 +71,13 @@ def integer(name: str, value: Any) -> int:
     return v
 
 
+def boolean(name: str, value: Any) -> bool:
+    """``value`` if it is a bool (``True``/``False``, not ``1``/``0`` or ``"yes"``), else ``TypeError``."""
+    if not isinstance(value, bool):
+        raise TypeError(f"{name} must be a bool, got {type(value).__name__}")
+    return value
+
+
 def seed(name: str, value: Any) -> int:
     """A 64-bit seed for the core's generator: ``value`` itself, or a fresh one if ``None``.
 

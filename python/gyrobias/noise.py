@@ -32,7 +32,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice, integer, positive_float, real
+from gyrobias._validation import (
+    as_float_array,
+    boolean,
+    choice,
+    integer,
+    positive_float,
+    real,
+)
 from gyrobias._validation import seed as seed_value
 from gyrobias.units import CUSTOMARY, base_unit, parse_unit, sensor_kind
 
@@ -940,12 +947,8 @@ def fit(
     sensor: str | None = None
     if data_unit is not None:
         sensor = sensor_kind(data_unit)
-    if tau_range is not None:
-        lo, hi = (float(v) for v in tau_range)
-        if not (lo >= 0.0 and hi > lo):
-            raise ValueError(
-                f"tau_range must be (low, high) seconds with 0 <= low < high, got {tau_range!r}"
-            )
+    if tau_range is not None:  # low < high: the core's check
+        lo, hi = (real("tau_range", v) for v in tau_range)
         tau_range = (lo, hi)
     if correlation_time is not None:
         try:
@@ -955,8 +958,7 @@ def fit(
                 f"correlation_time must be a pair (low, high) of seconds, got {correlation_time!r}"
             ) from None
         correlation_time = (t_lo, t_hi)
-    if not isinstance(auto_range, bool):
-        raise TypeError(f"auto_range must be a bool, got {type(auto_range).__name__}")
+    auto_range = boolean("auto_range", auto_range)
     taus = np.ascontiguousarray(result.taus, dtype=np.float64)
     variance = np.ascontiguousarray(result.avar, dtype=np.float64)
     m = np.ascontiguousarray(result.m, dtype=np.uint64)
@@ -994,13 +996,9 @@ def fit(
             raise ValueError(
                 "Gauss–Markov terms ('GM', 'GM2') need method='joint' (or gyrobias.noise.gmwm)"
             )
-        slope_tolerance = positive_float("slope_tolerance", slope_tolerance)
-        if (
-            isinstance(min_points, bool)
-            or not isinstance(min_points, (int, np.integer))
-            or min_points < 1
-        ):
-            raise ValueError(f"min_points must be an integer >= 1, got {min_points!r}")
+        # slope_tolerance > 0 and min_points >= 1 are the core's checks.
+        slope_tolerance = real("slope_tolerance", slope_tolerance)
+        min_points = integer("min_points", min_points)
         region_list: list[tuple[float, float] | None] = [None] * 5
         for key, rng in (regions or {}).items():
             choice("regions key", key, _SYMBOLS)
@@ -1216,8 +1214,7 @@ def gmwm(
     term_list = [str(t) for t in terms] if not isinstance(terms, str) else [terms]
     for t in term_list:
         choice("terms", t, _SYMBOLS + _GM_SYMBOLS)
-    if not isinstance(select, bool):
-        raise TypeError(f"select must be a bool, got {type(select).__name__}")
+    select = boolean("select", select)
     replicates = integer("bootstrap", bootstrap)
     seed_number = seed_value("seed", seed)
     sensor = sensor_kind(units) if units is not None else None

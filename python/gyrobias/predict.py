@@ -575,12 +575,8 @@ def evaluate(
         Per method the integrated error and RSSE of every section and their mean and standard
         deviation ([BP] Table I); ``.table()`` prints it with ratios to CM.
     """
-    if isinstance(calibration, bool) or not isinstance(calibration, (int, np.integer)):
-        raise TypeError(
-            f"calibration must be an integer number of samples, got {type(calibration).__name__}"
-        )
-    k = int(calibration)
-    if k < 2:
+    k = integer("calibration", calibration)
+    if k < 2:  # the sections are cut here, before any core call
         raise ValueError(f"calibration must be at least 2 samples, got {k}")
     h = integer("horizon", horizon)
     arr = as_float_array("log", log, ndims=(1, 2))
