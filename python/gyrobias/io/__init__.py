@@ -1119,18 +1119,25 @@ def _time_seconds(
     # regular nanosecond log has exactly zero jitter.
     first = t_raw[0]
     intervals = store.vector(max(n - 1, 0))
-    time = store.vector(n)
+    # The raw stamps are the loader's own copy and not needed afterwards: the seconds overwrite
+    # them in place when they are 8-byte numbers (int64 or float64), one column less at peak.
+    in_place = t_raw.dtype in (np.dtype(np.int64), np.dtype(np.float64)) and t_raw.flags.writeable
+    time = t_raw.view(np.float64) if in_place else store.vector(n)
+    previous = None  # the raw stamp before the block (already overwritten in place)
     for sl in blocks(n):
         chunk = t_raw[sl]
         rel = chunk - first  # exact in int64 for integer stamps
-        time[sl] = rel
-        time[sl] /= per_second
-        if sl.start > 0:
-            intervals[sl.start - 1] = (chunk[0] - t_raw[sl.start - 1]) / per_second
+        last = chunk[-1]
+        if previous is not None:
+            intervals[sl.start - 1] = (chunk[0] - previous) / per_second
         if chunk.size > 1:
             steps = np.diff(chunk).astype(np.float64)
             steps /= per_second
             intervals[sl.start : sl.stop - 1] = steps
+        converted = rel.astype(np.float64) if rel.dtype != np.float64 else rel
+        converted /= per_second
+        time[sl] = converted
+        previous = last
     return time, intervals, float(first) / per_second, unit, guessed
 
 
@@ -1291,7 +1298,7 @@ def _repair(
                 "sort the log or fix its clock, or pass repair='sort' (--repair sort)"
             )
         order = np.argsort(t_raw, kind="stable")
-        t_raw = t_raw[order]
+        t_raw = _take_stamps(t_raw, order, store)
         table = _take_rows(table, order, store)
         done.append(
             f"sorted by timestamp: {back.size} sample(s) were earlier than the one before them, "
@@ -1310,7 +1317,7 @@ def _repair(
         keep = np.ones(len(t_raw), dtype=bool)
         keep[exact] = False
         rows = np.flatnonzero(keep)
-        t_raw = t_raw[rows]
+        t_raw = _take_stamps(t_raw, rows, store)
         table = _take_rows(table, rows, store)
         done.append(
             f"dropped {exact.size} sample(s) repeating the previous one exactly (same timestamp "
@@ -1318,6 +1325,14 @@ def _repair(
         )
         dropped, exact = int(exact.size), np.zeros(0, dtype=np.int64)
     return t_raw, table, _Fixes(back.astype(np.int64), exact, dropped, tuple(done))
+
+
+def _take_stamps(t_raw: NDArray[Any], rows: NDArray[np.intp], store: Store) -> NDArray[Any]:
+    """``t_raw[rows]`` in a new array of the store (spilled with the samples), block by block."""
+    out = store.vector(len(rows), t_raw.dtype.type)
+    for sl in blocks(len(rows)):
+        out[sl] = t_raw[rows[sl]]
+    return out
 
 
 def _step_rows(t_raw: NDArray[Any], compare: Any) -> NDArray[np.intp]:
