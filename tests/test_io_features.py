@@ -364,3 +364,13 @@ def test_progress_reports_fractions_and_changes_nothing(tmp_path: Path) -> None:
     assert with_bar.sampling.to_dict() == without.sampling.to_dict()
     assert seen and seen[-1] == 1.0 and all(0.0 <= f <= 1.0 for f in seen)
     assert seen == sorted(seen)
+
+
+@given(
+    st.lists(st.floats(1e-12, 1e12, allow_nan=False), min_size=2, max_size=300),
+    st.floats(1e-9, 1e9),
+)
+def test_std_in_place_is_numpy_std_bit_for_bit(values: list[float], scale: float) -> None:
+    """The sampling report's jitter: np.std's arithmetic without its temporary (same bits)."""
+    x = np.asarray(values) * scale
+    assert gio._std_in_place(x.copy()) == float(np.std(x))

@@ -17,6 +17,21 @@ Formats (chosen by the file name):
   ``sensor_msgs/Imu`` topic as ``gyro_x``, ``gyro_y``, ``gyro_z`` in rad/s and ``accel_x``,
   ``accel_y``, ``accel_z`` in m/s², time from ``header.stamp`` (or the receive time).
 
+Logs larger than memory
+-----------------------
+``spill=True`` (``None``: when the samples exceed a quarter of the memory) puts the samples,
+the raw stamps and the time vector in memory-mapped, already unlinked temporary files, written
+block by block; a float64 ``.npy`` is mapped directly. A bag is decoded batch by batch
+(65 536 messages) into that spill file rather than fed to the Allan analysis message by
+message, by design: the out-of-core Allan kernel (``_core.allan.analyse_stream``) reads its
+source several times and at several places at once (the mean, the integration constants,
+then every τ's windows ``x[c]``, ``x[c+m]``, ``x[c+2m]`` through up to 13 cursors per pass, then
+the noise identification), so a bag as source would be decompressed and deserialised a dozen
+times or more, while the spill file is a decoded float64 copy (48 bytes per message for six
+channels, a fraction of a ``sensor_msgs/Imu`` message) that the kernel reads with bounded
+memory. Not bounded yet: the sampling report's statistics take full-length temporaries of the
+intervals (the exact median needs them), about one time column each.
+
 Examples
 --------
 >>> import gyrobias, tempfile, pathlib
@@ -32,6 +47,7 @@ from __future__ import annotations
 import bz2
 import gzip
 import lzma
+import math
 import os
 import re
 import zlib
@@ -1141,6 +1157,16 @@ def _time_seconds(
     return time, intervals, float(first) / per_second, unit, guessed
 
 
+def _std_in_place(x: NDArray[np.float64]) -> float:
+    """``np.std(x)`` computed in ``x`` itself (overwritten): the same operations in the same
+    order as NumPy's ``_var`` (sum / n, subtract, square, sum / n, sqrt), hence the same bits,
+    without its full-length temporary."""
+    mean = np.add.reduce(x) / x.size
+    x -= mean
+    np.multiply(x, x, out=x)
+    return math.sqrt(np.add.reduce(x) / x.size)
+
+
 def _sampling_report(
     n: int,
     time: NDArray[np.float64],
@@ -1173,11 +1199,11 @@ def _sampling_report(
     del gap_mask
     regular = steps[regular_mask]
     del regular_mask
-    jitter = float(np.std(regular) / median) if regular.size > 1 else 0.0
     # the mean of the regular intervals: unaffected by gaps like the median, but not stuck on
     # one quantised interval value; 9 significant digits drop the decimal-rounding noise of
     # timestamps written as text (0.0100 → 100.00000000000213 Hz)
     fs_est = float(f"{1.0 / (float(np.mean(regular)) if regular.size else mean_positive):.9g}")
+    jitter = _std_in_place(regular) / median if regular.size > 1 else 0.0
     del regular
     missing = int(np.sum(np.rint(gap_durations / median) - 1)) if gap_rows.size else 0
 
