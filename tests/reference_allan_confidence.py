@@ -177,12 +177,3 @@ def interval(
     edf = min(float(edf), float(terms))
     low, high = allantools.confidence_interval(deviation, float(edf), ci=level)
     return ReferenceInterval(alpha, float(edf), float(low), float(high))
-
-
-def nbs14_1000() -> NDArray[np.float64]:
-    """The NBS14 1000-point frequency data set (SP1065 §12.3; Park–Miller LCG, seed 1234567890)."""
-    n = [1234567890]
-    for _ in range(999):
-        n.append((16807 * n[-1]) % 2147483647)
-    assert n[1:4] == [395529916, 1209410747, 633705974]  # printed in SP1065
-    return np.asarray(n, dtype=np.float64) / 2147483647.0

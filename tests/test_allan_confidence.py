@@ -26,7 +26,8 @@ from hypothesis import strategies as st
 
 import gyrobias
 from gyrobias import _core
-from tests.reference_allan_confidence import interval, nbs14_1000, phase_from_rate
+from tests.reference_allan import nbs_1000
+from tests.reference_allan_confidence import interval, phase_from_rate
 
 LEVEL = 0.683
 N = 4096
@@ -132,7 +133,7 @@ NBS14_1000 = {
 
 @pytest.mark.parametrize(("kind", "overlapping"), list(NBS14_1000))
 def test_nbs14_deviations_and_intervals(kind, overlapping):
-    y = nbs14_1000()
+    y = nbs_1000()
     function = getattr(gyrobias.allan, kind)
     kwargs = {"overlapping": overlapping} if kind == "adev" else {}
     r = function(y, fs=1.0, taus=[1.0, 10.0, 100.0], confidence=LEVEL, **kwargs)
@@ -152,7 +153,7 @@ def test_nbs14_deviations_and_intervals(kind, overlapping):
 
 
 def test_raw_core_returns_variance_bounds():
-    y = nbs14_1000()
+    y = nbs_1000()
     raw = _core.allan.analyse(
         y.reshape(-1, 1), 1.0, "rate", "overlapping", "octave", 10, None, LEVEL
     )[0]

@@ -42,7 +42,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice, integer, positive_float, real
+from gyrobias._validation import as_float_array, choice, integer, positive_float, real, text
 from gyrobias.units import checked_units
 
 __all__ = [
@@ -243,23 +243,38 @@ def _options(
     confidence: float | None,
 ) -> tuple[float, str, str, NDArray[np.float64] | None, float | None]:
     """Normalised options: ``(fs, estimator, tau spec, explicit taus, confidence)``."""
-    fs = positive_float("fs", fs)
-    choice("data_type", data_type, ("rate", "angle"))
-    per_decade = integer("per_decade", per_decade)  # >= 1: the core's check
-    confidence = (
-        None if confidence is None else real("confidence", confidence)
-    )  # (0, 1): the core's
+    fs, spec, explicit, _, confidence = _tau_options(fs, taus, per_decade, data_type, confidence)
     if kind == "adev":
         estimator = "overlapping" if overlapping else "non-overlapping"
     else:
         estimator = _ESTIMATOR_OF_KIND[kind]
+    return fs, estimator, spec, explicit, confidence
+
+
+def _tau_options(
+    fs: float,
+    taus: str | ArrayLike,
+    per_decade: int,
+    data_type: str,
+    confidence: float | None,
+) -> tuple[float, str, NDArray[np.float64] | None, int, float | None]:
+    """Types of the options every Allan driver shares: ``(fs, tau spec, explicit taus,
+    per_decade, confidence)``.
+
+    Only types and names are checked here; the ranges (``per_decade >= 1`` for log spacing,
+    ``0 < confidence < 1``, τ on the sample grid, ...) are the core's preconditions.
+    """
+    fs = positive_float("fs", fs)  # t0 = 1/fs is computed here
+    text("data_type", data_type)  # its value is parsed by the core (DataType::parse)
+    per_decade = integer("per_decade", per_decade)
+    checked = None if confidence is None else real("confidence", confidence)
     explicit: NDArray[np.float64] | None = None
     spec = "octave"
     if isinstance(taus, str):
         spec = choice("taus", taus, _TAU_SPECS)
     else:
         explicit = as_float_array("taus", taus, ndims=(1,))
-    return fs, estimator, spec, explicit, confidence
+    return fs, spec, explicit, per_decade, checked
 
 
 def _result(
@@ -934,28 +949,11 @@ def _analyse_family(
 ) -> AllanResult | tuple[AllanResult, ...]:
     """Shared driver of the statistics computed by ``gyrocore::allan::family``."""
     arr = as_float_array("data", data, ndims=(1, 2))
-    fs = positive_float("fs", fs)
-    choice("data_type", data_type, ("rate", "angle"))
     units = checked_units("units", units)
-    if (
-        isinstance(per_decade, bool)
-        or not isinstance(per_decade, (int, np.integer))
-        or per_decade < 1
-    ):
-        raise ValueError(f"per_decade must be an integer >= 1, got {per_decade!r}")
-    if confidence is not None:
-        c = real("confidence", confidence)
-        if not 0.0 < c < 1.0:
-            raise ValueError(
-                f"confidence must lie strictly between 0 and 1 (or be None), got {confidence!r}"
-            )
-        confidence = c
-    explicit: NDArray[np.float64] | None = None
-    spec = "octave"
-    if isinstance(taus, str):
-        spec = choice("taus", taus, _TAU_SPECS)
-    else:
-        explicit = as_float_array("taus", taus, ndims=(1,))
+    # Types only: the ranges (per_decade >= 1, 0 < confidence < 1, ...) are the core's checks.
+    fs, spec, explicit, per_decade, confidence = _tau_options(
+        fs, taus, per_decade, data_type, confidence
+    )
     matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
     n_axes = matrix.shape[1]
     if axis_names is not None and len(axis_names) != n_axes:
@@ -1347,14 +1345,6 @@ class DynamicAllanResult:
         return plot_dynamic_allan(self, ax=ax, **kwargs)
 
 
-def _positive_int(name: str, value: Any) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer number of samples, got {value!r}")
-    if value < 0:
-        raise ValueError(f"{name} must be >= 1 sample, got {value}")
-    return int(value)
-
-
 def dynamic_adev(
     data: ArrayLike,
     fs: float,
@@ -1415,22 +1405,9 @@ def dynamic_adev(
     True
     """
     arr = as_float_array("data", data, ndims=(1,))
-    fs = positive_float("fs", fs)
-    choice("data_type", data_type, ("rate", "angle"))
-    window = _positive_int("window", window)
-    step = _positive_int("step", step)
-    if (
-        isinstance(per_decade, bool)
-        or not isinstance(per_decade, (int, np.integer))
-        or per_decade < 1
-    ):
-        raise ValueError(f"per_decade must be an integer >= 1, got {per_decade!r}")
-    explicit: NDArray[np.float64] | None = None
-    spec = "octave"
-    if isinstance(taus, str):
-        spec = choice("taus", taus, _TAU_SPECS)
-    else:
-        explicit = as_float_array("taus", taus, ndims=(1,))
+    fs, spec, explicit, per_decade, _ = _tau_options(fs, taus, per_decade, data_type, None)
+    window = integer("window", window)  # window <= n, step >= 1: the core's checks
+    step = integer("step", step)
     t0 = 1.0 / fs
     raw = _core.allan.dynamic_avar(
         np.ascontiguousarray(arr), t0, data_type, window, step, spec, int(per_decade), explicit
