@@ -941,8 +941,7 @@ def fit(
             f"hold for kind {result.kind!r}"
         )
     term_list = [str(t) for t in terms] if not isinstance(terms, str) else [terms]
-    for t in term_list:
-        choice("terms", t, _SYMBOLS + _GM_SYMBOLS)
+    # The symbols are parsed by the core (noise::parse_model_terms), whose message names terms.
     data_unit = unit if unit is not None else result.unit
     sensor: str | None = None
     if data_unit is not None:
@@ -1158,7 +1157,9 @@ def gmwm(
         One name per column.
     select : bool
         Choose, among all sub-models of ``terms``, the one with the smallest wavelet-variance
-        information criterion ``WVIC = J + 2p`` (Notes); the terms it drops are reported missing.
+        information criterion ``WVIC = J + 2p`` (Notes); the terms it drops are reported missing
+        with the reason "dropped by the model selection" (and the chosen sub-model), unlike
+        terms the non-negative fit sets to zero.
     bootstrap : int
         Number of parametric-bootstrap replicates for the uncertainties (0: asymptotic).
     seed : int or None
@@ -1212,8 +1213,7 @@ def gmwm(
     arr = as_float_array("data", data, ndims=(1, 2))
     fs = positive_float("fs", fs)
     term_list = [str(t) for t in terms] if not isinstance(terms, str) else [terms]
-    for t in term_list:
-        choice("terms", t, _SYMBOLS + _GM_SYMBOLS)
+    # The symbols are parsed by the core (noise::parse_model_terms), whose message names terms.
     select = boolean("select", select)
     replicates = integer("bootstrap", bootstrap)
     seed_number = seed_value("seed", seed)
