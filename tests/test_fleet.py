@@ -217,6 +217,165 @@ def test_array_sources_match_single_unit_api(client: Client) -> None:
     )
 
 
+# ------------------------------------------------------------------------ Gauss–Markov terms
+
+GM_TIME = 2.0  # s: well inside the 2-minute logs' τ range
+GM_SIGMA = 0.01  # deg/s
+
+
+def _gm_unit(seed: int, axes: int = 2) -> np.ndarray:
+    phi = math.exp(-1.0 / (FS * GM_TIME))
+    return noise.simulate(
+        N_SAMPLES,
+        FS,
+        arw=ARW,
+        ar1=(phi, GM_SIGMA * math.sqrt(1.0 - phi * phi)),
+        axes=axes,
+        seed=100 + seed,
+    )
+
+
+def _assert_gm_columns_match(
+    rows: pd.DataFrame, results: Any, terms: tuple[str, ...], n_gm: int
+) -> None:
+    """GM columns of a unit's rows equal noise.fit(adev(...), terms=terms), term by term."""
+    assert len(rows) == len(results)
+    for (_, row), r in zip(rows.iterrows(), results):
+        c = noise.fit(r, terms=terms)
+        assert row["error"] is None
+        assert len(c.gauss_markov) == n_gm
+        for k, g in enumerate(c.gauss_markov, start=1):
+            for p in fleet.GM_PARAMETERS:
+                term = getattr(g, p)
+                name = f"GM{k}_{p}"
+                want = [
+                    np.nan if term.value is None else term.value,
+                    np.nan if term.uncertainty is None else term.uncertainty,
+                ]
+                np.testing.assert_array_equal(
+                    row[[name, f"{name}_uncertainty"]].to_numpy(dtype=np.float64), want
+                )
+                assert row[f"{name}_unit"] == term.unit
+        # ... and the IEEE terms are those of the same fit (with the GM term in the model).
+        want = [v for t in c.terms for v in (t.value, t.uncertainty)]
+        np.testing.assert_array_equal(
+            row[TERM_COLUMNS].to_numpy(dtype=np.float64),
+            np.array([np.nan if v is None else v for v in want], dtype=np.float64),
+        )
+
+
+@pytest.mark.parametrize("scheduler", ["threads", "cluster"])
+def test_gauss_markov_columns_match_single_unit_api(
+    tmp_path: Path, client: Client, scheduler: str
+) -> None:
+    terms = ("N", "B", "K", "GM")
+    paths = []
+    for seed in range(6):
+        rate = _gm_unit(seed)
+        if seed % 2:
+            np.save(tmp_path / f"gm{seed}.npy", rate)
+            paths.append(tmp_path / f"gm{seed}.npy")
+        else:
+            t = np.arange(N_SAMPLES) / FS
+            np.savetxt(
+                tmp_path / f"gm{seed}.csv",
+                np.column_stack([t, rate]),
+                delimiter=",",
+                header="t,gx,gy",
+                comments="",
+                fmt="%.17g",
+            )
+            paths.append(tmp_path / f"gm{seed}.csv")
+    table = fleet.analyse(
+        paths,
+        fs=FS,
+        units="deg/s",
+        terms=terms,
+        axis_names=["x", "y"],
+        client=client if scheduler == "cluster" else None,
+    )
+    gm_cols = [
+        f"GM1_{p}{suffix}"
+        for p in fleet.GM_PARAMETERS
+        for suffix in ("", "_uncertainty", "_unit", "_z")
+    ]
+    assert set(gm_cols) <= set(table.columns) and "GM2_sigma" not in table.columns
+    assert fleet.term_columns(table) == [*fleet.TERMS, "GM1_sigma", "GM1_correlation_time"]
+    for path in paths:
+        log = io.load(path, fs=FS)
+        results = allan.adev(log.data, FS, units="deg/s", axis_names=["x", "y"])
+        _assert_gm_columns_match(table[table["source"] == str(path)], results, terms, 1)
+    assert (table["GM1_sigma_unit"] == "deg/s").all()
+    assert (table["GM1_correlation_time_unit"] == "s").all()
+    # The fit found the term (2 s, 0.01 deg/s) in every unit: 6 units ≥ MIN_UNITS, so the GM
+    # columns have robust z-scores and take part in the flag; the summary has them too.
+    assert np.isfinite(table["GM1_sigma"]).all()
+    assert np.isfinite(table["GM1_sigma_z"]).all()
+    assert np.isfinite(table["GM1_correlation_time_z"]).all()
+    summ = fleet.summary(table)
+    gm = summ[summ["term"] == "GM1_correlation_time"]
+    assert list(gm["axis"]) == ["x", "y"] and (gm["unit"] == "s").all() and (gm["n"] == 6).all()
+    assert ((gm["median"] > GM_TIME / 3) & (gm["median"] < 3 * GM_TIME)).all()
+    assert set(summ["term"]) == {"N", "B", "K", "GM1_sigma", "GM1_correlation_time"}
+
+
+def test_a_gauss_markov_outlier_is_flagged_by_its_gm_columns() -> None:
+    data = np.stack([_gm_unit(seed, axes=1) for seed in range(8)])
+    phi = math.exp(-1.0 / (FS * GM_TIME))
+    data[3] = noise.simulate(
+        N_SAMPLES, FS, arw=ARW, ar1=(phi, 5 * GM_SIGMA * math.sqrt(1.0 - phi * phi)), seed=3
+    )
+    table = fleet.analyse(data, fs=FS, units="deg/s", terms=("N", "GM"))
+    flagged = table[table["out_of_family"].fillna(False).astype(bool)]
+    assert list(flagged["source"]) == ["array[3]"]
+    assert "GM1_sigma" in flagged["out_of_family_terms"].iloc[0].split(",")
+    assert flagged["GM1_sigma_z"].iloc[0] > fleet.OUT_OF_FAMILY_THRESHOLD
+
+
+def test_two_gauss_markov_terms_on_arrays_match_single_unit_api(client: Client) -> None:
+    data = np.stack([_gm_unit(seed) for seed in range(3)])  # (units, n, axes)
+    terms = ("N", "GM2")
+    for where in (None, client):
+        table = fleet.analyse(data, fs=FS, units="deg/s", terms=terms, client=where)
+        assert {"GM2_sigma", "GM2_correlation_time_uncertainty"} <= set(table.columns)
+        for i in range(3):
+            results = allan.adev(data[i], FS, units="deg/s", axis_names=["col0", "col1"])
+            _assert_gm_columns_match(table[table["source"] == f"array[{i}]"], results, terms, 2)
+    # Without GM terms there are no GM columns at all.
+    plain = fleet.analyse(data, fs=FS, units="deg/s")
+    assert not [c for c in plain.columns if c.startswith("GM")]
+
+
+def test_gauss_markov_parquet_cli_and_figure(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from matplotlib.figure import Figure
+
+    for seed in range(5):
+        np.save(tmp_path / f"gm{seed}.npy", _gm_unit(seed))
+    out, png = tmp_path / "fleet.parquet", tmp_path / "fleet.png"
+    args = ["fleet", str(tmp_path / "gm*.npy"), "--fs", "100", "--units", "deg/s"]
+    code = main([*args, "--terms", "N,B,K,GM", "--out", str(out), "--plot", str(png)])
+    assert code == 0
+    printed = capsys.readouterr().out
+    assert "GM1_sigma" in printed and "GM1_correlation_time" in printed
+    back = pd.read_parquet(out)
+    table = fleet.analyse(
+        str(tmp_path / "gm*.npy"), fs=FS, units="deg/s", terms=["N", "B", "K", "GM"]
+    )
+    for col in ("GM1_sigma", "GM1_sigma_uncertainty", "GM1_correlation_time"):
+        np.testing.assert_array_equal(back[col].to_numpy(), table[col].to_numpy())
+    assert list(back["GM1_sigma_unit"]) == ["deg/s"] * 10
+    assert list(back["GM1_correlation_time_unit"]) == ["s"] * 10
+    assert png.read_bytes().startswith(PNG_SIGNATURE)
+    titles = [ax.get_title() for ax in gyrobias.plotting.plot_fleet(table, Figure()).get_axes()]
+    assert "GM1 σ" in titles and "GM1 T" in titles
+    # A term list noise.fit rejects is one line naming it, before any log is read.
+    assert main([*args, "--terms", "N,XYZ"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("gyrobias: error:") and "terms" in err and "XYZ" in err
+
+
 def test_progress_is_reported_and_changes_nothing(logs: Path, client: Client) -> None:
     for where in (None, client):
         seen: list[float] = []
@@ -295,12 +454,71 @@ def test_bad_arguments() -> None:
         fleet.analyse([1.0, None], fs=FS)
     with pytest.raises(TypeError, match="client must be"):
         fleet.analyse(data, fs=FS, client=42)
-    with pytest.raises(ValueError, match="fit must be"):
+    with pytest.raises(ValueError, match="fit='magic': method must be"):
         fleet.analyse(data, fs=FS, fit="magic")
     with pytest.raises(ValueError, match="axis_names"):
         fleet.analyse(data, fs=FS, axis_names=["a", "b"])
     with pytest.raises(ValueError, match="unit"):
         fleet.analyse(data, fs=FS, units="furlong")
+
+
+@pytest.mark.parametrize("sources", ["array", "files"])
+def test_bad_options_are_judged_once_by_their_owners(sources: str, tmp_path: Path) -> None:
+    """The core / allan.adev / noise.fit reject bad options up front, naming the argument."""
+    if sources == "array":
+        src: Any = np.stack([noise.simulate(2000, FS, arw=ARW, seed=s) for s in range(3)])
+    else:
+        np.save(tmp_path / "u.npy", noise.simulate(2000, FS, arw=ARW, seed=1))
+        src = str(tmp_path / "*.npy")
+    for kwargs, error, text in (
+        ({"confidence": 1.5}, ValueError, "confidence"),
+        ({"confidence": 0.0}, ValueError, "confidence"),
+        ({"confidence": "high"}, TypeError, "confidence"),
+        ({"fs": -1.0}, ValueError, "fs"),
+        ({"fs": "fast"}, TypeError, "fs"),
+        ({"gaps": "fill"}, ValueError, "gaps"),
+        ({"taus": "weekly"}, ValueError, "taus"),
+        ({"fit": "magic"}, ValueError, "fit='magic'"),
+        ({"terms": ("N", "XYZ")}, ValueError, "terms"),
+        ({"terms": ("N", "GM"), "fit": "ieee"}, ValueError, "Gauss–Markov"),
+    ):
+        options = {"fs": FS, **kwargs}
+        with pytest.raises(error, match=text):
+            fleet.analyse(src, **options)
+
+
+def test_every_valid_option_passes_the_option_check() -> None:
+    """The fixed series of the up-front check gives a result for every valid option set."""
+    for confidence in (None, 0.683, 0.95):
+        for fit, term_lists in (
+            ("joint", (None, ("N",), ("Q", "N", "B", "K", "R", "GM"), ("N", "GM2"), ("GM",))),
+            ("ieee", (None, ("N", "B"))),
+        ):
+            for terms in term_lists:
+                for fs in (None, 1e-3, 1e6):
+                    fleet._check_options(
+                        fleet._Options(
+                            fs=fs,
+                            fit=fit,
+                            taus="octave",
+                            confidence=confidence,
+                            axis_names=None,
+                            terms=terms,
+                        )
+                    )
+        for taus in ("octave", "decade", "log", "all"):
+            for gaps in ("error", "omit"):
+                fleet._check_options(
+                    fleet._Options(
+                        fs=100.0,
+                        fit="joint",
+                        taus=taus,
+                        confidence=confidence,
+                        axis_names=None,
+                        gaps=gaps,
+                        terms=("N", "GM"),
+                    )
+                )
 
 
 def test_missing_file_and_failed_unit_are_rows(tmp_path: Path) -> None:

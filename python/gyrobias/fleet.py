@@ -14,7 +14,9 @@ Needs the ``fleet`` extra: ``pip install "gyrobias[fleet]"`` (dask[distributed],
 
 Out-of-family flag
 ------------------
-For each term ``X`` and axis, over the ``n`` units whose fit has the term (at least
+For each term ``X`` (Q, N, B, K, R and the Gauss–Markov columns ``GMk_sigma``,
+``GMk_correlation_time`` when they were fitted) and axis, over the ``n`` units whose fit has
+the term (at least
 :data:`MIN_UNITS`), with ``u_i`` the unit's standard uncertainty::
 
     m       = median_i X_i
@@ -67,7 +69,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core, allan, io, noise
-from gyrobias._validation import as_float_array, choice, positive_float
+from gyrobias._validation import as_float_array, positive_float, real
 from gyrobias.units import base_unit, sensor_kind
 
 __all__ = [
@@ -75,14 +77,18 @@ __all__ = [
     "OUT_OF_FAMILY_THRESHOLD",
     "SPREAD_ALPHA",
     "SPREAD_MIN_RATIO",
+    "GM_PARAMETERS",
     "TERMS",
     "analyse",
     "summary",
+    "term_columns",
     "write_table",
 ]
 
 #: Noise terms with their own columns (IEEE 952 symbols).
 TERMS: tuple[str, ...] = ("Q", "N", "B", "K", "R")
+#: Parameters of a Gauss–Markov term with their own columns (``GM1_sigma``, …).
+GM_PARAMETERS: tuple[str, ...] = ("sigma", "correlation_time")
 #: |z| above which a term is out of family (Iglewicz & Hoaglin's modified-z cut-off).
 OUT_OF_FAMILY_THRESHOLD: float = 3.5
 #: Fewest units with a term (per axis) for a median/MAD comparison.
@@ -122,6 +128,34 @@ class _Options:
     gaps: str = "error"
     load: dict[str, Any] = field(default_factory=dict)
     array_units: tuple[str | None, ...] = ()
+    terms: tuple[str, ...] | None = None  # None: noise.fit's default (the five IEEE terms)
+
+    @property
+    def n_gauss_markov(self) -> int:
+        """Gauss–Markov terms the fit has (``"GM"``: one, ``"GM2"``: two, as in noise.fit)."""
+        return _gauss_markov_count(self.terms)
+
+
+def _gauss_markov_count(terms: Sequence[str] | None) -> int:
+    if not terms:
+        return 0
+    return 2 if "GM2" in terms else 1 if "GM" in terms else 0
+
+
+def _gm_columns(n_gm: int) -> list[str]:
+    """``GM1_sigma``, ``GM1_correlation_time``, … for ``n_gm`` Gauss–Markov terms."""
+    return [f"GM{k}_{p}" for k in range(1, n_gm + 1) for p in GM_PARAMETERS]
+
+
+def term_columns(table: DataFrame) -> list[str]:
+    """The value columns of a fleet table that hold a term: Q, N, B, K, R, then ``GMk_…``.
+
+    ``GM1_sigma`` [rate unit] and ``GM1_correlation_time`` [s] (``GM2_…`` for the second
+    term) are there when :func:`analyse` was given ``terms`` with ``"GM"``/``"GM2"``. Each has
+    ``_uncertainty``, ``_unit`` and ``_z`` companions like the IEEE terms.
+    """
+    present = set(table.columns)
+    return [c for c in (*TERMS, *_gm_columns(2)) if c in present]
 
 
 # --------------------------------------------------------------------------------- per unit
@@ -133,6 +167,14 @@ def _term_unit(units: str | None, symbol: str) -> str | None:
 
 def _empty_row(source: str) -> dict[str, Any]:
     return {"source": source, "axis": None, "error": None}
+
+
+def _put_term(row: dict[str, Any], name: str, term: noise.Term | None) -> None:
+    """``name`` and ``name_uncertainty`` of a row from a fitted term (NaN when missing)."""
+    value = None if term is None else term.value
+    unc = None if term is None else term.uncertainty
+    row[name] = math.nan if value is None else float(value)
+    row[f"{name}_uncertainty"] = math.nan if unc is None else float(unc)
 
 
 def _error_text(exc: BaseException) -> str:
@@ -206,19 +248,28 @@ def _fit_rows(
         row["fit_method"] = opts.fit
         row["adev_tau"] = np.asarray(r.taus, dtype=np.float64)
         row["adev"] = np.asarray(r.adev, dtype=np.float64)
+        fit_options: dict[str, Any] = {"method": opts.fit, "unit": unit}
+        if opts.terms is not None:
+            fit_options["terms"] = opts.terms
         try:
             row["sensor"] = None if unit is None else sensor_kind(unit)
-            c = noise.fit(r, method=opts.fit, unit=unit)
+            c = noise.fit(r, **fit_options)
         except Exception as exc:  # noqa: BLE001 - one failed fit is one error row, never a crash
             row["error"] = f"noise fit: {_error_text(exc)}"
             rows.append(row)
             continue
         for t in c.terms:
-            row[t.symbol] = math.nan if t.value is None else float(t.value)
-            row[f"{t.symbol}_uncertainty"] = (
-                math.nan if t.uncertainty is None else float(t.uncertainty)
-            )
+            _put_term(row, t.symbol, t)
             row[f"{t.symbol}_unit"] = _term_unit(unit, t.symbol)
+        # Gauss–Markov terms in noise.fit's order (increasing correlation time); a term the fit
+        # reports missing is NaN, with its units still given.
+        gm = c.gauss_markov
+        for k in range(opts.n_gauss_markov):
+            for p in GM_PARAMETERS:
+                name = f"GM{k + 1}_{p}"
+                term = getattr(gm[k], p) if k < len(gm) else None
+                _put_term(row, name, term)
+                row[f"{name}_unit"] = None if term is None else term.unit
         row["chi2"] = math.nan if c.chi2 is None else float(c.chi2)
         row["dof"] = c.dof
         row["chi2_reduced"] = math.nan if c.chi2 is None or not c.dof else float(c.chi2) / c.dof
@@ -399,6 +450,7 @@ def analyse(
     fs: float | None = None,
     units: str | Sequence[str | None] | Mapping[str, str] | None = None,
     fit: str = "joint",
+    terms: Sequence[str] | str | None = None,
     client: Any = None,
     columns: Sequence[str | int] | str | None = None,
     time_column: str | int | bool | None = None,
@@ -429,6 +481,11 @@ def analyse(
         for deg/s, …) and ``sensor`` is ``"gyro"`` or ``"accel"``.
     fit : {"joint", "ieee"}
         Noise-coefficient method of :func:`gyrobias.noise.fit`.
+    terms : sequence of {"Q", "N", "B", "K", "R", "GM", "GM2"}, optional
+        Terms of :func:`gyrobias.noise.fit` (default: its default, the five IEEE terms).
+        ``"GM"`` adds a first-order Gauss–Markov term, ``"GM2"`` two (joint fit only), with the
+        columns ``GM1_sigma`` and ``GM1_correlation_time`` (``GM2_…`` for the second term, in
+        noise.fit's order: increasing correlation time).
     client : distributed.Client or str, optional
         Run on this Dask cluster (a ``Client`` of a ``LocalCluster`` or of a remote
         scheduler), or connect to the scheduler at this address for the call. Default: Dask's
@@ -462,8 +519,10 @@ def analyse(
         ``duration`` [s] (``n_samples / fs``), ``n_samples``; the gap summary of the
         timestamps (``<NA>`` without them): ``n_gaps``, ``missing_samples``, ``longest_gap``
         [s], ``n_duplicates``, ``sampling_warnings``; ``fit_method``; for every term X in Q, N,
-        B, K, R: ``X`` and ``X_uncertainty`` (1σ) in the base unit ``X_unit`` (NaN when the fit
-        has no such term), ``X_z`` (robust z-score against the fleet); the goodness of fit
+        B, K, R (and, with Gauss–Markov ``terms``, ``GM1_sigma``, ``GM1_correlation_time``,
+        ``GM2_sigma``, ``GM2_correlation_time``): ``X`` and ``X_uncertainty`` (1σ) in the base
+        unit ``X_unit`` (NaN when the fit has no such term), ``X_z`` (robust z-score against
+        the fleet); the goodness of fit
         ``chi2``, ``dof``, ``chi2_reduced`` (joint fit), ``p_value`` and ``fit_warnings`` of
         :attr:`gyrobias.noise.NoiseCoefficients.diagnostics`; ``out_of_family`` (nullable bool),
         ``out_of_family_terms``; ``error``; ``adev_tau`` [s] and ``adev`` [data unit], the
@@ -472,7 +531,9 @@ def analyse(
     Raises
     ------
     ValueError
-        A glob that matches nothing, an empty list, an array without ``fs``, bad options.
+        A glob that matches nothing, an empty list, an array without ``fs``, bad options (the
+        options of :func:`gyrobias.allan.adev` and :func:`gyrobias.noise.fit` are judged once,
+        up front, by those functions themselves: their messages name the argument).
     TypeError
         ``sources`` or ``client`` of the wrong kind.
     ImportError
@@ -481,25 +542,24 @@ def analyse(
     Notes
     -----
     Every row equals the single-unit API: ``allan.adev(data, fs, taus=taus,
-    confidence=confidence, units=units)`` then ``noise.fit(result, method=fit)``; results do
+    confidence=confidence, units=units)`` then ``noise.fit(result, method=fit, terms=terms)``;
+    results do
     not depend on the scheduler, the number of workers or how units are grouped into tasks.
     Files are read on the workers (give paths that the workers can see). Arrays are cut into
     blocks of units; on a cluster each block is sent to a worker once.
     """
     pd = _require("pandas")
-    choice("fit", fit, ("joint", "ieee"))
-    choice("gaps", gaps, ("error", "omit"))
+    # Types here; values are judged by their owners (_check_options: allan.adev and the core
+    # for fs, confidence, gaps and the τ grid, noise.fit for fit and terms).
     if fs is not None:
-        fs = positive_float("fs", fs)
+        fs = real("fs", fs)
     if isinstance(units, str) and not set(units) & {",", "="}:
         sensor_kind(units)  # an unknown or non-rate unit fails here, once, not in every row
     if confidence is not None:
-        c = float(confidence)
-        if not 0.0 < c < 1.0:
-            raise ValueError(
-                f"confidence must lie strictly between 0 and 1 (or be None), got {confidence!r}"
-            )
-        confidence = c
+        confidence = real("confidence", confidence)
+    term_tuple = None
+    if terms is not None:
+        term_tuple = (terms,) if isinstance(terms, str) else tuple(terms)
     threshold = positive_float("threshold", threshold)
     if num_workers is not None and (
         isinstance(num_workers, bool) or not isinstance(num_workers, int) or num_workers < 1
@@ -507,7 +567,7 @@ def analyse(
         raise ValueError(f"num_workers must be an integer >= 1, got {num_workers!r}")
     tau_spec: str | tuple[float, ...]
     if isinstance(taus, str):
-        tau_spec = choice("taus", taus, ("octave", "decade", "log", "all"))
+        tau_spec = taus
     else:
         tau_spec = tuple(float(t) for t in as_float_array("taus", taus, ndims=(1,)))
     load = dict(load_options or {})
@@ -544,7 +604,9 @@ def analyse(
         gaps=gaps,
         load=load,
         array_units=array_units,
+        terms=term_tuple,
     )
+    _check_options(opts)
 
     client, owned = _connect(client)
     tasks: list[tuple[Any, tuple[Any, ...], str]]
@@ -568,7 +630,40 @@ def analyse(
         if owned:
             client.close()
     rows = [row for part in parts for row in part]
-    return _finish(pd, rows, threshold)
+    return _finish(pd, rows, threshold, opts.n_gauss_markov)
+
+
+#: The fixed series on which :func:`_check_options` runs the options (white noise, 2¹¹ samples:
+#: every τ grid and term list gives a result on it, see tests/test_fleet.py).
+_PROBE_SAMPLES = 2048
+
+
+def _check_options(opts: _Options) -> None:
+    """Run the options through the single-unit API once, on a short fixed series.
+
+    ``allan.adev`` (and the core behind it) owns the checks of ``fs``, ``confidence``,
+    ``gaps`` and the τ-grid name, ``noise.fit`` those of ``fit`` (its ``method``) and
+    ``terms``: a bad option raises their error, naming the argument, before any work is
+    scheduled instead of one error row per unit. Explicit τ values are judged per unit (they
+    depend on the record's length).
+    """
+    probe = np.random.default_rng(0).standard_normal(_PROBE_SAMPLES)
+    grid = opts.taus if isinstance(opts.taus, str) else "octave"
+    fs = 1.0 if opts.fs is None else opts.fs
+    result = allan.adev(probe, fs, taus=grid, confidence=opts.confidence, gaps=opts.gaps)
+    if grid != "octave":
+        # The fit is checked on the octave grid: its checks do not depend on the grid, and a
+        # joint fit of every τ of even this short series takes seconds.
+        result = allan.adev(probe, fs, confidence=opts.confidence, gaps=opts.gaps)
+    assert isinstance(result, allan.AllanResult)
+    try:
+        if opts.terms is None:
+            noise.fit(result, method=opts.fit)
+        else:
+            noise.fit(result, method=opts.fit, terms=opts.terms)
+    except ValueError as exc:  # noise.fit calls them method and terms: say which were given
+        given = f"fit={opts.fit!r}" + ("" if opts.terms is None else f", terms={opts.terms!r}")
+        raise ValueError(f"{given}: {exc}") from None
 
 
 # --------------------------------------------------------------------------------- the table
@@ -576,7 +671,7 @@ def analyse(
 _COUNTS = ("n_samples", "n_gaps", "missing_samples", "n_duplicates", "dof")
 
 
-def _columns() -> list[str]:
+def _columns(n_gm: int = 0) -> list[str]:
     cols = [
         "source",
         "axis",
@@ -592,7 +687,7 @@ def _columns() -> list[str]:
         "sampling_warnings",
         "fit_method",
     ]
-    for t in TERMS:
+    for t in (*TERMS, *_gm_columns(n_gm)):
         cols += [t, f"{t}_uncertainty", f"{t}_unit", f"{t}_z"]
     cols += [
         "chi2",
@@ -609,8 +704,9 @@ def _columns() -> list[str]:
     return cols
 
 
-def _finish(pd: Any, rows: list[dict[str, Any]], threshold: float) -> DataFrame:
-    table = pd.DataFrame.from_records(rows, columns=_columns())
+def _finish(pd: Any, rows: list[dict[str, Any]], threshold: float, n_gm: int = 0) -> DataFrame:
+    table = pd.DataFrame.from_records(rows, columns=_columns(n_gm))
+    terms = (*TERMS, *_gm_columns(n_gm))
     for name in _COUNTS:
         table[name] = table[name].astype("Int64")
     for name in (
@@ -620,17 +716,17 @@ def _finish(pd: Any, rows: list[dict[str, Any]], threshold: float) -> DataFrame:
         "chi2",
         "chi2_reduced",
         "p_value",
-        *TERMS,
-        *(f"{t}_uncertainty" for t in TERMS),
+        *terms,
+        *(f"{t}_uncertainty" for t in terms),
     ):
         table[name] = table[name].astype("float64")
-    z = {t: np.full(len(table), np.nan) for t in TERMS}
+    z = {t: np.full(len(table), np.nan) for t in terms}
     flag = np.zeros(len(table), dtype=bool)
     known = np.zeros(len(table), dtype=bool)
     ok = table["error"].isna().to_numpy()
     for idx in table[ok].groupby("axis", dropna=False, sort=False).groups.values():
         pos = table.index.get_indexer(idx)
-        for t in TERMS:
+        for t in terms:
             values = table[t].to_numpy()[pos]
             unc = table[f"{t}_uncertainty"].to_numpy()[pos]
             have = np.isfinite(values)
@@ -642,10 +738,10 @@ def _finish(pd: Any, rows: list[dict[str, Any]], threshold: float) -> DataFrame:
             known[pos[have]] = True
     terms_out = []
     for i in range(len(table)):
-        out = [t for t in TERMS if np.isfinite(z[t][i]) and abs(z[t][i]) > threshold]
+        out = [t for t in terms if np.isfinite(z[t][i]) and abs(z[t][i]) > threshold]
         flag[i] = bool(out)
         terms_out.append(",".join(out) or None)
-    for t in TERMS:
+    for t in terms:
         table[f"{t}_z"] = z[t]
     table["out_of_family"] = pd.array(
         [bool(f) if k else None for f, k in zip(flag, known)], dtype="boolean"
@@ -723,7 +819,8 @@ def summary(
     Returns
     -------
     pandas.DataFrame
-        One row per (axis, term) with any value: ``axis``, ``term``, ``unit``, ``n`` (units
+        One row per (axis, term) with any value: ``axis``, ``term`` (Q, N, B, K, R, or a
+        Gauss–Markov column such as ``GM1_sigma``), ``unit``, ``n`` (units
         with the term), ``median``, ``spread`` (1.4826·MAD), ``mean_uncertainty`` (RMS of the
         reported 1σ uncertainties), ``intrinsic_spread`` (``√max(spread² − mean_uncertainty²,
         0)``), ``chi2``, ``dof``, ``birge_ratio`` (``√(χ²/dof)``), ``p_value``,
@@ -734,7 +831,7 @@ def summary(
     "Is the spread real?" is a homogeneity test: if every unit had the same true value, the
     statistic ``χ² = Σ_i (X_i − X̄_w)²/u_i²`` about the weighted mean ``X̄_w = Σ X_i/u_i² /
     Σ 1/u_i²`` would follow a chi-square law with ``n − 1`` degrees of freedom. The spread is
-    called real when ``p < alpha`` (upper tail, Wilson–Hilferty approximation) **and** the
+    called real when ``p < alpha`` (exact upper tail, :func:`_chi2_sf`) **and** the
     Birge ratio ``√(χ²/(n−1)) ≥ min_ratio``: the joint fit's uncertainties are themselves
     right to about 15 %, so a scatter only slightly larger than them is not evidence of real
     unit-to-unit differences however many units there are.
@@ -744,7 +841,7 @@ def summary(
     out = []
     ok = table[table["error"].isna()]
     for axis, group in ok.groupby("axis", dropna=False, sort=False):
-        for t in TERMS:
+        for t in term_columns(table):
             values = group[t].to_numpy(dtype=np.float64)
             unc = group[f"{t}_uncertainty"].to_numpy(dtype=np.float64)
             have = np.isfinite(values)

@@ -320,7 +320,8 @@ def plot_fleet(table: Any, fig: Any = None, *, title: str | None = None) -> Any:
     -----
     Top row, one panel per axis: all units' Allan deviations (grey; out-of-family units red),
     the fleet median (black) and its 16–84 % band, interpolated in log–log on the τ grid of the
-    longest record where at least 3 units have data. Bottom row, one panel per noise term: the
+    longest record where at least 3 units have data. Bottom row, one panel per noise term
+    (Q, N, B, K, R and, when fitted, the Gauss–Markov σ and correlation time): the
     value of each unit with its 1σ uncertainty, per axis; outliers (``out_of_family_terms``
     names the term) are red crosses labelled with their source file.
     """
@@ -360,10 +361,10 @@ def save_fleet_plot(
 
 
 def _draw_fleet(fig: Any, ok: Any, title: str | None) -> None:
-    from gyrobias.fleet import TERMS
+    from gyrobias.fleet import term_columns
 
     axes_names = list(dict.fromkeys(str(a) for a in ok["axis"]))
-    terms = [t for t in TERMS if np.isfinite(ok[t].to_numpy(dtype=np.float64)).any()]
+    terms = [t for t in term_columns(ok) if np.isfinite(ok[t].to_numpy(dtype=np.float64)).any()]
     top, bottom = fig.subfigures(2, 1, height_ratios=[1.15, 1.0]) if terms else (fig, None)
     adev_axes = np.atleast_1d(top.subplots(1, len(axes_names), sharey=True, squeeze=False)[0])
     for ax, name in zip(adev_axes, axes_names):
@@ -457,8 +458,9 @@ def _draw_fleet(fig: Any, ok: Any, title: str | None) -> None:
                     )
         ax.set_xticks(range(len(axes_names)), axes_names)
         ax.set_xlim(-0.6, len(axes_names) - 0.4)
-        ax.set_title(t, fontsize=10)
-        ax.set_ylabel(f"{t} [{unit}]" if unit else t)
+        label = t.replace("_sigma", " σ").replace("_correlation_time", " T")  # GM1 σ, GM1 T
+        ax.set_title(label, fontsize=10)
+        ax.set_ylabel(f"{label} [{unit}]" if unit else label)
         ax.grid(True, axis="y", alpha=0.4)
         shown = ok[t].to_numpy(dtype=np.float64)
         shown = shown[np.isfinite(shown) & (shown > 0)]

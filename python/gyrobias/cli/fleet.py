@@ -59,6 +59,12 @@ def register(subparsers: Any) -> None:
         help="joint weighted NNLS fit (default) or IEEE-952 slope read-off",
     )
     ana.add_argument(
+        "--terms",
+        metavar="N,B,K,GM",
+        help="noise terms to fit (Q, N, B, K, R, GM, GM2; default the five IEEE terms); GM adds a "
+        "Gauss–Markov term (σ and correlation time columns), GM2 two (joint fit only)",
+    )
+    ana.add_argument(
         "--taus",
         choices=("octave", "decade", "log", "all"),
         default="octave",
@@ -103,7 +109,7 @@ def _fmt(value: Any, digits: int = 4) -> str:
 
 
 def _print_table(table: Any) -> None:
-    terms = [t for t in fleet.TERMS if table[t].notna().any()]
+    terms = [t for t in fleet.term_columns(table) if table[t].notna().any()]
     ok = table[table["error"].isna()]
     units = {t: next((u for u in ok[f"{t}_unit"] if isinstance(u, str)), None) for t in terms}
     head = (
@@ -160,6 +166,9 @@ def run(args: argparse.Namespace) -> int:
             fs=fs,
             units=units,
             fit=args.fit_method,
+            terms=None
+            if args.terms is None
+            else [t.strip() for t in args.terms.split(",") if t.strip()],
             client=args.scheduler,
             axis_names=None
             if args.axis_names is None
