@@ -53,10 +53,14 @@ def totvar(x: np.ndarray, t0: float, m: int) -> tuple[float, int]:
 
 
 def nbs_1000() -> np.ndarray:
-    """The NIST SP 1065 §12.4 1000-point test set: n_{i+1} = 16807 n_i mod (2^31 − 1)."""
-    n = 1234567890
-    out = []
-    for _ in range(1000):
-        out.append(n / 2147483647)
-        n = (16807 * n) % 2147483647
-    return np.array(out)
+    """The NIST SP 1065 §12.4 (NBS14) 1000-point test set, n_{i+1} = 16807 n_i mod (2^31 − 1).
+
+    Not a random generator for tests: the published data set is *defined* by this recurrence
+    (Park–Miller, seed 1234567890), and SP 1065 prints its first values, checked here. The
+    one copy every NBS14 test uses.
+    """
+    n = [1234567890]
+    for _ in range(999):
+        n.append((16807 * n[-1]) % 2147483647)
+    assert n[1:4] == [395529916, 1209410747, 633705974]  # printed in SP 1065
+    return np.asarray(n, dtype=np.float64) / 2147483647.0

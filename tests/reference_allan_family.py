@@ -136,16 +136,6 @@ def read_series(name: str) -> np.ndarray:
         return np.loadtxt(fh, comments="#", dtype=np.float64)
 
 
-def nbs14_1000_frequency() -> np.ndarray:
-    """SP 1065 §12.4 1000-point test set: n_{i+1} = 16807 n_i mod (2^31 − 1), normalised."""
-    n = 1234567890
-    out = []
-    for _ in range(1000):
-        out.append(n / 2147483647)
-        n = (16807 * n) % 2147483647
-    return np.array(out)
-
-
 #: SP 1065 Table 30 / Riley's NBS14 10-point phase data (Stable32 conventions).
 NBS14_PHASE = np.array(
     [

@@ -22,6 +22,7 @@ import gyrobias
 from gyrobias import allan
 from gyrobias.cli import main
 from tests import reference_allan_family as ref
+from tests.reference_allan import nbs_1000
 
 # --- Stable32 tables ------------------------------------------------------------------------------
 
@@ -139,7 +140,7 @@ def test_nbs14_published_values() -> None:
         [6.4509e01, 6.4794e01],
         rtol=1e-4,
     )
-    y = ref.nbs14_1000_frequency()
+    y = nbs_1000()
     # Théo1 at m = 10, 100, 1000 (τ = 7.5, 75, 750 s); printed to 5 digits.
     th = allan.theo1(y, 1.0, taus=[7.5, 75.0, 750.0], confidence=None)
     for ours, printed in zip(th.adev, [1.0757e-01, 3.1789e-02, 5.0524e-03]):

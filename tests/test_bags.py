@@ -386,6 +386,11 @@ def test_spilled_bag_is_a_memmap_with_the_same_values(tmp_path: Path) -> None:
     log = load(path, spill=True, spill_dir=tmp_path, columns="accel")
     assert isinstance(log.data, np.memmap)
     np.testing.assert_array_equal(log.data, data[:, 3:])
+    # The time vector is spilled with the samples (issue 12), equal to the in-memory one.
+    in_memory = load(path, columns="accel")
+    assert isinstance(log.time, np.memmap) and not isinstance(in_memory.time, np.memmap)
+    np.testing.assert_array_equal(log.time, in_memory.time)
+    assert log.time_start == in_memory.time_start
     assert not [p for p in tmp_path.iterdir() if p.name.startswith("gyrobias-")]  # unlinked at once
     ref = gyrobias.allan.adev(data[:, 3:], 200.0, confidence=None)
     got = gyrobias.allan.adev(log.data, 200.0, confidence=None)

@@ -97,12 +97,22 @@ def test_table1_cli_prints_paper_and_ratios(monkeypatch, capsys):
 
 
 def test_table1_with_core_generator(capsys):
-    fractional = pytest.importorskip("gyrobias.fractional")
-    if not hasattr(fractional, "arfima"):
-        pytest.skip("gyrobias.fractional.arfima not available yet")
+    from gyrobias import fractional
+
+    # The experiment's data are the core generator's type-II ARFIMA(0, 1/2, 0) series.
+    expected = fractional.arfima(50, 0.5, sigma=2.0, size=3, seed=1, kind="type2")
+    np.testing.assert_array_equal(experiment_table1.simulate(3, 50, 2.0, 1), expected)
     args = _parser().parse_args(["experiment", "table1", "--runs", "300", "--seed", "1"])
     assert args.func(args) == 0
-    assert "KF/CM" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    # "  KF/CM mean RSSE   ours ± s.e.   paper   expected": the simulated ratio agrees with the
+    # exact expectation within 4 bootstrap standard errors (a 6e-5 two-sided false alarm).
+    rows = [line.split() for line in out.splitlines() if "/CM mean RSSE" in line]
+    assert [r[0] for r in rows] == ["KF/CM", "MA/CM"]
+    for row in rows:
+        ours, se, expected_ratio = float(row[3]), float(row[5]), float(row[7])
+        assert se > 0
+        assert abs(ours - expected_ratio) < 4 * se, row
 
 
 def test_demo_section(tmp_path, capsys):

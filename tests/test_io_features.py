@@ -175,6 +175,60 @@ def test_spill_csv_and_fill_keep_values(tmp_path: Path) -> None:
     assert [p.name for p in tmp_path.iterdir()] == ["s.csv"]  # no temporary file left behind
 
 
+@pytest.mark.parametrize("kind", ["csv_int_ns", "csv_float_s", "npy", "fill_gaps", "sort"])
+def test_spilled_time_vector_is_a_memmap_equal_to_the_in_memory_one(
+    tmp_path: Path, kind: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Issue 12: with spill the time vector goes to disk too, computed block by block."""
+    n = 5000
+    t = np.arange(n) * 0.01 + 3.0
+    t[1500:] += 0.5  # a gap: 50 samples missing
+    x = RNG.normal(size=(n, 2))
+    kw: dict[str, object] = {}
+    if kind == "csv_int_ns":
+        stamps = (np.arange(n, dtype=np.int64) * 10_000_000) + 1_700_000_000_000_000_000
+        stamps[1500:] += 500_000_000
+        path = tmp_path / "s.csv"
+        with path.open("w") as fh:
+            fh.write("time_ns,a,b\n")
+            for s_, row in zip(stamps, x):
+                fh.write(f"{s_},{float(row[0])!r},{float(row[1])!r}\n")
+    elif kind == "npy":
+        path = tmp_path / "s.npy"
+        np.save(path, np.column_stack([t, x]))
+        kw = {"time_column": 0}
+    else:
+        path = _csv(tmp_path / "s.csv", t, x, header="t,a,b")
+        if kind == "fill_gaps":
+            kw = {"fill_gaps": True}
+        elif kind == "sort":
+            lines = path.read_text().splitlines()
+            lines[100], lines[101] = lines[101], lines[100]
+            path.write_text("\n".join(lines) + "\n")
+            kw = {"repair": "sort"}
+    ref = load(path, **kw)  # type: ignore[arg-type]
+    # Small blocks: the block boundaries fall inside the gap, the swapped rows and everywhere.
+    monkeypatch.setattr(gio, "blocks", lambda m, rows=777: gio._store.blocks(m, rows))
+    spilled = load(path, spill=True, spill_dir=tmp_path, **kw)  # type: ignore[arg-type]
+    assert isinstance(spilled.data, np.memmap) and isinstance(spilled.time, np.memmap)
+    assert ref.time is not None and not isinstance(ref.time, np.memmap)
+    np.testing.assert_array_equal(spilled.time, ref.time)
+    np.testing.assert_array_equal(spilled.data, ref.data)
+    assert repr(spilled.sampling) == repr(ref.sampling)  # every field (arrays by value)
+    assert spilled.time_start == ref.time_start
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith("gyrobias-")]  # unlinked
+
+
+def test_step_rows_equals_diff_everywhere(monkeypatch: pytest.MonkeyPatch) -> None:
+    t = RNG.integers(0, 5, size=3001).cumsum() * np.where(RNG.random(3001) < 0.05, -1, 1)
+    for rows in (1, 2, 7, 1000, 5000):
+        monkeypatch.setattr(gio, "blocks", lambda m, rows=rows: gio._store.blocks(m, rows))
+        for op in (np.less, np.equal):
+            np.testing.assert_array_equal(
+                gio._step_rows(t, op), np.flatnonzero(op(np.diff(t), 0)) + 1
+            )
+
+
 def test_auto_spill_threshold() -> None:
     from gyrobias.io._store import Store, physical_memory
 
@@ -310,3 +364,13 @@ def test_progress_reports_fractions_and_changes_nothing(tmp_path: Path) -> None:
     assert with_bar.sampling.to_dict() == without.sampling.to_dict()
     assert seen and seen[-1] == 1.0 and all(0.0 <= f <= 1.0 for f in seen)
     assert seen == sorted(seen)
+
+
+@given(
+    st.lists(st.floats(1e-12, 1e12, allow_nan=False), min_size=2, max_size=300),
+    st.floats(1e-9, 1e9),
+)
+def test_std_in_place_is_numpy_std_bit_for_bit(values: list[float], scale: float) -> None:
+    """The sampling report's jitter: np.std's arithmetic without its temporary (same bits)."""
+    x = np.asarray(values) * scale
+    assert gio._std_in_place(x.copy()) == float(np.std(x))

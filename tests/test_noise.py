@@ -439,6 +439,10 @@ def test_bad_arguments() -> None:
         noise.fit(r, method="ieee", regions={"N": (1e5, 1e6)})
     with pytest.raises(ValueError, match="slope_tolerance"):
         noise.fit(r, method="ieee", slope_tolerance=0.0)
+    with pytest.raises(ValueError, match="min_points"):
+        noise.fit(r, method="ieee", min_points=0)
+    with pytest.raises(TypeError, match="min_points"):
+        noise.fit(r, method="ieee", min_points=2.5)  # type: ignore[arg-type]
     m = gyrobias.allan.mdev(noise.simulate(1000, FS, arw=0.1, seed=1), FS, confidence=None)
     with pytest.raises(ValueError, match="adev"):
         noise.fit(m)  # type: ignore[arg-type]

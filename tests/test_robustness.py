@@ -445,3 +445,103 @@ def test_public_api_is_covered() -> None:
         n for m in (allan, fractional, noise, predict, spectral, thermal, fir) for n in m.__all__
     }
     assert gyrobias.__version__
+
+
+# --- fleet and report entry points -----------------------------------------------------------
+
+
+FLEET_RATE = np.random.default_rng(11).normal(0.0, 0.01, (3, 2000))
+
+
+@pytest.mark.parametrize(
+    ("sources", "fs", "exc", "names"),
+    [
+        (np.zeros((0, 2000)), 100.0, ValueError, ("sources",)),  # no unit
+        (np.zeros((3, 0)), 100.0, ValueError, ("sources",)),  # units of no sample
+        (np.zeros(2000), 100.0, ValueError, ("sources",)),  # 1-D: one log, not a fleet
+        (np.zeros((2, 2, 2, 2)), 100.0, ValueError, ("sources",)),
+        (FLEET_RATE.astype(complex), 100.0, TypeError, ("sources",)),
+        (np.array([["a", "b"], ["c", "d"]]), 100.0, TypeError, ("sources",)),
+        (FLEET_RATE, 0.0, ValueError, ("fs",)),
+        (FLEET_RATE, -100.0, ValueError, ("fs",)),
+        (FLEET_RATE, float("nan"), ValueError, ("fs",)),
+        (FLEET_RATE, "100", TypeError, ("fs",)),
+        (FLEET_RATE, None, ValueError, ("fs",)),  # arrays carry no sample rate
+    ],
+)
+def test_fleet_array_sources_refuse_bad_input(
+    sources: Any, fs: Any, exc: type[Exception], names: tuple[str, ...]
+) -> None:
+    pytest.importorskip("pandas")
+    from gyrobias import fleet
+
+    before = snapshot(sources)
+    with pytest.raises(exc) as info:
+        fleet.analyse(sources, fs=fs, num_workers=1)
+    assert any(n in str(info.value) for n in names), str(info.value)
+    unchanged(before, sources)
+
+
+def test_fleet_nan_unit_is_a_named_error_row_not_garbage() -> None:
+    # The fleet isolates failures per unit (module docs): a unit with NaN is an error row that
+    # names the non-finite sample, and the other units are analysed as usual — never NaN
+    # coefficients presented as a result.
+    pytest.importorskip("pandas")
+    from gyrobias import fleet
+
+    rate = FLEET_RATE.copy()
+    rate[1, 17] = np.nan
+    table = fleet.analyse(rate, fs=100.0, num_workers=1)
+    errors = table["error"].tolist()
+    assert [e is None or e != e for e in errors] == [True, False, True]  # None/NaN: no error
+    assert "non-finite" in errors[1] and "17" in errors[1], errors[1]
+    np.testing.assert_array_equal(np.isnan(rate), np.isnan(FLEET_RATE) | (rate != rate))
+    all_nan = np.full((2, 2000), np.nan)
+    assert table_errors(fleet.analyse(all_nan, fs=100.0, num_workers=1)) == 2
+
+
+def table_errors(table: Any) -> int:
+    return int(table["error"].notna().sum())
+
+
+def _gyro_log(tmp_path: Any, **changes: Any) -> Any:
+    """A log loaded from a .npy file, with some fields replaced (as a caller might build one)."""
+    import dataclasses
+
+    from gyrobias import io as gio
+
+    np.save(tmp_path / "log.npy", np.random.default_rng(3).normal(0.0, 0.01, (4000, 1)))
+    return dataclasses.replace(gio.load(tmp_path / "log.npy", fs=100.0), **changes)
+
+
+@pytest.mark.parametrize(
+    ("log", "exc"),
+    [
+        ("log.npy", TypeError),  # a path, not a loaded log
+        (np.zeros((100, 1)), TypeError),  # an array, not a loaded log
+        ("empty", ValueError),
+        ("1-D", ValueError),
+        ("columns", ValueError),
+        ("all NaN", ValueError),
+        ("no fs", ValueError),
+    ],
+)
+def test_report_refuses_bad_logs(log: Any, exc: type[Exception], tmp_path: Any) -> None:
+    from gyrobias import report
+
+    rate = np.random.default_rng(3).normal(0.0, 0.01, (4000, 1))
+    cases = {
+        "empty": lambda: _gyro_log(tmp_path, data=np.zeros((0, 1))),
+        "1-D": lambda: _gyro_log(tmp_path, data=rate[:, 0]),
+        "columns": lambda: _gyro_log(tmp_path, columns=("gx", "gy")),
+        "all NaN": lambda: _gyro_log(tmp_path, data=np.full((4000, 1), np.nan)),
+        "no fs": lambda: _gyro_log(tmp_path, fs=None),
+    }
+    value = cases[log]() if isinstance(log, str) and log in cases else log
+    for entry in (
+        lambda: report.build_report(value),
+        lambda: report.write_report(tmp_path / "out" / "r.html", value),
+    ):
+        with pytest.raises(exc, match="log"):
+            entry()
+    assert not (tmp_path / "out").exists()

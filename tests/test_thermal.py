@@ -280,3 +280,20 @@ def test_cli_errors(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert run_cli([f"{p}@0", "--fs", "100", "--column", "3"]) == 2
     assert "column" in capsys.readouterr().err
     assert run_cli([f"{p}@0", f"{p}@10", "--fs", "100", "--column", "0", "--no-filter"]) == 0
+
+
+def test_analyse_log_reads_n_and_b_like_ieee_952() -> None:
+    # The read-off of gyrobias.noise on [TS]'s regions equals the textbook formulas computed
+    # here with NumPy: N = σ(τ)·√τ at τ = round(fs)/fs, B = min over octave τ of σ / √(2 ln 2/π)
+    # (to a few ulp: the read-off goes through a log-log line of fixed slope −½).
+    x = np.random.default_rng(5).normal(0.0, 0.02, 40_000) + np.cumsum(
+        np.random.default_rng(6).normal(0.0, 1e-4, 40_000)
+    )
+    for fs in (100.0, 37.5):
+        a = thermal.analyse_log(x, fs, 20.0, prefilter=False)
+        tau = round(fs) / fs
+        one = gyrobias.allan.adev(x, fs, taus=[tau], confidence=None)
+        octave = gyrobias.allan.adev(x, fs, taus="octave", confidence=None)
+        assert a.arw == pytest.approx(float(one.adev[0]) * np.sqrt(tau), rel=1e-14)
+        flicker = np.sqrt(2 * np.log(2) / np.pi)
+        assert a.bias_instability == pytest.approx(float(octave.adev.min()) / flicker, rel=1e-15)

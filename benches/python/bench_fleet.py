@@ -7,7 +7,12 @@ to a temporary directory (1.5 GB), then analysed in several ways — the same wo
 1. the plain Python loop over units with the single-unit API (the baseline);
 2. ``fleet.analyse(paths)`` on Dask's local threaded scheduler;
 3. ``fleet.analyse(paths, client=…)`` on a ``LocalCluster`` with 1 worker process;
-4. ``LocalCluster``s of 1 and 2 worker processes whose Rust kernel runs on one thread each.
+4. ``LocalCluster``s of 1 and 2 worker processes whose Rust kernel runs on one thread each;
+5. the Allan kernel alone on the fleet as one in-memory ``(units, n, axes)`` array: a plain
+   loop of ``allan.adev`` per unit, one ``allan.adev_batch`` call, and ``adev_batch`` on
+   blocks of units run by Dask's threaded scheduler (as ``fleet.analyse`` does for arrays).
+   This answers "is ``adev_batch`` on threads slower than a loop?" without the fit and the
+   file reads. ``--batch-only`` runs just these rows (no logs written, no clusters).
 
 The Rust kernel is itself parallel (rayon, all cores by default), so the loop already uses every
 core: (3) against (1) is the overhead of Dask with the same resources (goal ≤ 10 %). Scaling
@@ -16,7 +21,8 @@ per worker (``RAYON_NUM_THREADS=1`` in the workers' environment), as (4) does; t
 speed-up over 1 worker is the scaling (goal: near-linear). On a cluster each worker process
 gets its own machine's cores and keeps rayon's default.
 
-Usage: ``python benches/python/bench_fleet.py [--units 64] [--samples 1000000] [--repeats 3]``
+Usage: ``python benches/python/bench_fleet.py [--units 64] [--samples 1000000] [--repeats 3]
+[--batch-only]``
 """
 
 from __future__ import annotations
@@ -27,6 +33,7 @@ import shutil
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from contextlib import ExitStack
 from pathlib import Path
 
@@ -46,6 +53,11 @@ parser.add_argument(
 )
 parser.add_argument(
     "--dir", type=Path, default=None, help="where to write the logs (default: a temp dir)"
+)
+parser.add_argument(
+    "--batch-only",
+    action="store_true",
+    help="only the in-memory Allan rows: adev loop vs adev_batch vs adev_batch on Dask threads",
 )
 ARGS = parser.parse_args()
 
@@ -69,6 +81,78 @@ def loop(paths: list[str]) -> None:
         log = io.load(p, fs=FS)
         results = allan.adev(log.data, FS, units="deg/s")
         noise.fit(results)
+
+
+def batch_modes(rates: np.ndarray) -> dict[str, Callable[[], object]]:
+    """The Allan kernel alone (with confidence intervals) on the fleet as one array."""
+    import dask
+
+    ranges = fleet._blocks(rates.shape[0], os.cpu_count() or 1)  # fleet.analyse's blocks
+    reference = [allan.adev(u, FS) for u in rates[:2]]
+
+    def adev_loop() -> None:
+        for unit in rates:
+            allan.adev(unit, FS)
+
+    def adev_batch() -> None:
+        out = allan.adev_batch(rates, FS)
+        np.testing.assert_array_equal(out[1][0].avar, reference[1][0].avar)
+
+    def adev_batch_threads() -> None:
+        tasks = [dask.delayed(allan.adev_batch)(rates[a:b], FS) for a, b in ranges]
+        out = dask.compute(*tasks, scheduler="threads")
+        np.testing.assert_array_equal(out[0][0][0].avar, reference[0][0].avar)
+
+    return {
+        "adev only: Python loop of allan.adev": adev_loop,
+        "adev only: one allan.adev_batch call": adev_batch,
+        f"adev only: adev_batch × {len(ranges)} blocks, Dask threads": adev_batch_threads,
+    }
+
+
+def print_batch(times: dict[str, float], worst: dict[str, float], total: int) -> None:
+    names = [n for n in times if n.startswith("adev only")]
+    base = times[names[0]]
+    for name in names:
+        t = times[name]
+        print(
+            f"{name:<46} {t:9.2f} {worst[name]:9.2f} {ARGS.units / t:8.2f} {total / t / 1e6:7.1f} "
+            f"{base / t:7.2f}× (vs adev loop)"
+        )
+    verdict = ", ".join(
+        f"{name[11:]} {100 * (times[name] / base - 1):+.1f} %" for name in names[1:]
+    )
+    print(f"\nadev_batch against the plain adev loop (same array, CIs on): {verdict}")
+
+
+def main_batch_only() -> None:
+    total = ARGS.units * ARGS.samples * ARGS.axes
+    print(
+        f"adev_batch: {ARGS.units} units × {ARGS.samples:,} samples × {ARGS.axes} axes in memory "
+        f"({total * 8 / 1e9:.2f} GB), {os.cpu_count()} cores, best of {ARGS.repeats} "
+        "interleaved rounds"
+    )
+    rates = np.stack(
+        [
+            noise.simulate(
+                ARGS.samples, FS, arw=0.2 / 60, rrw=10 / 216000, axes=ARGS.axes, seed=unit
+            )
+            for unit in range(ARGS.units)
+        ]
+    )
+    modes = batch_modes(rates)
+    for fn in modes.values():
+        fn()  # warm-up: imports, first-touch of the kernel's buffers
+    rounds: dict[str, list[float]] = {name: [] for name in modes}
+    for _ in range(ARGS.repeats):
+        for name, fn in modes.items():
+            rounds[name].append(best_of(fn, 1))
+    print(
+        f"\n{'mode':<46} {'best [s]':>9} {'worst [s]':>9} {'units/s':>8} {'MS/s':>7} {'ratio':>8}"
+    )
+    print_batch(
+        {n: min(ts) for n, ts in rounds.items()}, {n: max(ts) for n, ts in rounds.items()}, total
+    )
 
 
 def main() -> None:
@@ -141,11 +225,12 @@ def main() -> None:
                 table["N"].to_numpy()[: len(check)], check["N"].to_numpy()
             )
 
-        modes = {
+        modes: dict[str, Callable[[], object]] = {
             "Python loop (baseline)": lambda: loop(paths),
             "Dask threads (local scheduler)": run_fleet,
             "array in memory: Python loop": array_loop,
             "array in memory: Dask threads, adev_batch": array_fleet,
+            **batch_modes(rates),
         }
         for label, args in (
             ("LocalCluster, 1 worker, all cores", (1, None)),
@@ -168,6 +253,8 @@ def main() -> None:
         f"\n{'mode':<46} {'best [s]':>9} {'worst [s]':>9} {'units/s':>8} {'MS/s':>7} {'vs loop':>8}"
     )
     for name, t in times.items():
+        if name.startswith("adev only"):
+            continue
         print(
             f"{name:<46} {t:9.2f} {max(rounds[name]):9.2f} {ARGS.units / t:8.2f} {total / t / 1e6:7.1f} "
             f"{base / t:7.2f}×"
@@ -192,7 +279,12 @@ def main() -> None:
         f"speed-up from 1 to 2 single-threaded workers: {single / two:.2f}× (linear: 2×; "
         f"{os.cpu_count()} cores, shared with whatever else runs on the machine)"
     )
+    print()
+    print_batch(times, {n: max(ts) for n, ts in rounds.items()}, total)
 
 
 if __name__ == "__main__":
-    main()
+    if ARGS.batch_only:
+        main_batch_only()
+    else:
+        main()

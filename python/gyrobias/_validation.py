@@ -71,6 +71,37 @@ def integer(name: str, value: Any) -> int:
     return v
 
 
+def text(name: str, value: Any) -> str:
+    """``value`` if it is a ``str`` (an option name the core parses), else ``TypeError``."""
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be a string, got {type(value).__name__}")
+    return value
+
+
+def boolean(name: str, value: Any) -> bool:
+    """``value`` if it is a bool (``True``/``False``, not ``1``/``0`` or ``"yes"``), else ``TypeError``."""
+    if not isinstance(value, bool):
+        raise TypeError(f"{name} must be a bool, got {type(value).__name__}")
+    return value
+
+
+def seed(name: str, value: Any) -> int:
+    """A 64-bit seed for the core's generator: ``value`` itself, or a fresh one if ``None``.
+
+    The seed crosses into the core as an unsigned 64-bit integer: ``TypeError`` for anything
+    but an integer or ``None``, ``ValueError`` outside ``[0, 2**64)``. ``None`` draws a seed
+    from the operating system's entropy.
+    """
+    if value is None:
+        return int(np.random.SeedSequence().generate_state(1, dtype=np.uint64)[0])
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer or None, got {type(value).__name__}")
+    v = int(value)
+    if not 0 <= v < 2**64:
+        raise ValueError(f"{name} must satisfy 0 <= {name} < 2**64, got {v}")
+    return v
+
+
 def positive_float(name: str, value: Any) -> float:
     """``value`` as a finite positive float, else ``ValueError``/``TypeError`` naming ``name``."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):

@@ -11,9 +11,17 @@ and with ``τ = m·t0`` the overlapping Allan variance is (SP 1065 eq. 11, [TS] 
     σ²(τ) = Σ_{k=0}^{N−2m} (x_{k+2m} − 2x_{k+m} + x_k)² / (2 τ² (N + 1 − 2m))
 
 Confidence intervals are chi-square intervals with the equivalent degrees of freedom of the
-identified power-law noise (SP 1065 §5; noise identified per τ by the lag-1 autocorrelation
-method of Riley & Greenhall, EDF by Greenhall's algorithm for the Allan, modified and Hadamard
-variances and by SP 1065's formulas for the total variance).
+identified power-law noise (SP 1065 §5). The noise is identified per τ as Stable32 does
+(SP 1065 §5.6): by the lag-1 autocorrelation method of Riley & Greenhall on the ``m``-averaged
+rate where the decimated series has at least 30 points (below 100 checked against R(n)), and
+by the B1 bias ratio (Barnes; Howe et al. 2000) with R(n) = MVAR/AVAR (IEEE 1139) where it has
+fewer — both ratios are local estimates of the ADEV/MDEV slope, so the α at long τ agrees with
+the curve's slope there. The
+EDF is Greenhall's algorithm for the Allan, modified and Hadamard variances and SP 1065's
+formulas for the total variance, and never exceeds the number of terms summed (``n_terms``; the
+EDF of a sum of T squared Gaussian terms is at most T). On AllanTools' Stable32 reference tables
+the bounds agree with Stable32's with a median relative error of 1.0e-4 and a 90th percentile
+of 1.2e-3 (``tests/test_allan_stable32_intervals.py``).
 
 References
 ----------
@@ -34,7 +42,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice, integer, positive_float, real
+from gyrobias._validation import as_float_array, choice, integer, positive_float, real, text
 from gyrobias.units import checked_units
 
 __all__ = [
@@ -235,23 +243,38 @@ def _options(
     confidence: float | None,
 ) -> tuple[float, str, str, NDArray[np.float64] | None, float | None]:
     """Normalised options: ``(fs, estimator, tau spec, explicit taus, confidence)``."""
-    fs = positive_float("fs", fs)
-    choice("data_type", data_type, ("rate", "angle"))
-    per_decade = integer("per_decade", per_decade)  # >= 1: the core's check
-    confidence = (
-        None if confidence is None else real("confidence", confidence)
-    )  # (0, 1): the core's
+    fs, spec, explicit, _, confidence = _tau_options(fs, taus, per_decade, data_type, confidence)
     if kind == "adev":
         estimator = "overlapping" if overlapping else "non-overlapping"
     else:
         estimator = _ESTIMATOR_OF_KIND[kind]
+    return fs, estimator, spec, explicit, confidence
+
+
+def _tau_options(
+    fs: float,
+    taus: str | ArrayLike,
+    per_decade: int,
+    data_type: str,
+    confidence: float | None,
+) -> tuple[float, str, NDArray[np.float64] | None, int, float | None]:
+    """Types of the options every Allan driver shares: ``(fs, tau spec, explicit taus,
+    per_decade, confidence)``.
+
+    Only types and names are checked here; the ranges (``per_decade >= 1`` for log spacing,
+    ``0 < confidence < 1``, τ on the sample grid, ...) are the core's preconditions.
+    """
+    fs = positive_float("fs", fs)  # t0 = 1/fs is computed here
+    text("data_type", data_type)  # its value is parsed by the core (DataType::parse)
+    per_decade = integer("per_decade", per_decade)
+    checked = None if confidence is None else real("confidence", confidence)
     explicit: NDArray[np.float64] | None = None
     spec = "octave"
     if isinstance(taus, str):
         spec = choice("taus", taus, _TAU_SPECS)
     else:
         explicit = as_float_array("taus", taus, ndims=(1,))
-    return fs, estimator, spec, explicit, confidence
+    return fs, spec, explicit, per_decade, checked
 
 
 def _result(
@@ -643,7 +666,9 @@ def avar(
     -----
     Overlapping Allan variance on the angle series ``x`` (``x_0 = 0``, N + 1 points):
     ``σ²(τ) = Σ_k (x_{k+2m} − 2x_{k+m} + x_k)² / (2τ²(N + 1 − 2m))``. The interval is
-    ``[σ²·edf/χ²_{edf,(1+c)/2}, σ²·edf/χ²_{edf,(1−c)/2}]``.
+    ``[σ²·edf/χ²_{edf,(1+c)/2}, σ²·edf/χ²_{edf,(1−c)/2}]``, ``edf`` from the noise type
+    identified at that τ (``alpha``: lag-1 ACF with ≥ 30 decimated points, B1 ratio and R(n)
+    with fewer; see the module docs) and at most ``n_terms``.
 
     **Larger than memory.** A float array memory-mapped from a file (``np.load(path,
     mmap_mode="r")``, ``np.memmap``) is not loaded: the overlapping ADEV (with its noise
@@ -924,28 +949,11 @@ def _analyse_family(
 ) -> AllanResult | tuple[AllanResult, ...]:
     """Shared driver of the statistics computed by ``gyrocore::allan::family``."""
     arr = as_float_array("data", data, ndims=(1, 2))
-    fs = positive_float("fs", fs)
-    choice("data_type", data_type, ("rate", "angle"))
     units = checked_units("units", units)
-    if (
-        isinstance(per_decade, bool)
-        or not isinstance(per_decade, (int, np.integer))
-        or per_decade < 1
-    ):
-        raise ValueError(f"per_decade must be an integer >= 1, got {per_decade!r}")
-    if confidence is not None:
-        c = real("confidence", confidence)
-        if not 0.0 < c < 1.0:
-            raise ValueError(
-                f"confidence must lie strictly between 0 and 1 (or be None), got {confidence!r}"
-            )
-        confidence = c
-    explicit: NDArray[np.float64] | None = None
-    spec = "octave"
-    if isinstance(taus, str):
-        spec = choice("taus", taus, _TAU_SPECS)
-    else:
-        explicit = as_float_array("taus", taus, ndims=(1,))
+    # Types only: the ranges (per_decade >= 1, 0 < confidence < 1, ...) are the core's checks.
+    fs, spec, explicit, per_decade, confidence = _tau_options(
+        fs, taus, per_decade, data_type, confidence
+    )
     matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
     n_axes = matrix.shape[1]
     if axis_names is not None and len(axis_names) != n_axes:
@@ -1339,14 +1347,6 @@ class DynamicAllanResult:
         return plot_dynamic_allan(self, ax=ax, **kwargs)
 
 
-def _positive_int(name: str, value: Any) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer number of samples, got {value!r}")
-    if value < 0:
-        raise ValueError(f"{name} must be >= 1 sample, got {value}")
-    return int(value)
-
-
 def dynamic_adev(
     data: ArrayLike,
     fs: float,
@@ -1407,22 +1407,9 @@ def dynamic_adev(
     True
     """
     arr = as_float_array("data", data, ndims=(1,))
-    fs = positive_float("fs", fs)
-    choice("data_type", data_type, ("rate", "angle"))
-    window = _positive_int("window", window)
-    step = _positive_int("step", step)
-    if (
-        isinstance(per_decade, bool)
-        or not isinstance(per_decade, (int, np.integer))
-        or per_decade < 1
-    ):
-        raise ValueError(f"per_decade must be an integer >= 1, got {per_decade!r}")
-    explicit: NDArray[np.float64] | None = None
-    spec = "octave"
-    if isinstance(taus, str):
-        spec = choice("taus", taus, _TAU_SPECS)
-    else:
-        explicit = as_float_array("taus", taus, ndims=(1,))
+    fs, spec, explicit, per_decade, _ = _tau_options(fs, taus, per_decade, data_type, None)
+    window = integer("window", window)  # window <= n, step >= 1: the core's checks
+    step = integer("step", step)
     t0 = 1.0 / fs
     raw = _core.allan.dynamic_avar(
         np.ascontiguousarray(arr), t0, data_type, window, step, spec, int(per_decade), explicit

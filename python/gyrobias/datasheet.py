@@ -31,6 +31,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from gyrobias import _core
 from gyrobias._validation import choice, positive_float
 from gyrobias.units import CUSTOMARY, base_unit, parse_unit, sensor_kind
 
@@ -39,9 +40,6 @@ if TYPE_CHECKING:
     from gyrobias.noise import NoiseCoefficients
 
 __all__ = ["Datasheet", "from_datasheet"]
-
-#: Flicker plateau factor √(2 ln 2 / π).
-_FLICKER = math.sqrt(2.0 * math.log(2.0) / math.pi)
 
 #: Argument → (sensor, IEEE symbol, is a density by definition).
 _PARAMETERS: dict[str, tuple[str, str, bool]] = {
@@ -373,7 +371,7 @@ def from_datasheet(
                 )
         elif symbol == "B":
             if bias_instability_is == "allan_minimum":
-                v /= _FLICKER
+                v /= _core.noise.FLICKER_FACTOR
                 notes.append(
                     f"{name} = {number:g} {unit} read as the Allan-deviation minimum: IEEE B = value/0.664282"
                 )

@@ -36,7 +36,6 @@ References
 from __future__ import annotations
 
 import math
-import secrets
 from dataclasses import asdict, dataclass
 from typing import Any, Literal
 
@@ -45,6 +44,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
 from gyrobias._validation import as_float_array, choice, integer, positive_float, real
+from gyrobias._validation import seed as seed_value
 
 __all__ = [
     "ElwResult",
@@ -248,12 +248,7 @@ def arfima(
         batch = tuple(integer("size", s) for s in size)
     else:
         batch = (integer("size", size),)
-    if seed is None:
-        seed = secrets.randbits(64)
-    elif isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-        raise TypeError(f"seed must be an integer or None, got {type(seed).__name__}")
-    elif not 0 <= seed < 2**64:
-        raise ValueError(f"seed must be in [0, 2**64), got {seed}")
+    seed = seed_value("seed", seed)
     rows = math.prod(batch)
     if rows >= 2**63:
         raise MemoryError(f"size {size!r} asks for {rows} series")

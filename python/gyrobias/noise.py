@@ -23,7 +23,6 @@ References
 from __future__ import annotations
 
 import json
-import math
 import os
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -33,7 +32,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice, positive_float
+from gyrobias._validation import (
+    as_float_array,
+    boolean,
+    choice,
+    integer,
+    positive_float,
+    real,
+)
+from gyrobias._validation import seed as seed_value
 from gyrobias.units import CUSTOMARY, base_unit, parse_unit, sensor_kind
 
 if TYPE_CHECKING:
@@ -57,8 +64,8 @@ __all__ = [
 ]
 
 #: Plateau factor of flicker rate noise in the Allan deviation: √(2 ln 2 / π) = 0.664282…
-#: (The same constant as ``gyrocore::noise::FLICKER_FACTOR``.)
-FLICKER_FACTOR: float = math.sqrt(2.0 * math.log(2.0) / math.pi)
+#: (``gyrocore::noise::FLICKER_FACTOR``, the one definition every layer uses.)
+FLICKER_FACTOR: float = _core.noise.FLICKER_FACTOR
 
 _SYMBOLS = ("Q", "N", "B", "K", "R")
 _GM_SYMBOLS = ("GM", "GM2")
@@ -83,41 +90,6 @@ TERM_NAMES: dict[str, dict[str, str]] = {
         "R": "acceleration ramp",
     },
 }
-
-#: Read-off τ (s) of each term on its asymptote (IEEE 952); B is read at the minimum.
-READ_OFF_TAU: dict[str, float | None] = {
-    "Q": math.sqrt(3.0),
-    "N": 1.0,
-    "B": None,
-    "K": 3.0,
-    "R": math.sqrt(2.0),
-}
-
-
-def _non_negative(name: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
-    v = float(value)
-    if not np.isfinite(v) or v < 0.0:
-        raise ValueError(f"{name} must be finite and >= 0, got {value!r}")
-    return v
-
-
-def _finite(name: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
-    v = float(value)
-    if not np.isfinite(v):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return v
-
-
-def _count(name: str, value: Any, minimum: int = 1) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
-    if value < minimum:
-        raise ValueError(f"{name} must be >= {minimum}, got {value!r}")
-    return int(value)
 
 
 def simulate(
@@ -189,39 +161,28 @@ def simulate(
     >>> rate.shape
     (1000, 3)
     """
-    n = _count("n", n)
-    fs = positive_float("fs", fs)
-    axes = _count("axes", axes)
+    # Types here; every range (n, axes >= 1, fs > 0, coefficients >= 0, |c| < 1) is the core's.
+    n = integer("n", n)
+    axes = integer("axes", axes)
     ar: tuple[float, float] | None = None
     if ar1 is not None:
         try:
             c, s = ar1
         except (TypeError, ValueError):
             raise TypeError(f"ar1 must be a pair (c, sigma) or None, got {ar1!r}") from None
-        c = _finite("ar1 coefficient", c)
-        if abs(c) >= 1.0:
-            raise ValueError(f"ar1 coefficient must satisfy |c| < 1, got {c!r}")
-        ar = (c, _non_negative("ar1 sigma", s))
-    if seed is None:
-        seed_value = int(np.random.SeedSequence().generate_state(1, dtype=np.uint64)[0])
-    else:
-        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-            raise TypeError(f"seed must be an integer or None, got {type(seed).__name__}")
-        if not 0 <= int(seed) < 2**64:
-            raise ValueError(f"seed must satisfy 0 <= seed < 2**64, got {seed!r}")
-        seed_value = int(seed)
+        ar = (real("ar1 coefficient", c), real("ar1 sigma", s))
     flat = _core.noise.simulate(
         n,
-        fs,
-        _non_negative("quantization", quantization),
-        _non_negative("arw", arw),
-        _non_negative("bias_instability", bias_instability),
-        _non_negative("rrw", rrw),
-        _finite("rate_ramp", rate_ramp),
+        real("fs", fs),
+        real("quantization", quantization),
+        real("arw", arw),
+        real("bias_instability", bias_instability),
+        real("rrw", rrw),
+        real("rate_ramp", rate_ramp),
         ar,
-        _finite("bias", bias),
+        real("bias", bias),
         axes,
-        seed_value,
+        seed_value("seed", seed),
     )
     return flat if axes == 1 else flat.reshape(n, axes)
 
@@ -759,89 +720,11 @@ class NoiseCoefficients:
         Returns
         -------
         matplotlib Axes
+            Drawn by :func:`gyrobias.plotting.plot_noise_model`.
         """
-        import matplotlib.pyplot as plt
+        from gyrobias.plotting import plot_noise_model
 
-        if ax is None:
-            _, ax = plt.subplots(figsize=(7, 5))
-        allan = allan if allan is not None else self.allan
-        base = self.to("base") if self.data_unit is not None else self
-        if allan is not None:
-            taus = np.asarray(allan.taus, dtype=np.float64)
-            lo, hi = float(taus[0]), float(taus[-1])
-            if show_data:
-                ax.loglog(taus, allan.adev, "o", ms=3, color="0.3", label="Allan deviation")
-        else:
-            lo, hi = self.tau_range
-        grid = np.geomspace(lo, hi, 200)
-        total, parts = self.model(grid)
-        colours = {
-            "Q": "tab:purple",
-            "N": "tab:blue",
-            "B": "tab:green",
-            "K": "tab:orange",
-            "R": "tab:red",
-        }
-        ax.loglog(grid, total, "-", color="k", lw=1.5, label=f"{self.method} model")
-        unit = self.data_unit or ""
-        for t, _b in zip(self.terms, base.terms):
-            if t.value is None:
-                continue
-            curve = parts[t.symbol]
-            ax.loglog(
-                grid, curve, "--", color=colours[t.symbol], lw=1, label=f"{t.symbol} asymptote"
-            )
-            if t.marker is not None:
-                mt, ms = t.marker
-                ax.loglog([mt], [ms], "s", color=colours[t.symbol], ms=7, mfc="none", mew=1.5)
-                value = f"{t.value:.3g} {t.unit or ''}".strip()
-                if t.symbol != "B":
-                    where = f"σ at τ = {mt:.3g} s"
-                elif self.method == "ieee":
-                    where = "min σ / 0.664"
-                else:
-                    where = "plateau σ = 0.664·B"
-                ax.annotate(
-                    f"{t.symbol} = {value}\n({where})",
-                    (mt, ms),
-                    textcoords="offset points",
-                    xytext=(6, 6),
-                    fontsize=7,
-                    color=colours[t.symbol],
-                )
-        for g, colour in zip(self.gauss_markov, ("tab:brown", "tab:pink")):
-            if g.present and g.sigma.symbol in parts:
-                ax.loglog(
-                    grid,
-                    parts[g.sigma.symbol],
-                    ":",
-                    color=colour,
-                    lw=1.2,
-                    label=f"{g.sigma.symbol} (T = {g.correlation_time.value:.3g} s)",
-                )
-        if self.diagnostics is not None:
-            for k, (a, b, _) in enumerate(self.diagnostics.excluded):
-                ax.axvspan(
-                    a,
-                    b,
-                    color="0.85",
-                    alpha=0.5,
-                    lw=0,
-                    label="excluded from the fit" if k == 0 else None,
-                )
-        # Keep the view on the data and model: asymptotes of negligible terms run far below.
-        markers = [t.marker[1] for t in self.terms if t.value is not None and t.marker is not None]
-        shown = np.concatenate(
-            [total, np.asarray(allan.adev) if allan is not None else total, markers]
-        )
-        shown = shown[np.isfinite(shown) & (shown > 0)]
-        if shown.size:
-            ax.set_ylim(shown.min() / 5.0, shown.max() * 3.0)
-        ax.set_xlabel("τ [s]")
-        ax.set_ylabel(f"σ(τ) [{unit}]" if unit else "σ(τ)")
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7, loc="best")
-        return ax
+        return plot_noise_model(self, ax, allan=allan, show_data=show_data)
 
 
 def gauss_markov_avar(sigma: float, correlation_time: float, taus: Any) -> NDArray[np.float64]:
@@ -875,12 +758,10 @@ def gauss_markov_avar(sigma: float, correlation_time: float, taus: Any) -> NDArr
     >>> round(float(v[0]) * 1e4 / (2 * 10.0), 4)  # 1 − 3T/(2τ) of the white noise 2σ²T/τ
     0.9985
     """
-    s = _non_negative("sigma", sigma)
-    t = positive_float("correlation_time", correlation_time)
     tau = as_float_array("taus", np.atleast_1d(np.asarray(taus, dtype=np.float64)), ndims=(1,))
-    if tau.size and not np.all(np.isfinite(tau) & (tau > 0)):
-        raise ValueError("taus must be finite and > 0")
-    return np.asarray(_core.noise.gauss_markov_variance([(s * s, t)], tau)[0], dtype=np.float64)
+    return _core.noise.gauss_markov_avar(
+        real("sigma", sigma), real("correlation_time", correlation_time), tau
+    )
 
 
 def _edf_source(result: AllanResult) -> str:
@@ -1060,18 +941,13 @@ def fit(
             f"hold for kind {result.kind!r}"
         )
     term_list = [str(t) for t in terms] if not isinstance(terms, str) else [terms]
-    for t in term_list:
-        choice("terms", t, _SYMBOLS + _GM_SYMBOLS)
+    # The symbols are parsed by the core (noise::parse_model_terms), whose message names terms.
     data_unit = unit if unit is not None else result.unit
     sensor: str | None = None
     if data_unit is not None:
         sensor = sensor_kind(data_unit)
-    if tau_range is not None:
-        lo, hi = (float(v) for v in tau_range)
-        if not (lo >= 0.0 and hi > lo):
-            raise ValueError(
-                f"tau_range must be (low, high) seconds with 0 <= low < high, got {tau_range!r}"
-            )
+    if tau_range is not None:  # low < high: the core's check
+        lo, hi = (real("tau_range", v) for v in tau_range)
         tau_range = (lo, hi)
     if correlation_time is not None:
         try:
@@ -1081,8 +957,7 @@ def fit(
                 f"correlation_time must be a pair (low, high) of seconds, got {correlation_time!r}"
             ) from None
         correlation_time = (t_lo, t_hi)
-    if not isinstance(auto_range, bool):
-        raise TypeError(f"auto_range must be a bool, got {type(auto_range).__name__}")
+    auto_range = boolean("auto_range", auto_range)
     taus = np.ascontiguousarray(result.taus, dtype=np.float64)
     variance = np.ascontiguousarray(result.avar, dtype=np.float64)
     m = np.ascontiguousarray(result.m, dtype=np.uint64)
@@ -1120,13 +995,9 @@ def fit(
             raise ValueError(
                 "Gauss–Markov terms ('GM', 'GM2') need method='joint' (or gyrobias.noise.gmwm)"
             )
-        slope_tolerance = positive_float("slope_tolerance", slope_tolerance)
-        if (
-            isinstance(min_points, bool)
-            or not isinstance(min_points, (int, np.integer))
-            or min_points < 1
-        ):
-            raise ValueError(f"min_points must be an integer >= 1, got {min_points!r}")
+        # slope_tolerance > 0 and min_points >= 1 are the core's checks.
+        slope_tolerance = real("slope_tolerance", slope_tolerance)
+        min_points = integer("min_points", min_points)
         region_list: list[tuple[float, float] | None] = [None] * 5
         for key, rng in (regions or {}).items():
             choice("regions key", key, _SYMBOLS)
@@ -1340,19 +1211,10 @@ def gmwm(
     arr = as_float_array("data", data, ndims=(1, 2))
     fs = positive_float("fs", fs)
     term_list = [str(t) for t in terms] if not isinstance(terms, str) else [terms]
-    for t in term_list:
-        choice("terms", t, _SYMBOLS + _GM_SYMBOLS)
-    if not isinstance(select, bool):
-        raise TypeError(f"select must be a bool, got {type(select).__name__}")
-    replicates = _count("bootstrap", bootstrap, minimum=0)
-    if seed is None:
-        seed_value = int(np.random.SeedSequence().generate_state(1, dtype=np.uint64)[0])
-    else:
-        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-            raise TypeError(f"seed must be an integer or None, got {type(seed).__name__}")
-        if not 0 <= int(seed) < 2**64:
-            raise ValueError(f"seed must satisfy 0 <= seed < 2**64, got {seed!r}")
-        seed_value = int(seed)
+    # The symbols are parsed by the core (noise::parse_model_terms), whose message names terms.
+    select = boolean("select", select)
+    replicates = integer("bootstrap", bootstrap)
+    seed_number = seed_value("seed", seed)
     sensor = sensor_kind(units) if units is not None else None
     matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
     n_axes = matrix.shape[1]
@@ -1362,7 +1224,7 @@ def gmwm(
     out = []
     for a in range(n_axes):
         column = np.ascontiguousarray(matrix[:, a], dtype=np.float64)
-        raw = _core.noise.gmwm(column, t0, term_list, select, replicates, seed_value, 8)
+        raw = _core.noise.gmwm(column, t0, term_list, select, replicates, seed_number, 8)
         wv = raw["wavelet"]
         m = np.asarray(wv["m"]).astype(np.int64)
         name = None if axis_names is None else str(axis_names[a])

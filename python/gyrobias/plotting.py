@@ -1,5 +1,8 @@
-"""Log-log plots of Allan-family deviations with their confidence bars.
+"""Every plot of gyrobias: Allan-family deviations with their confidence bars, fitted noise
+models, fleets, dynamic Allan maps, bias predictions and filter comparisons.
 
+The science modules never import this module at load time (their ``.plot()`` methods import it
+when called), so ``gyrobias.allan`` and ``gyrobias.noise`` load without it and without matplotlib.
 matplotlib is optional (``pip install "gyrobias[plot]"``) and imported only when a plot is made.
 :func:`plot_allan` draws into a given or a new pyplot ``Axes``; :func:`save_allan_plot` renders
 straight to a file through a pyplot-free ``Figure`` (Agg canvas), so it works headless and does
@@ -9,21 +12,27 @@ not touch pyplot's global state — the command line uses it.
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 if TYPE_CHECKING:
     from gyrobias.allan import AllanResult
+    from gyrobias.noise import NoiseCoefficients
 
 __all__ = [
     "allan_report_svg",
     "plot_allan",
     "plot_dynamic_allan",
     "plot_fleet",
+    "plot_noise_model",
     "save_allan_plot",
+    "save_comparison_plot",
     "save_fleet_plot",
+    "save_noise_model_plot",
+    "save_prediction_plot",
 ]
 
 _SYMBOL = {"adev": "σ(τ)", "mdev": "Mod σ(τ)", "hdev": "Hadamard σ(τ)", "totdev": "Tot σ(τ)"}
@@ -191,7 +200,227 @@ def _overlay_fits(ax: Any, items: list[AllanResult], fits: Sequence[Any] | None)
     if len(fits) != len(items):
         raise ValueError(f"fits has {len(fits)} entries for {len(items)} results")
     for fit, item in zip(fits, items):
-        fit.plot(ax, allan=item, show_data=False)
+        plot_noise_model(fit, ax, allan=item, show_data=False)
+
+
+def plot_noise_model(
+    coefficients: NoiseCoefficients,
+    ax: Any = None,
+    *,
+    allan: AllanResult | None = None,
+    show_data: bool = True,
+) -> Any:
+    """Draw a fitted noise model, each term's asymptote and the labelled read-off points.
+
+    Parameters
+    ----------
+    coefficients : NoiseCoefficients
+        From :func:`gyrobias.noise.fit` (or :func:`gyrobias.noise.gmwm`).
+    ax : matplotlib Axes, optional
+        Axes to draw on (a new pyplot figure otherwise).
+    allan : AllanResult, optional
+        The Allan curve to draw beneath (defaults to the one the coefficients came from).
+    show_data : bool
+        Draw the Allan deviation points (set False when the caller has drawn them).
+
+    Returns
+    -------
+    matplotlib Axes
+    """
+    _require_matplotlib()
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        _, ax = plt.subplots(figsize=(7, 5))
+    allan = allan if allan is not None else coefficients.allan
+    base = coefficients.to("base") if coefficients.data_unit is not None else coefficients
+    if allan is not None:
+        taus = np.asarray(allan.taus, dtype=np.float64)
+        lo, hi = float(taus[0]), float(taus[-1])
+        if show_data:
+            ax.loglog(taus, allan.adev, "o", ms=3, color="0.3", label="Allan deviation")
+    else:
+        lo, hi = coefficients.tau_range
+    grid = np.geomspace(lo, hi, 200)
+    total, parts = coefficients.model(grid)
+    colours = {
+        "Q": "tab:purple",
+        "N": "tab:blue",
+        "B": "tab:green",
+        "K": "tab:orange",
+        "R": "tab:red",
+    }
+    ax.loglog(grid, total, "-", color="k", lw=1.5, label=f"{coefficients.method} model")
+    unit = coefficients.data_unit or ""
+    for t, _b in zip(coefficients.terms, base.terms):
+        if t.value is None:
+            continue
+        curve = parts[t.symbol]
+        ax.loglog(grid, curve, "--", color=colours[t.symbol], lw=1, label=f"{t.symbol} asymptote")
+        if t.marker is not None:
+            mt, ms = t.marker
+            ax.loglog([mt], [ms], "s", color=colours[t.symbol], ms=7, mfc="none", mew=1.5)
+            value = f"{t.value:.3g} {t.unit or ''}".strip()
+            if t.symbol != "B":
+                where = f"σ at τ = {mt:.3g} s"
+            elif coefficients.method == "ieee":
+                where = "min σ / 0.664"
+            else:
+                where = "plateau σ = 0.664·B"
+            ax.annotate(
+                f"{t.symbol} = {value}\n({where})",
+                (mt, ms),
+                textcoords="offset points",
+                xytext=(6, 6),
+                fontsize=7,
+                color=colours[t.symbol],
+            )
+    for g, colour in zip(coefficients.gauss_markov, ("tab:brown", "tab:pink")):
+        if g.present and g.sigma.symbol in parts:
+            ax.loglog(
+                grid,
+                parts[g.sigma.symbol],
+                ":",
+                color=colour,
+                lw=1.2,
+                label=f"{g.sigma.symbol} (T = {g.correlation_time.value:.3g} s)",
+            )
+    if coefficients.diagnostics is not None:
+        for k, (a, b, _) in enumerate(coefficients.diagnostics.excluded):
+            ax.axvspan(
+                a,
+                b,
+                color="0.85",
+                alpha=0.5,
+                lw=0,
+                label="excluded from the fit" if k == 0 else None,
+            )
+    # Keep the view on the data and model: asymptotes of negligible terms run far below.
+    markers = [
+        t.marker[1] for t in coefficients.terms if t.value is not None and t.marker is not None
+    ]
+    shown = np.concatenate([total, np.asarray(allan.adev) if allan is not None else total, markers])
+    shown = shown[np.isfinite(shown) & (shown > 0)]
+    if shown.size:
+        ax.set_ylim(shown.min() / 5.0, shown.max() * 3.0)
+    ax.set_xlabel("τ [s]")
+    ax.set_ylabel(f"σ(τ) [{unit}]" if unit else "σ(τ)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    return ax
+
+
+def save_noise_model_plot(
+    coefficients: NoiseCoefficients,
+    path: str | os.PathLike[str],
+    *,
+    title: str | None = None,
+    dpi: int = 120,
+) -> None:
+    """Render :func:`plot_noise_model` to an image file through a pyplot-free ``Figure``.
+
+    The file is written atomically (a temporary file renamed over ``path``).
+    """
+    _require_matplotlib()
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(7.0, 5.0), layout="constrained")
+    ax = fig.add_subplot()
+    plot_noise_model(coefficients, ax)
+    if title:
+        ax.set_title(title)
+    _save_atomically(fig, path, dpi)
+
+
+def save_prediction_plot(
+    section: NDArray[np.float64],
+    calibration: int,
+    fs: float,
+    forecasts: Mapping[str, NDArray[np.float64]],
+    path: str | os.PathLike[str],
+    *,
+    std: NDArray[np.float64] | None = None,
+    title: str = "",
+    dpi: int = 120,
+) -> None:
+    """Draw one bias-prediction section ([BP] Figs. 2–3) to an image file.
+
+    Parameters
+    ----------
+    section : ndarray, shape (k + h,)
+        The calibration window (first ``calibration`` samples) and the data it predicts.
+    calibration : int
+        k, the calibration length in samples.
+    fs : float
+        Sample rate in Hz (the time axis is in seconds).
+    forecasts : mapping of label → ndarray of shape (h,)
+        The forecasts to draw after the calibration window; the first one is drawn with the
+        ``±2·std`` band.
+    path : path
+        Output image (format from the suffix), written atomically.
+    std : ndarray of shape (h,), optional
+        Standard deviation of the first forecast.
+    """
+    _require_matplotlib()
+    from matplotlib.figure import Figure
+
+    t = np.arange(section.size) / fs
+    tf = t[calibration:]
+    fig = Figure(figsize=(8.0, 4.0), layout="constrained")
+    ax = fig.add_subplot()
+    ax.plot(t, section, color="0.6", lw=0.6, label="data")
+    ax.axvline(t[calibration], color="k", lw=0.8, ls=":")
+    for i, (label, forecast) in enumerate(forecasts.items()):
+        ax.plot(tf, forecast, color=f"C{i}", ls="--" if i == 2 else "-", label=label)
+        if i == 0 and std is not None:
+            ax.fill_between(
+                tf,
+                forecast - 2 * std,
+                forecast + 2 * std,
+                color="C0",
+                alpha=0.2,
+                label="±2σ (bias)",
+            )
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("rate")
+    ax.set_title(title or "bias prediction")
+    ax.legend(loc="best", fontsize=8)
+    _save_atomically(fig, path, dpi)
+
+
+def save_comparison_plot(
+    before: Sequence[AllanResult],
+    after: Sequence[AllanResult],
+    path: str | os.PathLike[str],
+    *,
+    labels: tuple[str, str] = ("raw", "filtered"),
+    title: str | None = None,
+    dpi: int = 120,
+) -> None:
+    """Allan deviations of each axis before (solid) and after (dashed) a filter, to a file.
+
+    ``before[i]`` and ``after[i]`` share a colour; the file is written atomically.
+    """
+    _require_matplotlib()
+    from matplotlib.figure import Figure
+
+    if len(before) != len(after):
+        raise ValueError(f"after has {len(after)} results for {len(before)} in before")
+    fig = Figure(figsize=(6.4, 4.8), layout="constrained")
+    ax = fig.add_subplot()
+    unit = None
+    for axis, (r, f) in enumerate(zip(before, after)):
+        name = r.axis or str(axis)
+        (line,) = ax.loglog(r.taus, r.adev, label=f"axis {name} {labels[0]}")
+        ax.loglog(f.taus, f.adev, "--", color=line.get_color(), label=f"axis {name} {labels[1]}")
+        unit = unit or r.unit
+    ax.set_xlabel("τ [s]")
+    ax.set_ylabel(f"Allan deviation [{unit}]" if unit else "Allan deviation")
+    if title:
+        ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize="small")
+    _save_atomically(fig, path, dpi)
 
 
 def _draw(
@@ -349,6 +578,11 @@ def save_fleet_plot(
         raise ValueError("table has no analysed unit (every row has an error): nothing to plot")
     fig = Figure(figsize=(11.0, 7.5), layout="constrained")
     _draw_fleet(fig, ok, title)
+    _save_atomically(fig, path, dpi)
+
+
+def _save_atomically(fig: Any, path: str | os.PathLike[str], dpi: int) -> None:
+    """``fig.savefig`` to a temporary file beside ``path``, then rename it over ``path``."""
     target = os.fspath(path)
     root, suffix = os.path.splitext(target)
     tmp = f"{root}.tmp{os.getpid()}{suffix}"

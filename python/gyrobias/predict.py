@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice, positive_float
+from gyrobias._validation import as_float_array, choice, integer, positive_float, real
 
 __all__ = [
     "CompiledPredictor",
@@ -48,16 +48,6 @@ def _n_threads(n_threads: int | None) -> int:
     if isinstance(n_threads, bool) or not isinstance(n_threads, (int, np.integer)) or n_threads < 1:
         raise ValueError(f"n_threads must be a positive integer or None, got {n_threads!r}")
     return int(n_threads)
-
-
-def _horizon(horizon: Any) -> int:
-    if isinstance(horizon, bool) or not isinstance(horizon, (int, np.integer)):
-        raise TypeError(
-            f"horizon must be an integer number of samples, got {type(horizon).__name__}"
-        )
-    if horizon < 1:
-        raise ValueError(f"horizon must be at least 1 sample, got {horizon}")
-    return int(horizon)
 
 
 def _windows(name: str, value: Any) -> tuple[NDArray[np.float64], bool]:
@@ -109,7 +99,7 @@ def calibration_mean(y: Any, horizon: int) -> NDArray[np.float64]:
         ``ŷ_j = mean(y_0..y_{k−1})`` for every step j.
     """
     arr, one = _windows("y", _asarray_ragged("y", y))
-    h = _horizon(horizon)
+    h = integer("horizon", horizon)
     out = _core.predict.calibration_mean(arr, h).reshape(arr.shape[0], h)
     return out[0] if one else out
 
@@ -125,7 +115,7 @@ def moving_average(y: Any, horizon: int) -> NDArray[np.float64]:
     Parameters and returns as :func:`calibration_mean`.
     """
     arr, one = _windows("y", _asarray_ragged("y", y))
-    h = _horizon(horizon)
+    h = integer("horizon", horizon)
     out = _core.predict.moving_average(arr, h).reshape(arr.shape[0], h)
     return out[0] if one else out
 
@@ -192,27 +182,15 @@ class Prediction:
 
 
 def _mean_spec(mean: Any) -> tuple[str, float, float]:
-    """(mode, mu0, p0) for the core from ``mean``."""
+    """(mode, mu0, p0) for the core from ``mean`` (types here; values are the core's checks)."""
     if isinstance(mean, str):
-        return choice("mean", mean, _MEAN_MODES), 0.0, 0.0
+        return mean, 0.0, 0.0
     if isinstance(mean, (tuple, list)) and len(mean) == 2:
-        mu0, p0 = mean
-        for nm, v in (("mu0", mu0), ("p0", p0)):
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
-                raise TypeError(
-                    f"mean=(mu0, p0): {nm} must be a real number, got {type(v).__name__}"
-                )
-        mu0, p0 = float(mu0), float(p0)
-        if not math.isfinite(mu0):
-            raise ValueError(f"mean=(mu0, p0): mu0 must be finite, got {mu0}")
+        mu0, p0 = real("mu0", mean[0]), real("p0", mean[1])
         if p0 == math.inf:
             return "diffuse", 0.0, 0.0
-        if not (p0 >= 0.0 and math.isfinite(p0)):
-            raise ValueError(
-                f"mean=(mu0, p0): p0 must be ≥ 0 (or inf for a diffuse prior), got {p0}"
-            )
         return "proper", mu0, p0
-    raise ValueError(f"mean must be 'sample', 'diffuse', 'none' or a pair (mu0, p0); got {mean!r}")
+    raise TypeError(f"mean must be 'sample', 'diffuse', 'none' or a pair (mu0, p0); got {mean!r}")
 
 
 class CompiledPredictor:
@@ -324,17 +302,11 @@ class FractionalKalmanPredictor:
 
     def __post_init__(self) -> None:
         for name in ("d", "q", "r"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
-                raise TypeError(f"{name} must be a real number, got {type(v).__name__}")
-            object.__setattr__(self, name, float(v))
-        if not math.isfinite(self.d):
-            raise ValueError(f"d must be finite, got {self.d}")
-        positive_float("q", self.q)
-        if not (math.isfinite(self.r) and self.r >= 0.0):
-            raise ValueError(f"r must be finite and ≥ 0, got {self.r}")
-        choice("algorithm", self.algorithm, ("schur", "literal"))
+            object.__setattr__(self, name, real(name, getattr(self, name)))
         object.__setattr__(self, "_spec", _mean_spec(self.mean))
+        # The model's preconditions (−½ < d < 3/2, q > 0, r ≥ 0, the prior, the algorithm's
+        # name) are the core's; checked now so that a bad predictor fails where it is made.
+        _core.predict.validate_model(*self._args(), self.algorithm)
 
     def _args(self) -> tuple[float, float, float, str, float, float]:
         mode, mu0, p0 = self._spec
@@ -367,7 +339,7 @@ class FractionalKalmanPredictor:
             The problem is numerically singular or ill-conditioned (never a silent NaN).
         """
         arr, one = _windows("calibration", _asarray_ragged("calibration", calibration))
-        h = _horizon(horizon)
+        h = integer("horizon", horizon)
         res = _core.predict.fractional_kalman(
             arr, h, *self._args(), self.algorithm, _n_threads(n_threads)
         )
@@ -393,16 +365,8 @@ class FractionalKalmanPredictor:
         Compiling costs O(n·k) memory and one triangular solve; afterwards a batch of R windows
         is one (R × k)·(k × h) matrix product.
         """
-        if isinstance(calibration_length, bool) or not isinstance(
-            calibration_length, (int, np.integer)
-        ):
-            raise TypeError(
-                f"calibration_length must be an integer, got {type(calibration_length).__name__}"
-            )
-        k = int(calibration_length)
-        if k < 2:
-            raise ValueError(f"calibration_length must be at least 2 samples, got {k}")
-        h = _horizon(horizon)
+        k = integer("calibration_length", calibration_length)  # k >= 2: the core's check
+        h = integer("horizon", horizon)
         inner = _core.predict.CompiledPredictor(k, h, *self._args(), _n_threads(n_threads))
         return CompiledPredictor(inner, self)
 
@@ -611,14 +575,10 @@ def evaluate(
         Per method the integrated error and RSSE of every section and their mean and standard
         deviation ([BP] Table I); ``.table()`` prints it with ratios to CM.
     """
-    if isinstance(calibration, bool) or not isinstance(calibration, (int, np.integer)):
-        raise TypeError(
-            f"calibration must be an integer number of samples, got {type(calibration).__name__}"
-        )
-    k = int(calibration)
-    if k < 2:
+    k = integer("calibration", calibration)
+    if k < 2:  # the sections are cut here, before any core call
         raise ValueError(f"calibration must be at least 2 samples, got {k}")
-    h = _horizon(horizon)
+    h = integer("horizon", horizon)
     arr = as_float_array("log", log, ndims=(1, 2))
     if arr.ndim == 1:
         sections = arr.size // (k + h)

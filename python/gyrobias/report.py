@@ -344,6 +344,26 @@ def _exports_section(channels: list[ChannelReport], rate: float | None) -> str:
     return "".join(parts)
 
 
+def _check_log(log: Any) -> None:
+    """Type and shape of ``log`` (a :class:`gyrobias.io.GyroLog` with samples and a rate)."""
+    from gyrobias.io import GyroLog
+
+    if not isinstance(log, GyroLog):
+        raise TypeError(f"log must be a GyroLog (from gyrobias.io.load), got {type(log).__name__}")
+    shape = np.shape(log.data)
+    if len(shape) != 2 or shape[1] != len(log.columns):
+        raise ValueError(
+            f"log.data must have shape (samples, {len(log.columns)}) for its "
+            f"{len(log.columns)} channels, got {shape}"
+        )
+    if shape[0] == 0 or shape[1] == 0:
+        raise ValueError(f"log has no samples (data of shape {shape})")
+    if log.fs is None:
+        raise ValueError(
+            "log: no sample rate (give fs= to gyrobias.io.load, or --fs on the command line)"
+        )
+
+
 def build_report(
     log: GyroLog,
     *,
@@ -382,13 +402,14 @@ def build_report(
 
     Raises
     ------
+    TypeError
+        ``log`` is not a :class:`gyrobias.io.GyroLog`.
     ValueError
-        A log without a sample rate, or ``units`` with the wrong number of entries.
+        A log without samples or a sample rate, data not of shape (samples, channels),
+        ``units`` with the wrong number of entries, or no channel that could be analysed
+        (e.g. all NaN); a channel that fails while others succeed is reported on the page.
     """
-    if log.fs is None:
-        raise ValueError(
-            "log: no sample rate (give fs= to gyrobias.io.load, or --fs on the command line)"
-        )
+    _check_log(log)
     k = len(log.columns)
     if units is None:
         per_channel: list[str | None] = list(log.units) if log.units else [None] * k
@@ -399,6 +420,10 @@ def build_report(
         if len(per_channel) != k:
             raise ValueError(f"units has {len(per_channel)} entries for {k} channels")
     channels = _analyse(log, per_channel, confidence, method, conservative_confidence)
+    if all(ch.allan is None for ch in channels):
+        # Nothing to report: a page of error messages would pass for a report.
+        reasons = "; ".join(f"{ch.name}: {', '.join(ch.errors)}" for ch in channels)
+        raise ValueError(f"log: no channel could be analysed ({reasons})")
     from gyrobias import __version__
 
     name = title or Path(log.path).name

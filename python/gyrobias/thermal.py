@@ -46,9 +46,6 @@ __all__ = [
     "fit_ar1",
 ]
 
-#: Flicker (bias-instability) plateau factor √(2 ln 2/π) of the Allan deviation (IEEE 952).
-FLICKER_FACTOR = math.sqrt(2.0 * math.log(2.0) / math.pi)
-
 _METHODS = ("linear", "pchip", "polynomial")
 
 
@@ -471,10 +468,11 @@ def analyse_log(
     Notes
     -----
     ARW from the overlapping Allan deviation at τ = m/fs with ``m = round(fs)`` (τ ≈ 1 s),
-    ``N = σ(τ)√τ``; bias instability ``min_τ σ(τ)/0.664282`` over octave τ; noise density from
-    the Welch PSD of the raw log; AR(1) on the filtered log (mean removed).
+    ``N = σ(τ)√τ``; bias instability ``min_τ σ(τ)/0.664282`` over octave τ — both the IEEE-952
+    read-off of :func:`gyrobias.noise.fit` (``method="ieee"``) on those regions; noise density
+    from the Welch PSD of the raw log; AR(1) on the filtered log (mean removed).
     """
-    from gyrobias import allan, fir, spectral
+    from gyrobias import allan, fir, noise, spectral
 
     arr = as_float_array("x", x)
     fs = positive_float("fs", fs)
@@ -485,11 +483,13 @@ def analyse_log(
     if not math.isfinite(float(temperature)):
         raise ValueError(f"temperature must be finite, got {temperature!r}")
     m = max(1, int(round(fs)))
-    tau = m / fs
-    one = cast("allan.AllanResult", allan.adev(arr, fs, taus=[tau], confidence=None))
+    one = cast("allan.AllanResult", allan.adev(arr, fs, taus=[m / fs], confidence=None))
     oct_ = cast("allan.AllanResult", allan.adev(arr, fs, taus="octave", confidence=None))
-    arw = float(one.adev[0]) * math.sqrt(tau)
-    bias = float(np.min(oct_.adev)) / FLICKER_FACTOR
+    # The IEEE-952 read-off of the noise module, on the regions [TS] reads: N on the −½ line
+    # through the point at τ ≈ 1 s (σ(τ)·√τ), B = min σ / FLICKER_FACTOR over the octave curve.
+    everywhere = (0.0, math.inf)
+    arw = _read(noise.fit(one, method="ieee", terms=("N",), regions={"N": everywhere}), "N")
+    bias = _read(noise.fit(oct_, method="ieee", terms=("B",), regions={"B": everywhere}), "B")
     nd = spectral.noise_density(arr, fs, units=units).density
     cutoff: float | None = None
     data = arr
@@ -520,6 +520,12 @@ def analyse_log(
         filter_cutoff=cutoff,
         unit=units,
     )
+
+
+def _read(coefficients: Any, symbol: str) -> float:
+    """The value of one read-off term (NaN if the read-off reports it missing)."""
+    value = coefficients[symbol].value
+    return math.nan if value is None else float(value)
 
 
 def analyse_logs(

@@ -362,6 +362,25 @@ fn gauss_markov_variance<'py>(
         .collect()
 }
 
+/// Allan variance of one Gauss–Markov process of standard deviation `sigma` at `taus`
+/// (`gyrocore::noise::gauss_markov::allan_variance_curve`).
+#[pyfunction]
+#[allow(clippy::needless_pass_by_value)]
+fn gauss_markov_avar<'py>(
+    py: Python<'py>,
+    sigma: f64,
+    correlation_time: f64,
+    taus: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let taus = c_order(&taus);
+    let out = core(noise::gauss_markov::allan_variance_curve(
+        sigma,
+        correlation_time,
+        &taus,
+    ))?;
+    Ok(out.into_pyarray(py))
+}
+
 /// GMWM estimate of the noise model of one rate series (`gyrocore::noise::gmwm`).
 #[pyfunction]
 #[pyo3(signature = (data, t0, terms, select, bootstrap, seed, min_blocks))]
@@ -440,6 +459,7 @@ fn gmwm<'py>(
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("FLICKER_FACTOR", noise::FLICKER_FACTOR)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(read_off, m)?)?;
     m.add_function(wrap_pyfunction!(model, m)?)?;
@@ -448,5 +468,6 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose, m)?)?;
     m.add_function(wrap_pyfunction!(gauss_markov_variance, m)?)?;
+    m.add_function(wrap_pyfunction!(gauss_markov_avar, m)?)?;
     m.add_function(wrap_pyfunction!(gmwm, m)?)
 }

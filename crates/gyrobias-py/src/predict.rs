@@ -14,18 +14,26 @@ use crate::error::core;
 type ArrayPair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
 
 fn model(d: f64, q: f64, r: f64, mean: &str, mu0: f64, p0: f64) -> PyResult<Model> {
-    let prior = match mean {
-        "sample" => MeanPrior::Sample,
-        "diffuse" => MeanPrior::Diffuse,
-        "none" => MeanPrior::Zero,
-        "proper" => MeanPrior::Proper { mu0, p0 },
-        other => {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "mean must be 'sample', 'diffuse', 'none' or 'proper', got {other:?}"
-            )));
-        }
-    };
+    let prior = core(MeanPrior::parse(mean, mu0, p0))?;
     core(Model::new(d, q, r, prior))
+}
+
+/// Checks a model and an algorithm name with the core's preconditions (`gyrocore::predict::Model::new`,
+/// `Algorithm::parse`): the Python predictor calls it when it is constructed.
+#[pyfunction]
+#[pyo3(signature = (d, q, r, mean, mu0, p0, algorithm))]
+fn validate_model(
+    d: f64,
+    q: f64,
+    r: f64,
+    mean: &str,
+    mu0: f64,
+    p0: f64,
+    algorithm: &str,
+) -> PyResult<()> {
+    model(d, q, r, mean, mu0, p0)?;
+    core(Algorithm::parse(algorithm))?;
+    Ok(())
 }
 
 /// Fractional Kalman prediction of each row of a (windows × k) float64 array
@@ -183,6 +191,7 @@ impl CompiledPredictor {
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(validate_model, m)?)?;
     m.add_function(wrap_pyfunction!(fractional_kalman, m)?)?;
     m.add_function(wrap_pyfunction!(calibration_mean, m)?)?;
     m.add_function(wrap_pyfunction!(moving_average, m)?)?;

@@ -6,9 +6,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
+    "FLICKER_FACTOR",
     "conservative",
     "diagnose",
     "fit",
+    "gauss_markov_avar",
     "gauss_markov_variance",
     "gmwm",
     "model",
@@ -16,6 +18,10 @@ __all__ = [
     "read_off",
     "simulate",
 ]
+
+#: ``gyrocore::noise::FLICKER_FACTOR``: the Allan-deviation plateau ``√(2 ln 2 / π)`` of flicker
+#: rate noise per unit bias instability B.
+FLICKER_FACTOR: float
 
 @type_check_only
 class TermEstimate(TypedDict):
@@ -126,6 +132,9 @@ def diagnose(
     gauss_markov: list[tuple[float, float]],
     n_params: int,
 ) -> dict[str, Any]: ...
+def gauss_markov_avar(
+    sigma: float, correlation_time: float, taus: NDArray[np.float64]
+) -> NDArray[np.float64]: ...
 def gauss_markov_variance(
     gauss_markov: list[tuple[float, float]], taus: NDArray[np.float64]
 ) -> list[NDArray[np.float64]]: ...

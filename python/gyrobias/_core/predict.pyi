@@ -5,7 +5,13 @@ from typing import TypedDict, final, type_check_only
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["CompiledPredictor", "calibration_mean", "fractional_kalman", "moving_average"]
+__all__ = [
+    "CompiledPredictor",
+    "calibration_mean",
+    "fractional_kalman",
+    "moving_average",
+    "validate_model",
+]
 
 @type_check_only
 class BatchPrediction(TypedDict):
@@ -17,6 +23,9 @@ class BatchPrediction(TypedDict):
     mean: NDArray[np.float64]
     mean_std: float
 
+def validate_model(
+    d: float, q: float, r: float, mean: str, mu0: float, p0: float, algorithm: str
+) -> None: ...
 def fractional_kalman(
     calibration: NDArray[np.float64],
     horizon: int,

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gyrobias import noise
 from gyrobias.allan import AllanResult, adev
 from gyrobias.kalman import (
     FixedGainKalman,
@@ -83,9 +84,18 @@ def _allan_read_off(x: NDArray[np.float64], fs: float) -> tuple[float, float, Al
     ms = np.union1d(ms, [int(fs)])
     res = adev(x, fs, taus=ms / fs, confidence=None)
     assert isinstance(res, AllanResult)
-    one = int(np.flatnonzero(np.isclose(res.taus, 1.0))[0])
-    arw = float(res.adev[one]) * 60.0
-    bias_instability = float(res.adev.min()) / math.sqrt(2 * math.log(2) / math.pi) * 3600.0
+    # The IEEE-952 read-off of gyrobias.noise on [NR]'s regions: N on the −½ line through the
+    # point at τ = 1 s, B = min σ / FLICKER_FACTOR over the whole curve.
+    one = float(res.taus[int(np.flatnonzero(np.isclose(res.taus, 1.0))[0])])
+    read = noise.fit(
+        res,
+        method="ieee",
+        terms=("N", "B"),
+        regions={"N": (one, one), "B": (0.0, math.inf)},
+    )
+    arw_value, b_value = read.N.value, read.B.value
+    arw = (math.nan if arw_value is None else arw_value) * 60.0
+    bias_instability = (math.nan if b_value is None else b_value) * 3600.0
     return arw, bias_instability, res
 
 
@@ -269,8 +279,8 @@ def demo_section(rate: NDArray[np.float64], fs: float, outdir: Path) -> None:
         f"  per-sample white noise reduced {1 / kf.white_noise_gain:.2f}x; "
         "Allan deviation at tau >= 1 s unchanged (unity DC gain)"
     )
-    raw_res = adev(rate, fs, confidence=None)
-    filt_res = adev(filtered, fs, confidence=None)
+    raw_res = adev(rate, fs, confidence=None, units="deg/s")
+    filt_res = adev(filtered, fs, confidence=None, units="deg/s")
     assert isinstance(raw_res, tuple) and isinstance(filt_res, tuple)
     for axis, (r, f) in enumerate(zip(raw_res, filt_res, strict=True)):
         i = int(np.argmin(np.abs(r.taus - 1.0)))
@@ -278,25 +288,18 @@ def demo_section(rate: NDArray[np.float64], fs: float, outdir: Path) -> None:
             f"  axis {axis}: sigma(tau={r.taus[0]:.3g} s) {r.adev[0]:.4g} -> {f.adev[0]:.4g}; "
             f"sigma(tau={r.taus[i]:.3g} s) {r.adev[i]:.4g} -> {f.adev[i]:.4g} deg/s"
         )
-    try:
-        import matplotlib
+    from gyrobias.plotting import save_comparison_plot
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+    outdir.mkdir(parents=True, exist_ok=True)
+    path = outdir / "kalman_allan.png"
+    try:
+        save_comparison_plot(
+            raw_res,
+            filt_res,
+            path,
+            title=f"Fixed-gain Kalman filter, {bandwidth:g} Hz bandwidth",
+        )
     except ImportError:
         print("  (matplotlib not installed: plot skipped; pip install 'gyrobias[plot]')")
         return
-    fig, ax = plt.subplots(figsize=(6.4, 4.8))
-    for axis, (r, f) in enumerate(zip(raw_res, filt_res, strict=True)):
-        (line,) = ax.loglog(r.taus, r.adev, label=f"axis {axis} raw")
-        ax.loglog(f.taus, f.adev, "--", color=line.get_color(), label=f"axis {axis} filtered")
-    ax.set_xlabel("tau [s]")
-    ax.set_ylabel("Allan deviation [deg/s]")
-    ax.set_title(f"Fixed-gain Kalman filter, {bandwidth:g} Hz bandwidth")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize="small")
-    outdir.mkdir(parents=True, exist_ok=True)
-    path = outdir / "kalman_allan.png"
-    fig.savefig(path, dpi=120, bbox_inches="tight")
-    plt.close(fig)
     print(f"  plot: {path}")

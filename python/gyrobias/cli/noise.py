@@ -264,19 +264,14 @@ def demo_section(
             cells.append(got)
         label = f"{symbol} {noise.TERM_NAMES[sensor][symbol]}"
         print(f"  {label:<30} " + "  ".join(f"{c:>30}" for c in cells) + f"  {term0.unit or ''}")
+    from gyrobias.plotting import save_noise_model_plot
+
     try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        fig, ax = plt.subplots(figsize=(7, 5))
-        fits[0].plot(ax=ax)
-        ax.set_title(f"Allan deviation and fitted noise model (axis {names[0]})")
         outdir.mkdir(parents=True, exist_ok=True)
         path = outdir / "noise_fit.png"
-        fig.savefig(path, dpi=120, bbox_inches="tight")
-        plt.close(fig)
+        save_noise_model_plot(
+            fits[0], path, title=f"Allan deviation and fitted noise model (axis {names[0]})"
+        )
         print(f"  plot: {path}")
     except ImportError:
         print("  (matplotlib not installed: no plot)")

@@ -102,40 +102,17 @@ def plot_window(
     title: str = "",
 ) -> None:
     """Draw one section: data, the KF forecast with its ±2σ band, MA and CM ([BP] Figs. 2–3)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     from gyrobias import predict
+    from gyrobias.plotting import save_prediction_plot
 
     k, h = calibration, section.size - calibration
     pred = predictor.predict(section[:k], h)
-    t = np.arange(section.size) / fs
-    tf = t[k:]
-    fig, ax = plt.subplots(figsize=(8, 4))
-    ax.plot(t, section, color="0.6", lw=0.6, label="data")
-    ax.axvline(t[k], color="k", lw=0.8, ls=":")
-    ax.plot(tf, pred.bias, color="C0", label="fractional Kalman")
-    ax.fill_between(
-        tf,
-        pred.bias - 2 * pred.std,
-        pred.bias + 2 * pred.std,
-        color="C0",
-        alpha=0.2,
-        label="±2σ (bias)",
-    )
-    ax.plot(tf, predict.moving_average(section[:k], h), color="C1", label="moving average")
-    ax.plot(
-        tf, predict.calibration_mean(section[:k], h), color="C2", ls="--", label="calibration mean"
-    )
-    ax.set_xlabel("time (s)")
-    ax.set_ylabel("rate")
-    ax.set_title(title or "bias prediction")
-    ax.legend(loc="best", fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    forecasts = {
+        "fractional Kalman": pred.bias,
+        "moving average": predict.moving_average(section[:k], h),
+        "calibration mean": predict.calibration_mean(section[:k], h),
+    }
+    save_prediction_plot(section, k, fs, forecasts, path, std=pred.std, title=title)
 
 
 def run(args: argparse.Namespace) -> int:

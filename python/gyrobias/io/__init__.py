@@ -17,6 +17,21 @@ Formats (chosen by the file name):
   ``sensor_msgs/Imu`` topic as ``gyro_x``, ``gyro_y``, ``gyro_z`` in rad/s and ``accel_x``,
   ``accel_y``, ``accel_z`` in m/s², time from ``header.stamp`` (or the receive time).
 
+Logs larger than memory
+-----------------------
+``spill=True`` (``None``: when the samples exceed a quarter of the memory) puts the samples,
+the raw stamps and the time vector in memory-mapped, already unlinked temporary files, written
+block by block; a float64 ``.npy`` is mapped directly. A bag is decoded batch by batch
+(65 536 messages) into that spill file rather than fed to the Allan analysis message by
+message, by design: the out-of-core Allan kernel (``_core.allan.analyse_stream``) reads its
+source several times and at several places at once (the mean, the integration constants,
+then every τ's windows ``x[c]``, ``x[c+m]``, ``x[c+2m]`` through up to 13 cursors per pass, then
+the noise identification), so a bag as source would be decompressed and deserialised a dozen
+times or more, while the spill file is a decoded float64 copy (48 bytes per message for six
+channels, a fraction of a ``sensor_msgs/Imu`` message) that the kernel reads with bounded
+memory. Not bounded yet: the sampling report's statistics take full-length temporaries of the
+intervals (the exact median needs them), about one time column each.
+
 Examples
 --------
 >>> import gyrobias, tempfile, pathlib
@@ -32,6 +47,7 @@ from __future__ import annotations
 import bz2
 import gzip
 import lzma
+import math
 import os
 import re
 import zlib
@@ -461,7 +477,12 @@ def load(
                 f"time_unit does not apply to bags ({p.name}): their stamps are nanoseconds"
             )
         data6, t_raw, t_name, topic_used, fmt = _bag.read_bag(
-            p, topic, stamp, progress, lambda n: store.empty(n, 6)
+            p,
+            topic,
+            stamp,
+            progress,
+            lambda n: store.empty(n, 6),
+            allocate_stamps=lambda n: store.vector(n, np.int64),
         )
         idx, _ = _select(_expand_groups(columns), False, _bag.CHANNELS, 6, p.name)
         table = data6 if idx == list(range(6)) else _take_columns(data6, idx, store)
@@ -522,7 +543,7 @@ def load(
         assert t_name is not None
         t_raw, table, fixes = _repair(p, t_raw, table, t_name, repairs, line_of, store)
         time, intervals, time_start, unit_used, guessed = _time_seconds(
-            p, t_raw, t_name, time_unit, line_of
+            p, t_raw, t_name, time_unit, line_of, store
         )
         t_raw = None  # the raw stamps are no longer needed (long logs: free them now)
         report = _sampling_report(
@@ -763,8 +784,13 @@ def _read_npy(
     idx, t_idx = _select(columns, time_column, None, arr.shape[1], p.name)
     names = [f"col{i}" for i in idx]
     t_name = None if t_idx is None else f"col{t_idx}"
-    t_raw = None if t_idx is None else np.array(arr[:, t_idx])
     whole = idx == list(range(arr.shape[1]))
+    t_raw = None
+    if t_idx is not None:  # a copy (the time column leaves the file), spilled with the samples
+        store.spilled = store.spilled or store.wants_spill(arr.shape[0] * len(idx) * 8)
+        t_raw = store.vector(arr.shape[0], arr.dtype.type)
+        for sl in blocks(arr.shape[0]):
+            t_raw[sl] = arr[sl, t_idx]
     if (
         store.wants_spill(arr.shape[0] * len(idx) * 8)
         and whole
@@ -986,7 +1012,8 @@ def _read_arrow(
         quoted_strings_can_be_null=False,
     )
     sink = store.sink(len(idx), estimated_rows)
-    stamps = Sink(store, 1, False, estimated_rows, np.int64 if int_time else np.float64)
+    # the raw stamps go to disk with the samples (a log larger than memory)
+    stamps = Sink(store, 1, sink.spilled, estimated_rows, np.int64 if int_time else np.float64)
     try:
         source = pa.OSFile(str(p), "r")  # plain reads: a mapping would count the file as resident
         try:
@@ -1080,13 +1107,14 @@ def _loadtxt(
 
 
 def _time_seconds(
-    p: Path, t_raw: NDArray[Any], t_name: str, time_unit: str, line_of: Any
+    p: Path, t_raw: NDArray[Any], t_name: str, time_unit: str, line_of: Any, store: Store
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], float, str, bool]:
     """Timestamps (finite, in order: see :func:`_repair`) → seconds since the first sample.
 
-    Works with one or two temporary arrays of the log's length at a time (long logs).
+    Returns ``(time, intervals, start, unit, guessed)``; ``time`` and ``intervals`` are
+    written block by block into arrays spilled with the samples (no full-length temporary).
     """
-    steps = np.diff(t_raw)  # exact in int64 for integer stamps
+    n = len(t_raw)
     unit = time_unit
     guessed = False
     if unit == "auto":
@@ -1094,22 +1122,49 @@ def _time_seconds(
         if m:
             unit = m.group(1)
         else:
+            steps = np.diff(t_raw)  # exact in int64 for integer stamps
             positive = steps[steps > 0]
+            del steps
             median = float(np.median(positive, overwrite_input=True)) if positive.size else 0.0
             del positive
             unit = "ns" if median >= NS_THRESHOLD else "s"
             guessed = True
     per_second = _PER_SECOND[unit]  # dividing by an exact power of ten rounds correctly
-    # the intervals from the raw differences: exact for integer stamps, so a perfectly
-    # regular nanosecond log has exactly zero jitter
-    intervals = steps.astype(np.float64)
-    del steps
-    intervals /= per_second
-    rel = t_raw - t_raw[0]  # exact in int64 for integer stamps
-    time = rel.astype(np.float64) if rel.dtype != np.float64 else rel
-    del rel
-    time /= per_second
-    return time, intervals, float(t_raw[0]) / per_second, unit, guessed
+    # Block by block into arrays that are spilled with the samples (store.vector).
+    # The intervals from the raw differences: exact for integer stamps, so a perfectly
+    # regular nanosecond log has exactly zero jitter.
+    first = t_raw[0]
+    intervals = store.vector(max(n - 1, 0))
+    # The raw stamps are the loader's own copy and not needed afterwards: the seconds overwrite
+    # them in place when they are 8-byte numbers (int64 or float64), one column less at peak.
+    in_place = t_raw.dtype in (np.dtype(np.int64), np.dtype(np.float64)) and t_raw.flags.writeable
+    time = t_raw.view(np.float64) if in_place else store.vector(n)
+    previous = None  # the raw stamp before the block (already overwritten in place)
+    for sl in blocks(n):
+        chunk = t_raw[sl]
+        rel = chunk - first  # exact in int64 for integer stamps
+        last = chunk[-1]
+        if previous is not None:
+            intervals[sl.start - 1] = (chunk[0] - previous) / per_second
+        if chunk.size > 1:
+            steps = np.diff(chunk).astype(np.float64)
+            steps /= per_second
+            intervals[sl.start : sl.stop - 1] = steps
+        converted = rel.astype(np.float64) if rel.dtype != np.float64 else rel
+        converted /= per_second
+        time[sl] = converted
+        previous = last
+    return time, intervals, float(first) / per_second, unit, guessed
+
+
+def _std_in_place(x: NDArray[np.float64]) -> float:
+    """``np.std(x)`` computed in ``x`` itself (overwritten): the same operations in the same
+    order as NumPy's ``_var`` (sum / n, subtract, square, sum / n, sqrt), hence the same bits,
+    without its full-length temporary."""
+    mean = np.add.reduce(x) / x.size
+    x -= mean
+    np.multiply(x, x, out=x)
+    return math.sqrt(np.add.reduce(x) / x.size)
 
 
 def _sampling_report(
@@ -1144,11 +1199,11 @@ def _sampling_report(
     del gap_mask
     regular = steps[regular_mask]
     del regular_mask
-    jitter = float(np.std(regular) / median) if regular.size > 1 else 0.0
     # the mean of the regular intervals: unaffected by gaps like the median, but not stuck on
     # one quantised interval value; 9 significant digits drop the decimal-rounding noise of
     # timestamps written as text (0.0100 → 100.00000000000213 Hz)
     fs_est = float(f"{1.0 / (float(np.mean(regular)) if regular.size else mean_positive):.9g}")
+    jitter = _std_in_place(regular) / median if regular.size > 1 else 0.0
     del regular
     missing = int(np.sum(np.rint(gap_durations / median) - 1)) if gap_rows.size else 0
 
@@ -1250,12 +1305,15 @@ def _repair(
     store: Store,
 ) -> tuple[NDArray[Any], NDArray[np.float64], _Fixes]:
     """Check the timestamps (finite, in order) and apply ``repair=``; never silently."""
-    if t_raw.dtype.kind == "f" and not np.isfinite(t_raw).all():
-        row = int(np.flatnonzero(~np.isfinite(t_raw))[0])
-        where = f"line {line_of(row)}" if line_of else f"row {row}"
-        raise ValueError(f"{p.name}: {t_raw[row]} in the time column '{t_name}' at {where}")
+    if t_raw.dtype.kind == "f":
+        for sl in blocks(len(t_raw)):  # block by block: a spilled column stays on disk
+            bad = np.flatnonzero(~np.isfinite(t_raw[sl]))
+            if bad.size:
+                row = sl.start + int(bad[0])
+                where = f"line {line_of(row)}" if line_of else f"row {row}"
+                raise ValueError(f"{p.name}: {t_raw[row]} in the time column '{t_name}' at {where}")
     done: list[str] = []
-    back = np.flatnonzero(np.diff(t_raw) < 0) + 1
+    back = _step_rows(t_raw, np.less)
     if back.size:
         row = int(back[0])
         if "sort" not in repairs:
@@ -1266,14 +1324,14 @@ def _repair(
                 "sort the log or fix its clock, or pass repair='sort' (--repair sort)"
             )
         order = np.argsort(t_raw, kind="stable")
-        t_raw = t_raw[order]
+        t_raw = _take_stamps(t_raw, order, store)
         table = _take_rows(table, order, store)
         done.append(
             f"sorted by timestamp: {back.size} sample(s) were earlier than the one before them, "
             f"the first at row {row} (repair='sort')"
         )
     exact = np.zeros(0, dtype=np.int64)
-    cand = np.flatnonzero(np.diff(t_raw) == 0) + 1
+    cand = _step_rows(t_raw, np.equal)
     if cand.size:
         same = np.ones(cand.size, dtype=bool)
         for sl in blocks(cand.size):
@@ -1285,7 +1343,7 @@ def _repair(
         keep = np.ones(len(t_raw), dtype=bool)
         keep[exact] = False
         rows = np.flatnonzero(keep)
-        t_raw = t_raw[rows]
+        t_raw = _take_stamps(t_raw, rows, store)
         table = _take_rows(table, rows, store)
         done.append(
             f"dropped {exact.size} sample(s) repeating the previous one exactly (same timestamp "
@@ -1293,6 +1351,28 @@ def _repair(
         )
         dropped, exact = int(exact.size), np.zeros(0, dtype=np.int64)
     return t_raw, table, _Fixes(back.astype(np.int64), exact, dropped, tuple(done))
+
+
+def _take_stamps(t_raw: NDArray[Any], rows: NDArray[np.intp], store: Store) -> NDArray[Any]:
+    """``t_raw[rows]`` in a new array of the store (spilled with the samples), block by block."""
+    out = store.vector(len(rows), t_raw.dtype.type)
+    for sl in blocks(len(rows)):
+        out[sl] = t_raw[rows[sl]]
+    return out
+
+
+def _step_rows(t_raw: NDArray[Any], compare: Any) -> NDArray[np.intp]:
+    """Rows ``i ≥ 1`` with ``compare(t[i] − t[i−1], 0)``, found block by block.
+
+    Equal to ``np.flatnonzero(compare(np.diff(t_raw), 0)) + 1`` without a full-length
+    difference array (the stamps of a spilled log stay on disk).
+    """
+    found = []
+    for sl in blocks(len(t_raw)):
+        lo = max(sl.start - 1, 0)
+        steps = np.diff(t_raw[lo : sl.stop])
+        found.append(np.flatnonzero(compare(steps, 0)) + lo + 1)
+    return np.concatenate(found) if found else np.zeros(0, dtype=np.intp)
 
 
 def _fill_gaps(
@@ -1312,7 +1392,7 @@ def _fill_gaps(
         out[sl] = np.nan
     for sl in blocks(n):
         out[dest[sl]] = table[sl]
-    new_time = np.empty(total)
+    new_time = store.vector(total)
     new_time[dest] = time
     for row, count in zip(report.gap_rows.tolist(), missing.tolist()):
         t0, t1 = time[row - 1], time[row]

@@ -215,10 +215,12 @@ def read_bag(
     allocate: Callable[[int], NDArray[np.float64]],
     *,
     fast: bool = True,
+    allocate_stamps: Callable[[int], NDArray[np.int64]] | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.int64], str, str, str]:
     """Read one IMU topic: (n × 6 data, int64 ns stamps, time-column name, topic, format).
 
-    ``allocate(n)`` returns the ``(n, 6)`` float64 output array (in memory or memory-mapped).
+    ``allocate(n)`` returns the ``(n, 6)`` float64 output array (in memory or memory-mapped),
+    ``allocate_stamps(n)`` the ``(n,)`` int64 stamps (default: in memory).
     ``stamp`` is ``"header"`` (``header.stamp``) or ``"receive"`` (the bag's record time).
     ``fast=False`` forces rosbags' deserializer for every message (the tests' reference).
     """
@@ -227,8 +229,9 @@ def read_bag(
         name, connections, count = _choose_topic(p, reader, topic)
         ros1 = not reader.is2
         fast = fast and _standard_layout(reader, ros1)
+        new_stamps = allocate_stamps or (lambda k: np.empty(k, dtype=np.int64))
         data = allocate(count)
-        stamps = np.empty(count, dtype=np.int64)
+        stamps = new_stamps(count)
         n = 0
         raws: list[bytes | memoryview] = []
         recv: list[int] = []
@@ -244,7 +247,9 @@ def read_bag(
                 bigger = allocate(max(2 * len(stamps), n + m))
                 bigger[:n] = data[:n]
                 data = bigger
-                stamps = np.concatenate([stamps[:n], np.empty(len(bigger) - n, dtype=np.int64)])
+                more = new_stamps(len(bigger))
+                more[:n] = stamps[:n]
+                stamps = more
             data[n : n + m] = block
             stamps[n : n + m] = ts
             n += m

@@ -74,6 +74,24 @@ class Store:
         self.spilled = True
         return out
 
+    def vector(self, n: int, dtype: type[np.generic] = np.float64) -> NDArray[Any]:
+        """An uninitialised 1-D array for a per-sample column (timestamps, intervals).
+
+        It goes to disk with the samples: when they were spilled (or it alone is large
+        enough to be), so that a log larger than memory has no full-length column in memory.
+        """
+        itemsize = np.dtype(dtype).itemsize
+        if not (self.spilled or self.wants_spill(n * itemsize)):
+            return np.empty(n, dtype=dtype)
+        fd, name = tempfile.mkstemp(prefix="gyrobias-", suffix=".npy", dir=self.directory)
+        os.close(fd)
+        try:
+            out = np.lib.format.open_memmap(name, mode="w+", dtype=dtype, shape=(n,))
+        finally:
+            os.unlink(name)  # the mapping keeps the data; the name goes now
+        self.spilled = True
+        return out
+
     def sink(self, cols: int, estimated_rows: int) -> Sink:
         """A writer of row blocks whose total count is not known in advance."""
         return Sink(self, cols, self.wants_spill(estimated_rows * cols * 8), estimated_rows)
@@ -107,6 +125,11 @@ class Sink:
                 prefix="gyrobias-", suffix=".f64", dir=store.directory
             )
             store.spilled = True
+
+    @property
+    def spilled(self) -> bool:
+        """True when the rows go to a temporary file."""
+        return self._file is not None
 
     def reserve(self, m: int) -> NDArray[Any]:
         """A writable ``(m, cols)`` view for the next ``m`` rows; :meth:`commit` adds them.

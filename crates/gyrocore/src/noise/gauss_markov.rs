@@ -21,6 +21,8 @@
 //! sample means equals the continuous formula up to `O((t0/τ)²)` relative, which is negligible
 //! where the term is visible (`τ ≳ T/10`) when `T ≫ t0`.
 
+use crate::{Error, Result, validate};
+
 /// `f(x) = 2x − 3 + 4e^{−x} − e^{−2x}` without cancellation.
 fn bracket(x: f64) -> f64 {
     if x < 0.5 {
@@ -56,6 +58,25 @@ pub fn allan_variance(q2: f64, correlation_time: f64, tau: f64) -> f64 {
     q2 * basis(correlation_time, tau)
 }
 
+/// Allan variance at every `taus[i]` of a Gauss–Markov process of standard deviation `sigma`
+/// and correlation time `correlation_time` (s), with the preconditions checked: `sigma` finite
+/// and ≥ 0, `correlation_time` finite and > 0, every τ finite and > 0.
+pub fn allan_variance_curve(sigma: f64, correlation_time: f64, taus: &[f64]) -> Result<Vec<f64>> {
+    validate::non_negative("sigma", sigma)?;
+    validate::positive("correlation_time", correlation_time)?;
+    if let Some(bad) = taus.iter().find(|t| !(t.is_finite() && **t > 0.0)) {
+        return Err(Error::invalid(
+            "taus",
+            format!("must be finite and > 0, got {bad}"),
+        ));
+    }
+    let q2 = sigma * sigma;
+    Ok(taus
+        .iter()
+        .map(|&tau| allan_variance(q2, correlation_time, tau))
+        .collect())
+}
+
 /// Two-sided PSD `2q²T / (1 + (2π f T)²)` at frequency `f` (Hz).
 pub fn psd(q2: f64, correlation_time: f64, f: f64) -> f64 {
     let w = std::f64::consts::TAU * f * correlation_time;
@@ -83,6 +104,27 @@ pub fn ar1_parameters(sigma: f64, correlation_time: f64, t0: f64) -> (f64, f64) 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn curve_checks_its_arguments_and_matches_the_pointwise_formula() {
+        let taus = [0.1, 1.0, 10.0];
+        let got = allan_variance_curve(1.5, 2.0, &taus).unwrap();
+        for (g, &tau) in got.iter().zip(&taus) {
+            assert_eq!(*g, allan_variance(2.25, 2.0, tau));
+        }
+        for (sigma, t, taus, name) in [
+            (-1.0, 1.0, &[1.0][..], "sigma"),
+            (f64::NAN, 1.0, &[1.0][..], "sigma"),
+            (1.0, 0.0, &[1.0][..], "correlation_time"),
+            (1.0, 1.0, &[1.0, 0.0][..], "taus"),
+            (1.0, 1.0, &[f64::INFINITY][..], "taus"),
+        ] {
+            let err = allan_variance_curve(sigma, t, taus)
+                .unwrap_err()
+                .to_string();
+            assert!(err.contains(name), "{err}");
+        }
+    }
 
     /// Numeric integration of the PSD against the Allan transfer function
     /// `σ²(τ) = 4 ∫₀^∞ S(f) sin⁴(π f τ)/(π f τ)² df` (an independent route to the closed form).

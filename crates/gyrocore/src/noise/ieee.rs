@@ -142,7 +142,10 @@ pub fn read_off(
             format!("must be finite and > 0, got {}", options.tolerance),
         ));
     }
-    let min_points = options.min_points.max(1);
+    if options.min_points == 0 {
+        return Err(Error::invalid("min_points", "must be >= 1"));
+    }
+    let min_points = options.min_points;
     for (j, r) in options.regions.iter().enumerate() {
         if let Some((lo, hi)) = r {
             if lo.is_nan() || hi.is_nan() || hi < lo {
@@ -340,6 +343,27 @@ mod tests {
                 "no minimum inside a power law"
             );
         }
+    }
+
+    #[test]
+    fn zero_min_points_is_a_named_error() {
+        let (taus, var, m, terms) = curve_of(&[0.0, 1e-6, 0.0, 0.0, 0.0], 100_000, 0.01, 10);
+        let curve = Curve {
+            taus: &taus,
+            variance: &var,
+            m: &m,
+            n_terms: &terms,
+            overlapping: true,
+            edf: None,
+        };
+        let options = ReadOffOptions {
+            min_points: 0,
+            ..ReadOffOptions::default()
+        };
+        let err = read_off(&curve, [true; 5], &options)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("min_points"), "{err}");
     }
 
     #[test]

@@ -65,6 +65,23 @@ pub enum MeanPrior {
     },
 }
 
+impl MeanPrior {
+    /// Parses the prior's name: `"sample"`, `"diffuse"`, `"none"` (m = 0) or `"proper"` with
+    /// `mu0` and `p0` (ignored by the other names; checked by [`Model::new`]).
+    pub fn parse(name: &str, mu0: f64, p0: f64) -> Result<Self> {
+        match name {
+            "sample" => Ok(Self::Sample),
+            "diffuse" => Ok(Self::Diffuse),
+            "none" => Ok(Self::Zero),
+            "proper" => Ok(Self::Proper { mu0, p0 }),
+            other => Err(Error::invalid(
+                "mean",
+                format!("expected 'sample', 'diffuse', 'none' or a pair (mu0, p0), got {other:?}"),
+            )),
+        }
+    }
+}
+
 /// The fractional Kalman predictor's model.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Model {
@@ -337,6 +354,27 @@ mod tests {
         assert_eq!(ma, vec![4.0, 3.5, 3.0, 2.5, 2.5, 2.5]);
         let cm = calibration_mean(&y, 4, 2).unwrap();
         assert_eq!(cm, vec![2.5, 2.5]);
+    }
+
+    #[test]
+    fn mean_prior_names() {
+        assert_eq!(
+            MeanPrior::parse("sample", 1.0, 2.0).unwrap(),
+            MeanPrior::Sample
+        );
+        assert_eq!(MeanPrior::parse("none", 0.0, 0.0).unwrap(), MeanPrior::Zero);
+        assert_eq!(
+            MeanPrior::parse("diffuse", 0.0, 0.0).unwrap(),
+            MeanPrior::Diffuse
+        );
+        assert_eq!(
+            MeanPrior::parse("proper", 1.0, 2.0).unwrap(),
+            MeanPrior::Proper { mu0: 1.0, p0: 2.0 }
+        );
+        let err = MeanPrior::parse("mystery", 0.0, 0.0)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("mean") && err.contains("mystery"), "{err}");
     }
 
     #[test]
