@@ -161,8 +161,9 @@ def test_sensor_like_log_excludes_the_filter_bend() -> None:
     c = noise.fit(r, terms=("N", "K", "GM"))
     d = c.diagnostics
     assert d is not None and d.passed
-    assert d.excluded and d.excluded[0][0] == pytest.approx(0.01)
-    assert "filter" in d.excluded[0][2]
+    # The bend is excluded (the last τ, 4 decimated points with EDF < 3, may be too).
+    bend = [e for e in d.excluded if "filter" in e[2]]
+    assert bend and bend[0][0] == pytest.approx(0.01)
     # Default N within 5 % of σ(τ)·√τ in the clean −½ region (0.5–5 s).
     clean = (r.taus > 0.5) & (r.taus < 5.0)
     read = float(np.mean(r.adev[clean] * np.sqrt(r.taus[clean])))

@@ -1,8 +1,10 @@
 //! Confidence intervals for Allan-family variances (NIST SP1065 §5.3–5.5).
 //!
-//! For each averaging factor: identify the power-law noise ([`super::noise_id`], lag-1 ACF),
-//! compute the equivalent degrees of freedom ([`super::edf`], Greenhall / SP1065 Table 11) and
-//! form the chi-square interval of the variance (SP1065 eq. 45):
+//! For each averaging factor: identify the power-law noise ([`super::noise_id`]: lag-1 ACF
+//! where the decimated series has ≥ 30 points, B1 ratio and R(n) where it has fewer — SP1065
+//! §5.6, Stable32's rule), compute the equivalent degrees of freedom ([`super::edf`], Greenhall /
+//! SP1065 Table 11; never more than the number of terms summed) and form the chi-square interval
+//! of the variance (SP1065 eq. 45):
 //!
 //! ```text
 //! σ̂² · edf / χ²_{edf, (1+c)/2}  ≤  σ²  ≤  σ̂² · edf / χ²_{edf, (1−c)/2}
@@ -134,19 +136,7 @@ mod tests {
     use super::*;
 
     fn rate(n: usize, seed: u64) -> Vec<f64> {
-        let mut s = seed;
-        (0..n)
-            .map(|_| {
-                let mut acc = 0.0;
-                for _ in 0..12 {
-                    s = s
-                        .wrapping_mul(6364136223846793005)
-                        .wrapping_add(1442695040888963407);
-                    acc += (s >> 11) as f64 / (1u64 << 53) as f64;
-                }
-                acc - 6.0
-            })
-            .collect()
+        crate::random::normal_vec(n, seed)
     }
 
     #[test]
@@ -208,6 +198,31 @@ mod tests {
         let (lo, hi) = chi2_bounds(1.0, 10.0, 0.683).unwrap();
         assert!((lo / 0.6978775507845881 - 1.0).abs() < 1e-12, "{lo}");
         assert!((hi / 1.760979788295106 - 1.0).abs() < 1e-12, "{hi}");
+    }
+
+    #[test]
+    fn edf_never_exceeds_the_terms() {
+        // White angle noise makes Greenhall's EDF largest; every estimator, every octave τ.
+        let x = crate::random::normal_vec(3001, 3);
+        for est in [
+            Estimator::Overlapping,
+            Estimator::NonOverlapping,
+            Estimator::Modified,
+            Estimator::Hadamard,
+            Estimator::Total,
+        ] {
+            let ms: Vec<usize> = (0..12)
+                .map(|k| 1usize << k)
+                .filter(|&m| m <= est.max_factor(x.len()))
+                .collect();
+            for alpha in edf::min_alpha(est)..=2 {
+                for &m in &ms {
+                    let e = edf::edf(est, alpha, m, x.len()).unwrap();
+                    let terms = est.n_terms(x.len(), m) as f64;
+                    assert!(e <= terms, "{est:?} alpha={alpha} m={m}: {e} > {terms}");
+                }
+            }
+        }
     }
 
     #[test]

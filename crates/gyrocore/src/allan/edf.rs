@@ -36,6 +36,17 @@
 //! `exp(√(ln((N−1)/2m) · ln((2m+1)(N−1)/4)))` (as AllanTools' `edf_totdev`; Stable32's
 //! intervals imply an EDF ≈ 1.5 % larger).
 
+//!
+//! **Cap.** An estimate `σ̂² = Σ_{k<T} z_k²/T` of `T` (correlated, Gaussian) terms has
+//! `edf = 2(E σ̂²)²/Var σ̂² = (tr C)²/tr(C²) ≤ rank C ≤ T` (Cauchy–Schwarz on the eigenvalues of
+//! the terms' covariance `C`), and `rank C ≤ N − d` for a `d`-th difference structure on `N`
+//! angle samples. So the EDF reported never exceeds the number of terms actually summed
+//! (Greenhall's `M`: `N − 2m` overlapping Allan, `⌊(N−1)/m⌋ − 1` non-overlapping, `N − 3m + 1`
+//! modified, `N − 3m` Hadamard) nor `N − d` (total-type and Théo1 formulas); the empirical
+//! formulas and large-r table fits are clamped to it. With a correct noise type this never binds
+//! on real records (the exact EDF is below it); it guards against formulas evaluated outside
+//! their range.
+
 use super::Estimator;
 use crate::{Error, Result};
 
@@ -355,7 +366,9 @@ pub fn greenhall(
             (a0 - a1 / r) / big_m
         }
     };
-    let edf = 1.0 / inv;
+    // Never more degrees of freedom than terms in the sum (module docs, "Cap"); binds only
+    // where the large-r table fits run past their range.
+    let edf = (1.0 / inv).min(big_m);
     if edf.is_finite() && edf > 0.0 {
         Ok(edf)
     } else {
@@ -409,6 +422,7 @@ pub fn total(alpha: i32, m: usize, n_phase: usize) -> Result<f64> {
             ));
         }
     };
+    let edf = edf.min(rank_bound(n_phase, 2));
     if edf.is_finite() && edf > 0.0 {
         Ok(edf)
     } else {
@@ -437,7 +451,7 @@ pub fn modified_total(alpha: i32, m: usize, n_phase: usize) -> Result<f64> {
         }
     };
     positive_edf(
-        b * n_phase as f64 / m as f64 - c,
+        (b * n_phase as f64 / m as f64 - c).min(rank_bound(n_phase, 2)),
         "modified-total",
         alpha,
         m,
@@ -464,7 +478,7 @@ pub fn hadamard_total(alpha: i32, m: usize, n_phase: usize) -> Result<f64> {
     }
     let ratio = n_phase.saturating_sub(1) as f64 / m as f64;
     positive_edf(
-        ratio / (b0 + b1 / ratio),
+        (ratio / (b0 + b1 / ratio)).min(rank_bound(n_phase, 3)),
         "Hadamard-total",
         alpha,
         m,
@@ -508,13 +522,19 @@ pub fn theo1(alpha: i32, m: usize, n_phase: usize) -> Result<f64> {
         }
     };
     if edf.is_finite() {
-        Ok(edf.max(1.0))
+        Ok(edf.max(1.0).min(rank_bound(n_phase, 2).max(1.0)))
     } else {
         Err(Error::invalid(
             "edf",
             format!("no valid Théo1 EDF for alpha = {alpha}, m = {m}, N = {n_phase}"),
         ))
     }
+}
+
+/// `N − d`: the rank of a quadratic form in `N` angle samples that annihilates polynomials of
+/// degree `< d` (the d-th difference structure), an upper bound of its EDF (module docs, "Cap").
+fn rank_bound(n_phase: usize, d: usize) -> f64 {
+    n_phase.saturating_sub(d) as f64
 }
 
 fn positive_edf(edf: f64, what: &str, alpha: i32, m: usize, n_phase: usize) -> Result<f64> {

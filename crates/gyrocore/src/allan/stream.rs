@@ -362,6 +362,9 @@ fn identify(
     }
     let budget = (n / 16).max(1 << 16);
     let mut ids: Vec<Option<noise_id::Identification>> = vec![None; wanted.len()];
+    // Factors with fewer than 100 decimated points (B1 / R(n)): gathered during the first
+    // decimation pass (it always runs: `wanted` holds m_c for every streamed record).
+    let mut few = noise_id::FewPoints::new(n, &noise_id::few_point_factors(n, ms));
     let mut next = 0;
     while next < wanted.len() {
         let mut end = next;
@@ -379,6 +382,9 @@ fn identify(
         for w0 in (0..n).step_by(WINDOW) {
             let len = WINDOW.min(n - w0);
             cursor.fill(src, integ, &mut window[..len])?;
+            if next == 0 {
+                few.feed(&window[..len], w0);
+            }
             for (zm, &m) in z.iter_mut().zip(group) {
                 let mut k = w0.div_ceil(m) * m;
                 while k < w0 + len {
@@ -405,8 +411,7 @@ fn identify(
         ms,
         |_, _| (small_ids, large_ids),
         lookup,
-        // Only records under 30 samples need B1; those are analysed in memory.
-        |_| None,
+        |m, acf| few.resolve(m, acf),
     ))
 }
 
