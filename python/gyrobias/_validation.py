@@ -117,3 +117,14 @@ def choice(name: str, value: Any, options: tuple[str, ...]) -> str:
     if not isinstance(value, str) or value not in options:
         raise ValueError(f"{name} must be one of {', '.join(map(repr, options))}; got {value!r}")
     return value
+
+
+def string(name: str, value: Any) -> str:
+    """``value`` if it is a ``str``, else ``TypeError`` naming ``name``.
+
+    Only the type is checked: which names are valid (a ``form``, a ``padtype``, …) is decided
+    by the core's parser, whose message names ``name`` and lists the options.
+    """
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be a string, got {type(value).__name__}")
+    return value
