@@ -76,10 +76,14 @@ ENTRY_POINTS: list[tuple[str, Callable[[np.ndarray], Any], tuple[int, int]]] = [
         (400, 3),
     ),
     ("fir.filter_rows", lambda a: _core.fir.filter_rows(TAPS, a, True, "odd", 3), (3, 50)),
-    ("fir.filter_stream x", lambda a: _core.fir.filter_stream(TAPS, a, np.zeros((3, 2))), (3, 50)),
     (
-        "fir.filter_stream state",
-        lambda a: _core.fir.filter_stream(TAPS, np.ones((3, 7)), a),
+        "fir.filter_stream_rows x",
+        lambda a: _core.fir.filter_stream_rows(TAPS, a, np.zeros((3, 2))),
+        (3, 50),
+    ),
+    (
+        "fir.filter_stream_rows state",
+        lambda a: _core.fir.filter_stream_rows(TAPS, np.ones((3, 7)), a),
         (3, 2),
     ),
     ("fractional.diff", lambda a: _core.fractional.diff(a, 0.4, "auto"), (3, 50)),

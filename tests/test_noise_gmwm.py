@@ -119,3 +119,18 @@ def test_gmwm_multi_axis_and_bad_input() -> None:
     original = rate.copy()
     noise.gmwm(rate, FS, terms=("N",))
     np.testing.assert_array_equal(rate, original)
+
+
+def test_gmwm_selection_labels_dropped_terms() -> None:
+    """A requested term that the model selection leaves out is reported as dropped by the
+    selection (with the chosen sub-model), not as set to zero by the non-negative fit."""
+    rate = noise.simulate(200_000, FS, arw=0.01, seed=11)  # white noise only
+    s = noise.gmwm(rate, FS, terms=("N", "K", "GM"), units="deg/s", select=True)
+    assert isinstance(s, noise.NoiseCoefficients)
+    assert s.N.present
+    reasons = [s["K"].missing] if not s["K"].present else []
+    if not s.gauss_markov[0].present:
+        reasons.append(s.gauss_markov[0].missing)
+    assert reasons, "white noise alone: the selection must drop K or GM"
+    for why in reasons:
+        assert why is not None and "model selection" in why and "non-negative" not in why, why

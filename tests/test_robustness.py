@@ -366,6 +366,93 @@ def test_impossible_sizes_raise_instead_of_aborting(name: str) -> None:
     assert proc.stdout.startswith(expected), proc.stdout + proc.stderr
 
 
+# --- counts that no machine integer holds ------------------------------------------------------
+
+_Y = np.random.default_rng(3).normal(size=300)
+_TAPS = np.array([0.25, 0.5, 0.25])
+_KF = predict.FractionalKalmanPredictor(d=0.4)
+_CURVE = allan.adev(noise.simulate(20_000, 100.0, arw=0.01, rrw=1e-4, seed=2), 100.0)
+
+# (public function and argument, call with the count as that argument)
+COUNT_CASES: dict[str, Callable[[Any], Any]] = {
+    "noise.simulate n": lambda v: noise.simulate(v, 100.0, arw=0.1, seed=1),
+    "noise.simulate axes": lambda v: noise.simulate(10, 100.0, arw=0.1, axes=v, seed=1),
+    "noise.simulate seed": lambda v: noise.simulate(10, 100.0, arw=0.1, seed=v),
+    "noise.fit min_points": lambda v: noise.fit(_CURVE, method="ieee", min_points=v),
+    "noise.gmwm bootstrap": lambda v: noise.gmwm(_Y, 100.0, bootstrap=v, seed=1),
+    "noise.gmwm seed": lambda v: noise.gmwm(_Y, 100.0, seed=v),
+    "kalman.riccati_gain iterations": lambda v: kalman.riccati_gain(1.0, 0.1, 1.0, iterations=v),
+    "predict.calibration_mean horizon": lambda v: predict.calibration_mean(_Y, v),
+    "predict.moving_average horizon": lambda v: predict.moving_average(_Y, v),
+    "predict.FractionalKalmanPredictor.predict horizon": lambda v: _KF.predict(_Y[:50], v),
+    "predict.FractionalKalmanPredictor.predict n_threads": lambda v: _KF.predict(
+        _Y[:50], 5, n_threads=v
+    ),
+    "predict.FractionalKalmanPredictor.compile calibration_length": lambda v: _KF.compile(v, 5),
+    "predict.FractionalKalmanPredictor.compile horizon": lambda v: _KF.compile(50, v),
+    "predict.FractionalKalmanPredictor.compile n_threads": lambda v: _KF.compile(
+        50, 5, n_threads=v
+    ),
+    "predict.CompiledPredictor.predict n_threads": lambda v: _KF.compile(50, 5).predict(
+        _Y[:50], n_threads=v
+    ),
+    "predict.evaluate n_threads": lambda v: predict.evaluate(
+        _Y, calibration=50, horizon=10, n_threads=v
+    ),
+    "predict.evaluate calibration": lambda v: predict.evaluate(_Y, calibration=v, horizon=10),
+    "predict.evaluate horizon": lambda v: predict.evaluate(_Y, calibration=50, horizon=v),
+    "fractional.weights n": lambda v: fractional.weights(0.4, v),
+    "fractional.arfima n": lambda v: fractional.arfima(v, 0.4, seed=1),
+    "fractional.arfima size": lambda v: fractional.arfima(10, 0.4, size=v, seed=1),
+    "fractional.arfima seed": lambda v: fractional.arfima(10, 0.4, seed=v),
+    "fractional.elw m": lambda v: fractional.elw(_Y, m=v),
+    "fractional.elw_objective m": lambda v: fractional.elw_objective(_Y, [0.1, 0.2], m=v),
+    "fir.apply padlen": lambda v: fir.apply(_TAPS, _Y, padlen=v),
+    "fir.KaiserLowpass.frequency_response n": lambda v: fir.kaiser_lowpass(
+        100.0, 10.0, 20.0
+    ).frequency_response(n=v),
+    "spectral.psd nperseg": lambda v: spectral.psd(_Y, 100.0, nperseg=v),
+    "spectral.psd noverlap": lambda v: spectral.psd(_Y, 100.0, nperseg=64, noverlap=v),
+    "allan.adev per_decade": lambda v: allan.adev(_Y, 100.0, taus="log", per_decade=v),
+}
+
+
+@pytest.mark.parametrize("value", [2**64, 2**70, -1])
+@pytest.mark.parametrize("case", list(COUNT_CASES))
+def test_counts_beyond_machine_integers_are_named_value_errors(case: str, value: int) -> None:
+    """A count of 2**64 or more, or a negative one, is a ValueError naming the argument (never
+    pyo3's OverflowError from converting it, nor an error about another argument)."""
+    name = case.rsplit(" ", 1)[1]
+    with pytest.raises(ValueError, match=name):
+        COUNT_CASES[case](value)
+
+
+def test_binding_counts_are_named_value_errors() -> None:
+    """The same at the binding itself: every integer argument of ``_core`` is converted by one
+    extractor that names it."""
+    from gyrobias import _core
+
+    for value in (2**64, -1):
+        for call, name in [
+            (lambda v: _core.noise.simulate(v, 100.0, 0, 0.1, 0, 0, 0, None, 0, 1, 1), "n"),
+            (lambda v: _core.noise.simulate(10, 100.0, 0, 0.1, 0, 0, 0, None, 0, 1, v), "seed"),
+            (lambda v: _core.fractional.weights(0.4, v), "n"),
+            (lambda v: _core.fractional.elw(np.ones((1, 50)), v, -0.5, 1.5, "none"), "m"),
+            (lambda v: _core.kalman.riccati_gain(1.0, 0.1, 1.0, v), "iterations"),
+            (
+                lambda v: _core.kalman.KalmanState((0.0,), (0.0,), (0.0,), (0.0,), (1.0, 0.0), v),
+                "samples",
+            ),
+            (lambda v: _core.predict.calibration_mean(np.ones((1, 5)), v), "horizon"),
+            (lambda v: _core.spectral.critical_value(v, 1, 0.05), "n"),
+            (lambda v: _core.fir.filter_rows(_TAPS, np.ones((1, 9)), True, "odd", v), "padlen"),
+        ]:
+            with pytest.raises(ValueError, match=f"invalid {name}: must be an integer"):
+                call(value)
+    with pytest.raises(TypeError):
+        _core.fractional.weights(0.4, 2.5)  # type: ignore[arg-type]
+
+
 # --- silent garbage ----------------------------------------------------------------------------
 
 

@@ -71,13 +71,6 @@ def integer(name: str, value: Any) -> int:
     return v
 
 
-def text(name: str, value: Any) -> str:
-    """``value`` if it is a ``str`` (an option name the core parses), else ``TypeError``."""
-    if not isinstance(value, str):
-        raise TypeError(f"{name} must be a string, got {type(value).__name__}")
-    return value
-
-
 def boolean(name: str, value: Any) -> bool:
     """``value`` if it is a bool (``True``/``False``, not ``1``/``0`` or ``"yes"``), else ``TypeError``."""
     if not isinstance(value, bool):
@@ -116,4 +109,15 @@ def choice(name: str, value: Any, options: tuple[str, ...]) -> str:
     """``value`` if it is one of ``options``, else ``ValueError`` listing them."""
     if not isinstance(value, str) or value not in options:
         raise ValueError(f"{name} must be one of {', '.join(map(repr, options))}; got {value!r}")
+    return value
+
+
+def string(name: str, value: Any) -> str:
+    """``value`` if it is a ``str``, else ``TypeError`` naming ``name``.
+
+    Only the type is checked: which names are valid (a ``form``, a ``padtype``, …) is decided
+    by the core's parser, whose message names ``name`` and lists the options.
+    """
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be a string, got {type(value).__name__}")
     return value

@@ -42,7 +42,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice, integer, positive_float, real, text
+from gyrobias._validation import as_float_array, choice, integer, positive_float, real, string
 from gyrobias.units import checked_units
 
 __all__ = [
@@ -265,7 +265,7 @@ def _tau_options(
     ``0 < confidence < 1``, τ on the sample grid, ...) are the core's preconditions.
     """
     fs = positive_float("fs", fs)  # t0 = 1/fs is computed here
-    text("data_type", data_type)  # its value is parsed by the core (DataType::parse)
+    string("data_type", data_type)  # its value is parsed by the core (DataType::parse)
     per_decade = integer("per_decade", per_decade)
     checked = None if confidence is None else real("confidence", confidence)
     explicit: NDArray[np.float64] | None = None

@@ -33,11 +33,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice, positive_float
+from gyrobias._validation import as_float_array, integer, real, string
 
 __all__ = ["FrequencyResponse", "KaiserLowpass", "apply", "kaiser_lowpass", "stream"]
-
-_PADTYPES = ("odd", "even", "constant", "none")
 
 
 @dataclass(frozen=True)
@@ -127,9 +125,10 @@ class KaiserLowpass:
         With ``zero_phase=True`` the response of forward–backward filtering, ``|H(f)|²``.
         """
         if frequencies is None:
-            if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
+            n = integer("n", n)
+            if n < 2:  # a grid from 0 to fs/2 (no core call): checked here
                 raise ValueError(f"n must be an integer >= 2, got {n!r}")
-            freqs = np.linspace(0.0, 0.5 * self.fs, int(n))
+            freqs = np.linspace(0.0, 0.5 * self.fs, n)
         else:
             freqs = as_float_array("frequencies", frequencies)
         re, im = _core.fir.frequency_response(self.taps, self.fs, freqs)
@@ -223,11 +222,8 @@ def kaiser_lowpass(
     >>> f.numtaps, round(f.alpha, 6), round(f.attenuation_db, 6)
     (171, 10.589877, 104.796886)
     """
-    fs = positive_float("fs", fs)
-    fpass = positive_float("fpass", fpass)
-    fstop = positive_float("fstop", fstop)
-    apass_db = positive_float("apass_db", apass_db)
-    astop_db = positive_float("astop_db", astop_db)
+    fs, fpass, fstop = real("fs", fs), real("fpass", fpass), real("fstop", fstop)
+    apass_db, astop_db = real("apass_db", apass_db), real("astop_db", astop_db)
     d = _core.fir.kaiser_lowpass(fs, fpass, fstop, apass_db, astop_db)
     return KaiserLowpass(
         fs=fs,
@@ -306,17 +302,15 @@ def apply(
         or not -arr.ndim <= axis < arr.ndim
     ):
         raise ValueError(f"axis {axis!r} is out of range for an array of {arr.ndim} dimensions")
-    choice("padtype", padtype, _PADTYPES)
+    string("padtype", padtype)
     if padlen is None:
         padlen = 0 if padtype == "none" else 3 * h.size
-    elif isinstance(padlen, bool) or not isinstance(padlen, (int, np.integer)) or padlen < 0:
-        raise ValueError(f"padlen must be a non-negative integer, got {padlen!r}")
+    else:
+        padlen = integer("padlen", padlen)
     moved = np.moveaxis(arr, axis, -1)
     shape = moved.shape
     rows = np.ascontiguousarray(moved.reshape(-1, shape[-1]))
-    out = _core.fir.filter_rows(
-        h, rows, bool(zero_phase), padtype, int(padlen) if zero_phase else 0
-    )
+    out = _core.fir.filter_rows(h, rows, bool(zero_phase), padtype, padlen if zero_phase else 0)
     return np.moveaxis(out.reshape(shape), -1, axis)
 
 
@@ -383,5 +377,5 @@ def stream(
         if st.shape != (*shape[:-1], width):
             raise ValueError(f"state must have shape {(*shape[:-1], width)}, got {st.shape}")
         st = np.ascontiguousarray(st.reshape(rows.shape[0], width))
-    y, new_state = _core.fir.filter_stream(h, rows, st)
+    y, new_state = _core.fir.filter_stream_rows(h, rows, st)
     return np.moveaxis(y.reshape(shape), -1, axis), new_state.reshape(*shape[:-1], width)

@@ -32,7 +32,6 @@ References
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any, Literal
@@ -41,7 +40,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice, positive_float
+from gyrobias._validation import as_float_array, integer, real, string
 
 __all__ = [
     "FilterResult",
@@ -58,7 +57,6 @@ __all__ = [
 ]
 
 Form = Literal["standard", "paper"]
-_FORMS = ("standard", "paper")
 
 
 # --- unit helpers ---------------------------------------------------------------------------
@@ -84,15 +82,6 @@ def rrw_from_deg_per_hour_1p5(rrw: float) -> float:
     return float(rrw) / 216000.0
 
 
-def _non_negative_float(name: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
-    v = float(value)
-    if not math.isfinite(v) or v < 0.0:
-        raise ValueError(f"{name} must be finite and >= 0, got {value!r}")
-    return v
-
-
 # --- design functions -----------------------------------------------------------------------
 
 
@@ -106,9 +95,7 @@ def steady_state_gain(q_omega: float, q_b: float, r_d: float) -> NDArray[np.floa
     [0.199778, 0.0004]
     """
     return _core.kalman.steady_state_gain(
-        positive_float("q_omega", q_omega),
-        _non_negative_float("q_b", q_b),
-        positive_float("r_d", r_d),
+        real("q_omega", q_omega), real("q_b", q_b), real("r_d", r_d)
     )
 
 
@@ -120,15 +107,11 @@ def riccati_gain(
     The paper's off-line procedure; it converges to :func:`steady_state_gain` although the
     covariance itself diverges along the unobservable direction ``[1, −1]``.
     """
-    if isinstance(iterations, bool) or not isinstance(iterations, (int, np.integer)):
-        raise TypeError(f"iterations must be an int, got {type(iterations).__name__}")
-    if iterations < 1:
-        raise ValueError(f"iterations must be >= 1, got {iterations}")
     return _core.kalman.riccati_gain(
-        positive_float("q_omega", q_omega),
-        _non_negative_float("q_b", q_b),
-        positive_float("r_d", r_d),
-        int(iterations),
+        real("q_omega", q_omega),
+        real("q_b", q_b),
+        real("r_d", r_d),
+        integer("iterations", iterations),
     )
 
 
@@ -148,11 +131,11 @@ def qomega_for_bandwidth(
         ``form="paper"``, or so low that the bias random walk alone exceeds it.
     """
     return _core.kalman.q_omega_for_bandwidth(
-        positive_float("bandwidth", bandwidth),
-        positive_float("fs", fs),
-        positive_float("arw", arw),
-        _non_negative_float("rrw", rrw),
-        choice("form", form, _FORMS),
+        real("bandwidth", bandwidth),
+        real("fs", fs),
+        real("arw", arw),
+        real("rrw", rrw),
+        string("form", form),
     )
 
 
@@ -274,29 +257,26 @@ class FixedGainKalman:
         form: Form = "standard",
         x0: ArrayLike | None = None,
     ) -> None:
-        fs = positive_float("fs", fs)
-        arw = positive_float("arw", arw)
-        rrw = _non_negative_float("rrw", rrw)
-        form = choice("form", form, _FORMS)  # type: ignore[assignment]
-        if (q_omega is None) == (bandwidth is None):
-            raise ValueError("give exactly one of q_omega and bandwidth (both or neither given)")
-        q = None if q_omega is None else positive_float("q_omega", q_omega)
-        bw = None if bandwidth is None else positive_float("bandwidth", bandwidth)
+        fs, arw, rrw = real("fs", fs), real("arw", arw), real("rrw", rrw)
+        form = string("form", form)  # type: ignore[assignment]
+        q = None if q_omega is None else real("q_omega", q_omega)
+        bw = None if bandwidth is None else real("bandwidth", bandwidth)
         self._core = _core.kalman.FixedGainKalman(fs, arw, rrw, q, bw, form)
         self._fs, self._arw, self._rrw, self._form = fs, arw, rrw, form
         self._x0 = None if x0 is None else self._check_x0(x0)
 
-    @staticmethod
-    def _check_x0(x0: ArrayLike) -> NDArray[np.float64]:
+    def _check_x0(self, x0: ArrayLike) -> NDArray[np.float64]:
         arr = as_float_array("x0", x0, ndims=(1, 2))
         if arr.shape[-1] != 2:
             raise ValueError(
                 f"x0 must have shape (2,) or (axes, 2) of [rate, bias], got {arr.shape}"
             )
-        if not np.all(np.isfinite(arr)):
-            raise ValueError("x0 contains a non-finite value (NaN or inf)")
         arr = arr.copy()
         arr.flags.writeable = False
+        # The core checks the values (finite, representable) when it builds the state: build
+        # one now so that a bad x0 fails here rather than at the first filter call.
+        pairs = arr.reshape(-1, 2)
+        self._core.initial_state(pairs[:, 0].tolist(), pairs[:, 1].tolist())
         return arr
 
     def __reduce__(self) -> tuple[Any, ...]:
@@ -400,27 +380,16 @@ class FixedGainKalman:
 
     def initial_state(self, z: ArrayLike) -> KalmanState:
         """The state before the first sample of ``z``: ``x0`` if given, else ``[z₀, 0]``."""
-        data = as_float_array("z", z, ndims=(1, 2))
-        first = data[0] if data.ndim == 2 else data[:1]
-        return self._initial(first)
+        return self._initial(as_float_array("z", z, ndims=(1, 2)))
 
-    def _initial(self, first: NDArray[np.float64]) -> KalmanState:
-        n_axes = first.shape[0]
+    def _initial(self, data: NDArray[np.float64]) -> KalmanState:
         if self._x0 is None:
-            if not np.all(np.isfinite(first)):
-                bad = int(np.flatnonzero(~np.isfinite(first))[0])
-                raise ValueError(
-                    f"z contains a non-finite value (NaN or inf) at sample 0 axis {bad}"
-                )
-            rate0 = [float(v) for v in first]
-            bias0 = [0.0] * n_axes
-        else:
-            x0 = self._x0 if self._x0.ndim == 2 else np.broadcast_to(self._x0, (n_axes, 2))
-            if x0.shape[0] != n_axes:
-                raise ValueError(f"x0 gives {x0.shape[0]} axes but z has {n_axes}")
-            rate0 = [float(v) for v in x0[:, 0]]
-            bias0 = [float(v) for v in x0[:, 1]]
-        return self._core.initial_state(rate0, bias0)
+            return self._core.initial_state_from_first_sample(data)
+        n_axes = data.shape[1] if data.ndim == 2 else 1
+        x0 = self._x0 if self._x0.ndim == 2 else np.broadcast_to(self._x0, (n_axes, 2))
+        if x0.shape[0] != n_axes:
+            raise ValueError(f"x0 gives {x0.shape[0]} axes but z has {n_axes}")
+        return self._core.initial_state(x0[:, 0].tolist(), x0[:, 1].tolist())
 
     def estimates(self, state: KalmanState) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The estimates ``(ω̂, b̂)`` per axis that ``state`` stands for (computed by the core)."""
@@ -476,7 +445,7 @@ class FixedGainKalman:
         else:
             data = as_float_array("z", z, ndims=(1, 2))
         if state is None:
-            state = self._initial(data[0] if data.ndim == 2 else data[:1])
+            state = self._initial(data)
         elif type(state) is not _core.kalman.KalmanState:
             self._check_state_type(state)
         if out is None:

@@ -1157,7 +1157,9 @@ def gmwm(
         One name per column.
     select : bool
         Choose, among all sub-models of ``terms``, the one with the smallest wavelet-variance
-        information criterion ``WVIC = J + 2p`` (Notes); the terms it drops are reported missing.
+        information criterion ``WVIC = J + 2p`` (Notes); the terms it drops are reported missing
+        with the reason "dropped by the model selection" (and the chosen sub-model), unlike
+        terms the non-negative fit sets to zero.
     bootstrap : int
         Number of parametric-bootstrap replicates for the uncertainties (0: asymptotic).
     seed : int or None

@@ -2,9 +2,7 @@
 
 use std::sync::Mutex;
 
-use gyrocore::allan::{
-    self, Config, DataType, Estimator, Gaps, Progress, TauSpec, Taus, dynamic, family,
-};
+use gyrocore::allan::{self, Config, DataType, Estimator, Gaps, Progress, Taus, dynamic, family};
 use numpy::{
     IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
     PyUntypedArrayMethods,
@@ -13,25 +11,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::array::c_order;
+use crate::count;
 use crate::error::core;
-
-fn taus_from(spec: &str, per_decade: usize, explicit: Option<Vec<f64>>) -> PyResult<Taus> {
-    if let Some(t) = explicit {
-        return Ok(Taus::Explicit(t));
-    }
-    let spec = match spec {
-        "octave" => TauSpec::Octave,
-        "decade" => TauSpec::Decade,
-        "log" => TauSpec::Log { per_decade },
-        "all" => TauSpec::All,
-        other => {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "taus must be 'octave', 'decade', 'log', 'all' or an array of seconds, got {other:?}"
-            )));
-        }
-    };
-    Ok(Taus::Spec(spec))
-}
 
 /// The analysis options, parsed by the core.
 #[allow(clippy::too_many_arguments)]
@@ -50,7 +31,7 @@ fn config(
         t0,
         data_type: core(DataType::parse(data_type))?,
         estimator: core(Estimator::parse(estimator))?,
-        taus: taus_from(tau_spec, per_decade, explicit)?,
+        taus: core(Taus::parse(tau_spec, per_decade, explicit))?,
         confidence,
         gaps: core(Gaps::parse(gaps))?,
     })
@@ -185,7 +166,7 @@ fn analyse<'py>(
     data_type: &str,
     estimator: &str,
     tau_spec: &str,
-    per_decade: usize,
+    #[pyo3(from_py_with = count::per_decade)] per_decade: usize,
     taus: Option<PyReadonlyArray1<'py, f64>>,
     confidence: Option<f64>,
     gaps: &str,
@@ -223,7 +204,7 @@ fn analyse_batch<'py>(
     data_type: &str,
     estimator: &str,
     tau_spec: &str,
-    per_decade: usize,
+    #[pyo3(from_py_with = count::per_decade)] per_decade: usize,
     taus: Option<PyReadonlyArray1<'py, f64>>,
     confidence: Option<f64>,
     gaps: &str,
@@ -260,14 +241,14 @@ fn analyse_batch<'py>(
 fn analyse_stream<'py>(
     py: Python<'py>,
     read: Py<PyAny>,
-    n_samples: usize,
+    #[pyo3(from_py_with = count::n_samples)] n_samples: usize,
     t0: f64,
     data_type: &str,
     tau_spec: &str,
-    per_decade: usize,
+    #[pyo3(from_py_with = count::per_decade)] per_decade: usize,
     taus: Option<PyReadonlyArray1<'py, f64>>,
     confidence: Option<f64>,
-    block: usize,
+    #[pyo3(from_py_with = count::block)] block: usize,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let cfg = config(
@@ -299,18 +280,18 @@ fn analyse_stream<'py>(
 #[allow(clippy::needless_pass_by_value)]
 fn factors<'py>(
     py: Python<'py>,
-    n_samples: usize,
+    #[pyo3(from_py_with = count::n_samples)] n_samples: usize,
     t0: f64,
     data_type: &str,
     estimator: &str,
     tau_spec: &str,
-    per_decade: usize,
+    #[pyo3(from_py_with = count::per_decade)] per_decade: usize,
     taus: Option<PyReadonlyArray1<'py, f64>>,
 ) -> PyResult<Bound<'py, PyArray1<u64>>> {
     let data_type = core(DataType::parse(data_type))?;
     let estimator = core(Estimator::parse(estimator))?;
     let explicit = taus.map(|t| c_order(&t).into_owned());
-    let taus = taus_from(tau_spec, per_decade, explicit)?;
+    let taus = core(Taus::parse(tau_spec, per_decade, explicit))?;
     let ms = core(allan::resolve_factors(
         &taus, n_samples, t0, data_type, estimator,
     ))?;
@@ -336,7 +317,7 @@ fn family_analyse<'py>(
     data_type: &str,
     statistic: &str,
     tau_spec: &str,
-    per_decade: usize,
+    #[pyo3(from_py_with = count::per_decade)] per_decade: usize,
     taus: Option<PyReadonlyArray1<'py, f64>>,
     confidence: Option<f64>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
@@ -345,7 +326,7 @@ fn family_analyse<'py>(
     let data_type = core(DataType::parse(data_type))?;
     let statistic = core(family::Statistic::parse(statistic))?;
     let explicit = taus.map(|t| c_order(&t).into_owned());
-    let taus = taus_from(tau_spec, per_decade, explicit)?;
+    let taus = core(Taus::parse(tau_spec, per_decade, explicit))?;
     let results = core(py.detach(|| {
         family::analyse_axes(&slice, n_axes, t0, data_type, statistic, &taus, confidence)
     }))?;
@@ -386,16 +367,16 @@ fn dynamic_avar<'py>(
     data: PyReadonlyArray1<'py, f64>,
     t0: f64,
     data_type: &str,
-    window: usize,
-    step: usize,
+    #[pyo3(from_py_with = count::window)] window: usize,
+    #[pyo3(from_py_with = count::step)] step: usize,
     tau_spec: &str,
-    per_decade: usize,
+    #[pyo3(from_py_with = count::per_decade)] per_decade: usize,
     taus: Option<PyReadonlyArray1<'py, f64>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let slice = c_order(&data);
     let data_type = core(DataType::parse(data_type))?;
     let explicit = taus.map(|t| c_order(&t).into_owned());
-    let taus = taus_from(tau_spec, per_decade, explicit)?;
+    let taus = core(Taus::parse(tau_spec, per_decade, explicit))?;
     let r = core(py.detach(|| dynamic::dynamic_avar(&slice, t0, data_type, window, step, &taus)))?;
     let d = PyDict::new(py);
     let k = r.m.len();

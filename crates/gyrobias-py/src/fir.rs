@@ -1,6 +1,6 @@
 //! Bindings of `gyrocore::fir`.
 
-use gyrocore::fir::{self, Mode, Padding};
+use gyrocore::fir::{self, Mode};
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
     PyUntypedArrayMethods,
@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::array::c_order;
+use crate::count;
 use crate::error::core;
 
 /// Kaiser-window low-pass design (`gyrocore::fir::kaiser_lowpass`): dict with the design
@@ -45,19 +46,12 @@ fn filter_rows<'py>(
     x: PyReadonlyArray2<'py, f64>,
     zero_phase: bool,
     padtype: &str,
-    padlen: usize,
+    #[pyo3(from_py_with = count::padlen)] padlen: usize,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let shape = [x.shape()[0], x.shape()[1]];
     let h = c_order(&taps);
     let data = c_order(&x);
-    let mode = if zero_phase {
-        Mode::ZeroPhase {
-            padding: core(Padding::parse(padtype))?,
-            padlen,
-        }
-    } else {
-        Mode::Causal
-    };
+    let mode = core(Mode::new(zero_phase, padtype, padlen))?;
     let out = core(py.detach(|| fir::filter_rows(&h, &data, shape[0], mode)))?;
     out.into_pyarray(py).reshape(shape)
 }
@@ -80,36 +74,22 @@ fn frequency_response<'py>(
 }
 
 /// Causal filtering of one stream chunk per row: returns (output rows, new state rows)
-/// (`gyrocore::fir::filter_stream`).
+/// (`gyrocore::fir::filter_stream_rows`).
 #[pyfunction]
 #[pyo3(signature = (taps, x, state))]
 #[allow(clippy::needless_pass_by_value, clippy::type_complexity)]
-fn filter_stream<'py>(
+fn filter_stream_rows<'py>(
     py: Python<'py>,
     taps: PyReadonlyArray1<'py, f64>,
     x: PyReadonlyArray2<'py, f64>,
     state: PyReadonlyArray2<'py, f64>,
 ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
     let (rows, n) = (x.shape()[0], x.shape()[1]);
-    let srows = state.shape()[0];
-    if srows != rows {
-        return Err(pyo3::exceptions::PyValueError::new_err(format!(
-            "state has {srows} rows for {rows} signals"
-        )));
-    }
     let width = state.shape()[1];
     let h = c_order(&taps);
     let data = c_order(&x);
     let mut hist = c_order(&state).into_owned();
-    let out = core(py.detach(|| -> gyrocore::Result<Vec<f64>> {
-        let mut out = Vec::with_capacity(data.len());
-        for r in 0..rows {
-            let row = &data[r * n..(r + 1) * n];
-            let state = &mut hist[r * width..(r + 1) * width];
-            out.extend(fir::filter_stream(&h, row, state)?);
-        }
-        Ok(out)
-    }))?;
+    let out = core(py.detach(|| fir::filter_stream_rows(&h, &data, rows, &mut hist)))?;
     Ok((
         out.into_pyarray(py).reshape([rows, n])?,
         hist.into_pyarray(py).reshape([rows, width])?,
@@ -120,5 +100,5 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(kaiser_lowpass, m)?)?;
     m.add_function(wrap_pyfunction!(filter_rows, m)?)?;
     m.add_function(wrap_pyfunction!(frequency_response, m)?)?;
-    m.add_function(wrap_pyfunction!(filter_stream, m)?)
+    m.add_function(wrap_pyfunction!(filter_stream_rows, m)?)
 }

@@ -9,11 +9,16 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::array::c_order;
+use crate::count;
 use crate::error::core;
 
 /// The weights `π_0..π_{n−1}` of `(1 − B)^d`.
 #[pyfunction]
-fn weights(py: Python<'_>, d: f64, n: usize) -> PyResult<Bound<'_, PyArray1<f64>>> {
+fn weights(
+    py: Python<'_>,
+    d: f64,
+    #[pyo3(from_py_with = count::n)] n: usize,
+) -> PyResult<Bound<'_, PyArray1<f64>>> {
     Ok(core(fractional::weights(d, n))?.into_pyarray(py))
 }
 
@@ -65,11 +70,11 @@ fn integrate<'py>(
 #[pyo3(signature = (n, d, sigma, rows, seed, kind))]
 fn arfima<'py>(
     py: Python<'py>,
-    n: usize,
+    #[pyo3(from_py_with = count::n)] n: usize,
     d: f64,
     sigma: f64,
-    rows: usize,
-    seed: u64,
+    #[pyo3(from_py_with = count::rows)] rows: usize,
+    #[pyo3(from_py_with = count::seed)] seed: u64,
     kind: &str,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let kind = core(fractional::arfima::Kind::parse(kind))?;
@@ -85,7 +90,7 @@ fn arfima<'py>(
 fn elw_rows<'py>(
     py: Python<'py>,
     data: PyReadonlyArray2<'py, f64>,
-    m: Option<usize>,
+    #[pyo3(from_py_with = count::m)] m: Option<usize>,
     lower: f64,
     upper: f64,
     level: &str,
@@ -114,7 +119,7 @@ fn elw_objective<'py>(
     py: Python<'py>,
     x: PyReadonlyArray1<'py, f64>,
     ds: PyReadonlyArray1<'py, f64>,
-    m: Option<usize>,
+    #[pyo3(from_py_with = count::m)] m: Option<usize>,
     level: &str,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let x = c_order(&x);

@@ -1,6 +1,6 @@
 //! Bindings of `gyrocore::kalman`.
 
-use gyrocore::kalman::{self, DiscreteNoise, FilterState, Form};
+use gyrocore::kalman::{self, DiscreteNoise, Form};
 use numpy::PyUntypedArrayMethods;
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyReadonlyArray1,
@@ -11,31 +11,13 @@ use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
 use crate::array::{c_order, c_order_mut};
+use crate::count;
 use crate::error::core;
 
 /// Designed fixed-gain filter (immutable; safe to share between threads).
 #[pyclass(name = "FixedGainKalman", module = "gyrobias._core.kalman", frozen)]
 struct FixedGainKalman {
     inner: kalman::FixedGainKalman,
-}
-
-fn design(
-    fs: f64,
-    arw: f64,
-    rrw: f64,
-    q_omega: Option<f64>,
-    bandwidth: Option<f64>,
-    form: &str,
-) -> PyResult<kalman::FixedGainKalman> {
-    let noise = core(DiscreteNoise::from_coefficients(fs, arw, rrw))?;
-    let form = core(Form::parse(form))?;
-    match (q_omega, bandwidth) {
-        (Some(q), None) => core(kalman::FixedGainKalman::new(noise, q, form)),
-        (None, Some(bw)) => core(kalman::FixedGainKalman::with_bandwidth(noise, bw, form)),
-        _ => Err(PyValueError::new_err(
-            "give exactly one of q_omega and bandwidth",
-        )),
-    }
 }
 
 fn vec2(py: Python<'_>, v: [f64; 2]) -> Bound<'_, PyArray1<f64>> {
@@ -68,8 +50,12 @@ impl FixedGainKalman {
         bandwidth: Option<f64>,
         form: &str,
     ) -> PyResult<Self> {
+        let noise = core(DiscreteNoise::from_coefficients(fs, arw, rrw))?;
+        let form = core(Form::parse(form))?;
         Ok(FixedGainKalman {
-            inner: design(fs, arw, rrw, q_omega, bandwidth, form)?,
+            inner: core(kalman::FixedGainKalman::design(
+                noise, q_omega, bandwidth, form,
+            ))?,
         })
     }
 
@@ -140,30 +126,36 @@ impl FixedGainKalman {
         Ok((re.into_pyarray(py), im.into_pyarray(py)))
     }
 
-    /// The state before the first sample for initial estimates rate0 = ω̂₀, bias0 = b̂₀.
+    /// The state before the first sample for initial estimates rate0 = ω̂₀, bias0 = b̂₀
+    /// (`gyrocore::kalman::FixedGainKalman::initial_state`).
+    #[allow(clippy::needless_pass_by_value)]
     fn initial_state(&self, rate0: Vec<f64>, bias0: Vec<f64>) -> PyResult<KalmanState> {
-        let st = core(self.inner.initial_state(&rate0, &bias0))?;
-        Ok(KalmanState {
-            level: st.level,
-            offset: st.offset,
-            rate: rate0,
-            bias: bias0,
-            gain: self.inner.g().into(),
-            samples: 0,
-        })
+        Ok(KalmanState(core(self.inner.initial_state(&rate0, &bias0))?))
     }
 
-    /// The estimates (rate, bias) per axis that a state stands for.
+    /// The default state before the first row of a (samples,) or (samples × axes) array `z`:
+    /// `[z₀, 0]` per axis (`gyrocore::kalman::FixedGainKalman::initial_state_from_first_sample`).
+    #[allow(clippy::needless_pass_by_value)]
+    fn initial_state_from_first_sample(
+        &self,
+        z: PyReadonlyArrayDyn<'_, f64>,
+    ) -> PyResult<KalmanState> {
+        let n_axes = axes_of(z.shape())?;
+        let data = c_order(&z);
+        Ok(KalmanState(core(
+            self.inner.initial_state_from_first_sample(&data, n_axes),
+        )?))
+    }
+
+    /// The estimates (rate, bias) per axis that a state stands for
+    /// (`gyrocore::kalman::FixedGainKalman::estimates`).
     fn estimates(&self, state: &KalmanState) -> PyResult<(Vec<f64>, Vec<f64>)> {
-        self.check_state(state, state.level.len())?;
-        Ok(self.inner.estimates(&FilterState {
-            level: state.level.clone(),
-            offset: state.offset.clone(),
-        }))
+        core(self.inner.estimates(&state.0))
     }
 
     /// Filters a (samples,) or (samples × axes) array `z` from `state` into the preallocated
-    /// C-contiguous `rate` and `bias` arrays of the same shape; returns the new state.
+    /// C-contiguous `rate` and `bias` arrays of the same shape; returns the new state
+    /// (`gyrocore::kalman::FixedGainKalman::filter_into`).
     /// Allocation is left to the caller (NumPy's allocator asks the kernel for huge pages,
     /// which halves the page-fault cost of large outputs).
     #[allow(clippy::needless_pass_by_value)]
@@ -182,34 +174,18 @@ impl FixedGainKalman {
         };
         let mut rate = rate.try_readwrite().map_err(overlap)?;
         let mut bias = bias.try_readwrite().map_err(overlap)?;
-        let (n_rows, n_axes) = match *z.shape() {
-            [n] => (n, 1),
-            [n, a] => (n, a),
-            _ => {
-                return Err(PyValueError::new_err(format!(
-                    "z must be a 1-D or 2-D array, got shape {:?}",
-                    z.shape()
-                )));
-            }
-        };
-        if n_rows == 0 || n_axes == 0 {
-            return Err(PyValueError::new_err("z is empty"));
-        }
+        let n_axes = axes_of(z.shape())?;
         if rate.shape() != z.shape() || bias.shape() != z.shape() {
             return Err(PyValueError::new_err(format!(
                 "out arrays must have the shape of z {:?}",
                 z.shape()
             )));
         }
-        self.check_state(state, n_axes)?;
         let data = c_order(&z);
         let data = &data[..];
         let rate_out = c_order_mut("rate", &mut rate)?;
         let bias_out = c_order_mut("bias", &mut bias)?;
-        let mut next = FilterState {
-            level: state.level.clone(),
-            offset: state.offset.clone(),
-        };
+        let mut next = state.0.clone();
         let inner = &self.inner;
         let mut run = |rate_out: &mut [f64], bias_out: &mut [f64]| {
             inner.filter_into(data, n_axes, &mut next, rate_out, bias_out)
@@ -220,38 +196,23 @@ impl FixedGainKalman {
         } else {
             core(run(rate_out, bias_out))?;
         }
-        let last = data.len() - n_axes;
-        Ok(KalmanState {
-            level: next.level,
-            offset: next.offset,
-            rate: rate_out[last..].to_vec(),
-            bias: bias_out[last..].to_vec(),
-            gain: state.gain,
-            samples: state.samples + n_rows as u64,
-        })
+        Ok(KalmanState(next))
     }
 }
 
-impl FixedGainKalman {
-    fn check_state(&self, state: &KalmanState, n_axes: usize) -> PyResult<()> {
-        let gain: [f64; 2] = self.inner.g().into();
-        if state.gain != gain {
-            return Err(PyValueError::new_err(format!(
-                "state was produced by a different filter (gain {:?}, this filter {:?})",
-                state.gain, gain
-            )));
-        }
-        if state.level.len() != n_axes || state.offset.len() != n_axes {
-            return Err(PyValueError::new_err(format!(
-                "state carries {} axes but z has {n_axes}",
-                state.level.len()
-            )));
-        }
-        Ok(())
+/// The axis count of a (samples,) or (samples × axes) array: the layout the core reads.
+fn axes_of(shape: &[usize]) -> PyResult<usize> {
+    match *shape {
+        [_] => Ok(1),
+        [_, a] => Ok(a),
+        _ => Err(PyValueError::new_err(format!(
+            "z must be a 1-D or 2-D array, got shape {shape:?}"
+        ))),
     }
 }
 
-/// Carried state of the fixed-gain filter (immutable, picklable).
+/// Carried state of the fixed-gain filter (immutable, picklable): a thin wrapper of
+/// `gyrocore::kalman::KalmanState`, which owns its checks.
 #[pyclass(
     name = "KalmanState",
     module = "gyrobias._core.kalman",
@@ -260,14 +221,7 @@ impl FixedGainKalman {
     skip_from_py_object
 )]
 #[derive(Clone, PartialEq)]
-pub(crate) struct KalmanState {
-    level: Vec<f64>,
-    offset: Vec<f64>,
-    rate: Vec<f64>,
-    bias: Vec<f64>,
-    gain: [f64; 2],
-    samples: u64,
-}
+pub(crate) struct KalmanState(kalman::KalmanState);
 
 #[pymethods]
 impl KalmanState {
@@ -279,66 +233,53 @@ impl KalmanState {
         rate: Vec<f64>,
         bias: Vec<f64>,
         gain: [f64; 2],
-        samples: u64,
+        #[pyo3(from_py_with = count::samples)] samples: u64,
     ) -> PyResult<Self> {
-        let n = level.len();
-        if n == 0 || offset.len() != n || rate.len() != n || bias.len() != n {
-            return Err(PyValueError::new_err(
-                "state: level, offset, rate and bias need one value per axis",
-            ));
-        }
-        if level.iter().chain(&offset).any(|v| !v.is_finite()) {
-            return Err(PyValueError::new_err("state contains a non-finite value"));
-        }
-        Ok(KalmanState {
-            level,
-            offset,
-            rate,
-            bias,
-            gain,
-            samples,
-        })
+        Ok(KalmanState(core(kalman::KalmanState::new(
+            level, offset, rate, bias, gain, samples,
+        ))?))
     }
     #[getter]
     fn level<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
-        PyTuple::new(py, &self.level)
+        PyTuple::new(py, self.0.level())
     }
     #[getter]
     fn offset<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
-        PyTuple::new(py, &self.offset)
+        PyTuple::new(py, self.0.offset())
     }
     #[getter]
     fn rate<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
-        PyTuple::new(py, &self.rate)
+        PyTuple::new(py, self.0.rate())
     }
     #[getter]
     fn bias<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
-        PyTuple::new(py, &self.bias)
+        PyTuple::new(py, self.0.bias())
     }
     #[getter]
     fn gain(&self) -> (f64, f64) {
-        (self.gain[0], self.gain[1])
+        let [g1, g2] = self.0.gain();
+        (g1, g2)
     }
     #[getter]
     fn samples(&self) -> u64 {
-        self.samples
+        self.0.samples()
     }
     #[getter]
     fn n_axes(&self) -> usize {
-        self.level.len()
+        self.0.n_axes()
     }
     fn __reduce__<'py>(
         slf: &Bound<'py, Self>,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
         let py = slf.py();
-        let s = slf.get();
+        let s = &slf.get().0;
         let args = (
-            s.level.clone(),
-            s.offset.clone(),
-            s.rate.clone(),
-            s.bias.clone(),
-            (s.gain[0], s.gain[1]),
-            s.samples,
+            s.level().to_vec(),
+            s.offset().to_vec(),
+            s.rate().to_vec(),
+            s.bias().to_vec(),
+            slf.get().gain(),
+            s.samples(),
         )
             .into_pyobject(py)?;
         Ok((slf.get_type().into_any(), args))
@@ -346,7 +287,9 @@ impl KalmanState {
     fn __repr__(&self) -> String {
         format!(
             "KalmanState(rate={:?}, bias={:?}, samples={})",
-            self.rate, self.bias, self.samples
+            self.0.rate(),
+            self.0.bias(),
+            self.0.samples()
         )
     }
 }
@@ -373,7 +316,7 @@ fn riccati_gain(
     q_omega: f64,
     q_b: f64,
     r_d: f64,
-    iterations: usize,
+    #[pyo3(from_py_with = count::iterations)] iterations: usize,
 ) -> PyResult<Bound<'_, PyArray1<f64>>> {
     Ok(vec2(
         py,

@@ -7,11 +7,15 @@
 //! stubtest checks the stub package `gyrobias/_core/`).
 //!
 //! This crate only converts arguments (every input array through `array::c_order`: zero-copy
-//! for C-contiguous float64 arrays), releases the GIL around the numerical work and maps
-//! [`gyrocore::Error`] to Python exceptions. It contains no numerics and no checks of its own.
+//! for C-contiguous float64 arrays; every integer through `count`, which turns a negative or
+//! too large value into a `ValueError` naming the argument), releases the GIL around the
+//! numerical work and maps [`gyrocore::Error`] to Python exceptions. It contains no numerics,
+//! no checks of its own and no state types: a `#[pyclass]` holding state (`KalmanState`) wraps
+//! the core's type, which owns its checks.
 
 mod allan;
 mod array;
+mod count;
 mod error;
 mod fir;
 mod fractional;

@@ -2,13 +2,14 @@
 
 use gyrocore::noise::{
     self, Ar1, Curve, Diagnostics, FitOptions, GaussMarkovEstimate, GmwmOptions, NoiseSpec,
-    ReadOffOptions, Term, TermEstimate,
+    ReadOffOptions, TermEstimate,
 };
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::array::{c_order, c_order_opt};
+use crate::count;
 use crate::error::core;
 
 /// Simulated rate noise, row-major `(n, axes)` flattened (`gyrocore::noise::simulate`).
@@ -16,7 +17,7 @@ use crate::error::core;
 #[pyo3(signature = (n, fs, quantization, arw, bias_instability, rrw, rate_ramp, ar1, bias, axes, seed))]
 fn simulate(
     py: Python<'_>,
-    n: usize,
+    #[pyo3(from_py_with = count::n)] n: usize,
     fs: f64,
     quantization: f64,
     arw: f64,
@@ -25,8 +26,8 @@ fn simulate(
     rate_ramp: f64,
     ar1: Option<(f64, f64)>,
     bias: f64,
-    axes: usize,
-    seed: u64,
+    #[pyo3(from_py_with = count::axes)] axes: usize,
+    #[pyo3(from_py_with = count::seed)] seed: u64,
 ) -> PyResult<Bound<'_, PyArray1<f64>>> {
     let spec = NoiseSpec {
         quantization,
@@ -75,19 +76,12 @@ fn read_off<'py>(
     overlapping: bool,
     edf: Option<PyReadonlyArray1<'py, f64>>,
     terms: Vec<String>,
-    regions: Vec<Option<(f64, f64)>>,
+    regions: [Option<(f64, f64)>; 5],
     tolerance: f64,
-    min_points: usize,
+    #[pyo3(from_py_with = count::min_points)] min_points: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
     let enabled = core(noise::parse_terms(&symbols))?;
-    if regions.len() != 5 {
-        return Err(pyo3::exceptions::PyValueError::new_err(
-            "regions must hold one entry per term (Q, N, B, K, R)",
-        ));
-    }
-    let mut region_array = [None; 5];
-    region_array.copy_from_slice(&regions);
     let m = as_usize(&c_order(&m));
     let n_terms = as_usize(&c_order(&n_terms));
     let edf = c_order_opt(edf.as_ref());
@@ -104,7 +98,7 @@ fn read_off<'py>(
     let options = ReadOffOptions {
         tolerance,
         min_points,
-        regions: region_array,
+        regions,
     };
     let r = core(noise::read_off(&curve, enabled, &options))?;
     let d = PyDict::new(py);
@@ -116,7 +110,8 @@ fn read_off<'py>(
 /// Total model variance and each term's contribution.
 type ModelCurves<'py> = (Bound<'py, PyArray1<f64>>, Vec<Bound<'py, PyArray1<f64>>>);
 
-/// The five-term model: total variance and each term's contribution at `taus`.
+/// The five-term model: total variance and each term's contribution at `taus`
+/// (`gyrocore::noise::model_curves`).
 #[pyfunction]
 #[pyo3(signature = (squared, taus))]
 #[allow(clippy::needless_pass_by_value)]
@@ -125,21 +120,11 @@ fn model<'py>(
     squared: [f64; 5],
     taus: PyReadonlyArray1<'py, f64>,
 ) -> ModelCurves<'py> {
-    let taus = c_order(&taus);
-    let total: Vec<f64> = taus
-        .iter()
-        .map(|t| noise::model_variance(&squared, *t))
-        .collect();
-    let parts = Term::ALL
-        .iter()
-        .map(|term| {
-            taus.iter()
-                .map(|t| squared[term.index()] * term.basis(*t))
-                .collect::<Vec<f64>>()
-                .into_pyarray(py)
-        })
-        .collect();
-    (total.into_pyarray(py), parts)
+    let (total, parts) = noise::model_curves(&squared, &c_order(&taus));
+    (
+        total.into_pyarray(py),
+        parts.into_iter().map(|p| p.into_pyarray(py)).collect(),
+    )
 }
 
 /// Tightest overbound `A c ≥ b`, `c ≥ floor` (default 0), minimising `Σ (A c)_i / b_i`
@@ -321,7 +306,7 @@ fn diagnose<'py>(
     edf: Option<PyReadonlyArray1<'py, f64>>,
     squared: [f64; 5],
     gauss_markov: Vec<(f64, f64)>,
-    n_params: usize,
+    #[pyo3(from_py_with = count::n_params)] n_params: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let m = as_usize(&c_order(&m));
     let n_terms = as_usize(&c_order(&n_terms));
@@ -341,7 +326,7 @@ fn diagnose<'py>(
 }
 
 /// Allan variance of each Gauss–Markov component `(q², T)` at `taus`
-/// (`gyrocore::noise::gauss_markov::allan_variance`).
+/// (`gyrocore::noise::gauss_markov::allan_variance_curves`).
 #[pyfunction]
 #[pyo3(signature = (gauss_markov, taus))]
 #[allow(clippy::needless_pass_by_value)]
@@ -350,15 +335,9 @@ fn gauss_markov_variance<'py>(
     gauss_markov: Vec<(f64, f64)>,
     taus: PyReadonlyArray1<'py, f64>,
 ) -> Vec<Bound<'py, PyArray1<f64>>> {
-    let taus = c_order(&taus);
-    gauss_markov
-        .iter()
-        .map(|&(q2, t)| {
-            taus.iter()
-                .map(|&tau| noise::gauss_markov::allan_variance(q2, t, tau))
-                .collect::<Vec<f64>>()
-                .into_pyarray(py)
-        })
+    noise::gauss_markov::allan_variance_curves(&gauss_markov, &c_order(&taus))
+        .into_iter()
+        .map(|c| c.into_pyarray(py))
         .collect()
 }
 
@@ -391,9 +370,9 @@ fn gmwm<'py>(
     t0: f64,
     terms: Vec<String>,
     select: bool,
-    bootstrap: usize,
-    seed: u64,
-    min_blocks: usize,
+    #[pyo3(from_py_with = count::bootstrap)] bootstrap: usize,
+    #[pyo3(from_py_with = count::seed)] seed: u64,
+    #[pyo3(from_py_with = count::min_blocks)] min_blocks: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
     let (enabled, gauss_markov) = core(noise::parse_model_terms(&symbols))?;
@@ -440,17 +419,7 @@ fn gmwm<'py>(
     )?;
     d.set_item("wavelet", w)?;
     let (sel_enabled, sel_gm) = g.selected;
-    let mut selected: Vec<&str> = noise::Term::ALL
-        .iter()
-        .filter(|t| sel_enabled[t.index()])
-        .map(|t| t.symbol())
-        .collect();
-    if sel_gm >= 1 {
-        selected.push("GM");
-    }
-    if sel_gm >= 2 {
-        selected.push("GM2");
-    }
+    let selected = noise::model_term_symbols(&sel_enabled, sel_gm);
     d.set_item("selected", selected)?;
     d.set_item("criterion", g.criterion)?;
     d.set_item("candidates", g.candidates.clone())?;

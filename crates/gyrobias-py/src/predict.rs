@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::array::c_order;
+use crate::count;
 use crate::error::core;
 
 /// A pair of float64 arrays returned to Python.
@@ -47,7 +48,7 @@ fn validate_model(
 fn fractional_kalman<'py>(
     py: Python<'py>,
     calibration: PyReadonlyArray2<'py, f64>,
-    horizon: usize,
+    #[pyo3(from_py_with = count::horizon)] horizon: usize,
     d: f64,
     q: f64,
     r: f64,
@@ -55,7 +56,7 @@ fn fractional_kalman<'py>(
     mu0: f64,
     p0: f64,
     algorithm: &str,
-    n_threads: usize,
+    #[pyo3(from_py_with = count::n_threads)] n_threads: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let k = calibration.shape()[1];
     let data = c_order(&calibration);
@@ -79,7 +80,7 @@ fn fractional_kalman<'py>(
 fn calibration_mean<'py>(
     py: Python<'py>,
     calibration: PyReadonlyArray2<'py, f64>,
-    horizon: usize,
+    #[pyo3(from_py_with = count::horizon)] horizon: usize,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let k = calibration.shape()[1];
     let data = c_order(&calibration);
@@ -93,7 +94,7 @@ fn calibration_mean<'py>(
 fn moving_average<'py>(
     py: Python<'py>,
     calibration: PyReadonlyArray2<'py, f64>,
-    horizon: usize,
+    #[pyo3(from_py_with = count::horizon)] horizon: usize,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let k = calibration.shape()[1];
     let data = c_order(&calibration);
@@ -113,15 +114,15 @@ impl CompiledPredictor {
     #[pyo3(signature = (calibration_length, horizon, d, q, r, mean, mu0, p0, n_threads))]
     fn new(
         py: Python<'_>,
-        calibration_length: usize,
-        horizon: usize,
+        #[pyo3(from_py_with = count::calibration_length)] calibration_length: usize,
+        #[pyo3(from_py_with = count::horizon)] horizon: usize,
         d: f64,
         q: f64,
         r: f64,
         mean: &str,
         mu0: f64,
         p0: f64,
-        n_threads: usize,
+        #[pyo3(from_py_with = count::n_threads)] n_threads: usize,
     ) -> PyResult<Self> {
         let model = model(d, q, r, mean, mu0, p0)?;
         let inner =
@@ -135,17 +136,11 @@ impl CompiledPredictor {
         &self,
         py: Python<'py>,
         batch: PyReadonlyArray2<'py, f64>,
-        n_threads: usize,
+        #[pyo3(from_py_with = count::n_threads)] n_threads: usize,
     ) -> PyResult<ArrayPair<'py>> {
         let k = batch.shape()[1];
-        if k != self.inner.calibration_length {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "batch rows have {k} samples, the predictor was compiled for {}",
-                self.inner.calibration_length
-            )));
-        }
         let data = c_order(&batch);
-        let p = core(py.detach(|| self.inner.apply(&data, n_threads)))?;
+        let p = core(py.detach(|| self.inner.apply_rows(&data, k, n_threads)))?;
         Ok((p.bias.into_pyarray(py), p.mean.into_pyarray(py)))
     }
 

@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::array::{c_order, c_order_opt};
+use crate::count;
 use crate::error::core;
 
 /// Least-squares spectrum (`gyrocore::spectral::lssa`): dict with `spectrum`, `n_known`, `known_params`, `t_ref`,
@@ -53,7 +54,11 @@ fn lssa<'py>(
 /// (`gyrocore::spectral::critical_value`).
 #[pyfunction]
 #[pyo3(signature = (n, n_known, alpha))]
-fn critical_value(n: usize, n_known: usize, alpha: f64) -> PyResult<f64> {
+fn critical_value(
+    #[pyo3(from_py_with = count::n)] n: usize,
+    #[pyo3(from_py_with = count::n_known)] n_known: usize,
+    alpha: f64,
+) -> PyResult<f64> {
     core(spectral::critical_value(n, n_known, alpha))
 }
 
@@ -77,8 +82,8 @@ fn welch<'py>(
     py: Python<'py>,
     x: PyReadonlyArray1<'py, f64>,
     fs: f64,
-    nperseg: usize,
-    noverlap: usize,
+    #[pyo3(from_py_with = count::nperseg)] nperseg: usize,
+    #[pyo3(from_py_with = count::noverlap)] noverlap: usize,
     window: &str,
 ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
     let x = c_order(&x);

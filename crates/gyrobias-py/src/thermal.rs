@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::array::c_order;
+use crate::count;
 use crate::error::core;
 
 /// AR(1) fit (`gyrocore::thermal::fit_ar1`): dict with `c`, `c_std_error`, `sigma_e`, `mean`, `n`, `beta`, `process_std`.
@@ -41,20 +42,11 @@ fn interpolate<'py>(
     temperatures: PyReadonlyArray1<'py, f64>,
     values: PyReadonlyArray1<'py, f64>,
     method: &str,
-    degree: usize,
+    #[pyo3(from_py_with = count::degree)] degree: usize,
     at: PyReadonlyArray1<'py, f64>,
     extrapolate: bool,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let method = match method {
-        "linear" => Method::Linear,
-        "pchip" => Method::Pchip,
-        "polynomial" => Method::Polynomial(degree),
-        other => {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "method must be 'linear', 'pchip' or 'polynomial', got {other:?}"
-            )));
-        }
-    };
+    let method = core(Method::parse(method, degree))?;
     let x = c_order(&temperatures);
     let y = c_order(&values);
     let at = c_order(&at);

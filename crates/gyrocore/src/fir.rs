@@ -242,6 +242,20 @@ pub enum Mode {
     },
 }
 
+impl Mode {
+    /// The mode of a call `filter(…, zero_phase, padtype, padlen)`: [`Mode::ZeroPhase`] with
+    /// [`Padding::parse`]`(padtype)` and `padlen` if `zero_phase`, else [`Mode::Causal`]
+    /// (`padtype` must still name a padding; `padlen` is then ignored).
+    pub fn new(zero_phase: bool, padtype: &str, padlen: usize) -> Result<Self> {
+        let padding = Padding::parse(padtype)?;
+        Ok(if zero_phase {
+            Mode::ZeroPhase { padding, padlen }
+        } else {
+            Mode::Causal
+        })
+    }
+}
+
 const BLOCK: usize = 2048;
 
 /// `out[i] = Σ_k h[k]·input[i + N − 1 − k]`: `input` holds `N − 1` history samples followed
@@ -477,6 +491,51 @@ pub fn filter_stream(taps: &[f64], x: &[f64], history: &mut [f64]) -> Result<Vec
     Ok(out)
 }
 
+/// [`filter_stream`] of each of the `n_rows` contiguous rows of `data` (row-major,
+/// `n_rows × n`), with `history` holding one state row of `N − 1` samples per signal
+/// (row-major, `n_rows × (N − 1)`), replaced by the new states. Each row gives bit for bit what
+/// [`filter_stream`] gives on it alone.
+///
+/// Errors: as [`filter_stream`]; `data` not made of `n_rows` rows; `history` not holding
+/// `n_rows` states. On error `history` is left unchanged.
+pub fn filter_stream_rows(
+    taps: &[f64],
+    data: &[f64],
+    n_rows: usize,
+    history: &mut [f64],
+) -> Result<Vec<f64>> {
+    validate::min_len("taps", taps.len(), 1)?;
+    validate::finite("taps", taps)?;
+    if n_rows == 0 || data.len() % n_rows != 0 {
+        return Err(Error::ShapeMismatch {
+            name: "x",
+            reason: format!("{} values do not form {n_rows} rows", data.len()),
+        });
+    }
+    let width = taps.len() - 1;
+    if history.len() != validate::product("state", n_rows, width)? {
+        return Err(Error::ShapeMismatch {
+            name: "state",
+            reason: format!(
+                "{n_rows} signals of a {}-tap filter need {n_rows} state rows of {width} \
+                 samples ({} values), got {}",
+                taps.len(),
+                n_rows * width,
+                history.len()
+            ),
+        });
+    }
+    validate::finite("x", data)?;
+    validate::finite("state", history)?;
+    let n = data.len() / n_rows;
+    let mut out = Vec::with_capacity(data.len());
+    for r in 0..n_rows {
+        let state = &mut history[r * width..(r + 1) * width];
+        out.extend(filter_stream(taps, &data[r * n..(r + 1) * n], state)?);
+    }
+    Ok(out)
+}
+
 /// Complex frequency response $H(f) = \sum_n h_n e^{-i 2\pi f n/f_s}$ at `freqs` (Hz), as
 /// (real, imaginary) parts.
 pub fn frequency_response(taps: &[f64], fs: f64, freqs: &[f64]) -> Result<(Vec<f64>, Vec<f64>)> {
@@ -560,6 +619,55 @@ mod tests {
         assert_eq!(whole, parts);
         assert_eq!(h1, h2);
         assert!(filter_stream(&f.taps, &x, &mut [0.0; 3]).is_err());
+    }
+
+    #[test]
+    fn stream_rows_equal_each_row_alone() {
+        let f = kaiser_lowpass(100.0, 14.0, 18.0, 0.0001, 100.0).unwrap();
+        let x = crate::random::normal_vec(3 * 400, 11);
+        let mut history = crate::random::normal_vec(3 * 170, 12);
+        let before = history.clone();
+        let out = filter_stream_rows(&f.taps, &x, 3, &mut history).unwrap();
+        for r in 0..3 {
+            let mut h = before[r * 170..(r + 1) * 170].to_vec();
+            let y = filter_stream(&f.taps, &x[r * 400..(r + 1) * 400], &mut h).unwrap();
+            assert_eq!(out[r * 400..(r + 1) * 400], y[..], "row {r}");
+            assert_eq!(history[r * 170..(r + 1) * 170], h[..], "state {r}");
+        }
+        // A 1-tap filter has empty states and still filters every row.
+        let mut empty: [f64; 0] = [];
+        let y = filter_stream_rows(&[2.0], &[1.0, 2.0, 3.0, 4.0], 2, &mut empty).unwrap();
+        assert_eq!(y, [2.0, 4.0, 6.0, 8.0]);
+        let mut short = vec![0.0; 2 * 170];
+        let err = filter_stream_rows(&f.taps, &x, 3, &mut short).unwrap_err();
+        assert!(
+            matches!(err, Error::ShapeMismatch { name: "state", .. }),
+            "{err}"
+        );
+        let mut bad = before.clone();
+        bad[200] = f64::NAN;
+        let err = filter_stream_rows(&f.taps, &x, 3, &mut bad).unwrap_err();
+        assert_eq!(
+            err,
+            Error::NonFinite {
+                name: "state",
+                index: 200
+            }
+        );
+        assert!(filter_stream_rows(&f.taps, &x, 0, &mut history).is_err());
+    }
+
+    #[test]
+    fn mode_parses_padtype_in_both_modes() {
+        assert_eq!(Mode::new(false, "odd", 9).unwrap(), Mode::Causal);
+        assert_eq!(
+            Mode::new(true, "even", 9).unwrap(),
+            Mode::ZeroPhase {
+                padding: Padding::Even,
+                padlen: 9
+            }
+        );
+        assert!(Mode::new(false, "wrap", 0).is_err());
     }
 
     #[test]

@@ -64,8 +64,9 @@
 //! ```
 //!
 //! One multiply-add on the loop-carried path, two independent multiply-adds per output: the
-//! loop runs at memory speed. The carried state is exactly `(u, c)` ([`FilterState`]), which
-//! makes chunked processing equal one-shot processing bit for bit.
+//! loop runs at memory speed. The carried state is exactly `(u, c)` ([`KalmanState`], which also
+//! records the estimates after the last sample, the gain of the filter that produced it and the
+//! samples processed), which makes chunked processing equal one-shot processing bit for bit.
 
 use nalgebra::{Matrix2, RowVector2, Vector2};
 
@@ -335,6 +336,28 @@ impl FixedGainKalman {
         Self::new(noise, q_omega, form)
     }
 
+    /// Designs the filter from exactly one of `q_omega` ([`new`](Self::new)) and `bandwidth`
+    /// ([`with_bandwidth`](Self::with_bandwidth)).
+    pub fn design(
+        noise: DiscreteNoise,
+        q_omega: Option<f64>,
+        bandwidth: Option<f64>,
+        form: Form,
+    ) -> Result<Self> {
+        match (q_omega, bandwidth) {
+            (Some(q), None) => Self::new(noise, q, form),
+            (None, Some(bw)) => Self::with_bandwidth(noise, bw, form),
+            (Some(_), Some(_)) => Err(Error::invalid(
+                "bandwidth",
+                "give exactly one of q_omega and bandwidth (both given)",
+            )),
+            (None, None) => Err(Error::invalid(
+                "q_omega",
+                "give exactly one of q_omega and bandwidth (neither given)",
+            )),
+        }
+    }
+
     /// The discrete noise the filter was designed for.
     pub fn noise(&self) -> &DiscreteNoise {
         &self.noise
@@ -437,8 +460,9 @@ impl FixedGainKalman {
         Ok(())
     }
 
-    /// The state before the first sample for initial estimates `X₀ = [ω₀, b₀]` per axis.
-    pub fn initial_state(&self, rate: &[f64], bias: &[f64]) -> Result<FilterState> {
+    /// The state before the first sample for initial estimates `X₀ = [ω₀, b₀]` per axis
+    /// (`rate[a] = ω₀`, `bias[a] = b₀` of axis `a`).
+    pub fn initial_state(&self, rate: &[f64], bias: &[f64]) -> Result<KalmanState> {
         if rate.len() != bias.len() || rate.is_empty() {
             return Err(Error::ShapeMismatch {
                 name: "x0",
@@ -453,32 +477,81 @@ impl FixedGainKalman {
         validate::finite("x0", bias)?;
         let (g1, k) = (self.g[0], self.one_minus_pole);
         let level: Vec<f64> = rate.iter().zip(bias).map(|(w, b)| (w + b) / k).collect();
-        let offset = rate.iter().zip(&level).map(|(w, u)| w - g1 * u).collect();
-        let state = FilterState { level, offset };
-        state.check(rate.len())?;
-        Ok(state)
+        let offset: Vec<f64> = rate.iter().zip(&level).map(|(w, u)| w - g1 * u).collect();
+        if level.iter().chain(&offset).any(|v| !v.is_finite()) {
+            return Err(Error::invalid(
+                "x0",
+                "the initial estimates overflow the filter's scaled level (values too large \
+                 for float64)",
+            ));
+        }
+        Ok(KalmanState {
+            level,
+            offset,
+            rate: rate.to_vec(),
+            bias: bias.to_vec(),
+            gain: self.g.into(),
+            samples: 0,
+        })
     }
 
     /// The default `X₀ = [z₀, 0]` per axis (SPEC §6), from the first row of `z`
     /// (samples × `n_axes`).
-    pub fn initial_state_from_first_sample(&self, z: &[f64], n_axes: usize) -> Result<FilterState> {
+    ///
+    /// A NaN or infinity in that row is reported as a value of `z` with its sample and axis,
+    /// like [`filter_into`](Self::filter_into) does.
+    pub fn initial_state_from_first_sample(&self, z: &[f64], n_axes: usize) -> Result<KalmanState> {
         if n_axes == 0 {
             return Err(Error::invalid("z", "must have at least one axis"));
         }
         validate::min_len("z", z.len() / n_axes, 1)?;
-        self.initial_state(&z[..n_axes], &vec![0.0; n_axes])
+        let first = &z[..n_axes];
+        if let Some(axis) = first.iter().position(|v| !v.is_finite()) {
+            return Err(Error::invalid(
+                "z",
+                format!("non-finite value (NaN or inf) at sample 0 axis {axis}"),
+            ));
+        }
+        self.initial_state(first, &vec![0.0; n_axes])
     }
 
-    /// The estimates `(ω̂, b̂)` per axis that `state` stands for: `ω̂ = g1·u + c`,
-    /// `b̂ = (1 − p − g1)·u − c`.
-    pub fn estimates(&self, state: &FilterState) -> (Vec<f64>, Vec<f64>) {
+    /// Fails unless `state` was produced by this filter (same recursion gain `G`, bit for bit)
+    /// for `n_axes` axes: resuming a stream with another filter's state would silently mix two
+    /// designs.
+    pub fn check_state(&self, state: &KalmanState, n_axes: usize) -> Result<()> {
+        let gain: [f64; 2] = self.g.into();
+        if state.gain != gain {
+            return Err(Error::invalid(
+                "state",
+                format!(
+                    "was produced by a different filter (gain {:?}, this filter {gain:?})",
+                    state.gain
+                ),
+            ));
+        }
+        if state.level.len() != n_axes {
+            return Err(Error::ShapeMismatch {
+                name: "state",
+                reason: format!(
+                    "state carries {} axes but z has {n_axes}",
+                    state.level.len()
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// The estimates `(ω̂, b̂)` per axis that `state` (from this filter) stands for:
+    /// `ω̂ = g1·u + c`, `b̂ = (1 − p − g1)·u − c`.
+    pub fn estimates(&self, state: &KalmanState) -> Result<(Vec<f64>, Vec<f64>)> {
+        self.check_state(state, state.n_axes())?;
         let c = self.coefficients();
-        state
+        Ok(state
             .level
             .iter()
             .zip(&state.offset)
             .map(|(&u, &off)| (c.g1 * u + off, c.g2 * u - off))
-            .unzip()
+            .unzip())
     }
 
     fn coefficients(&self) -> Coefficients {
@@ -490,15 +563,17 @@ impl FixedGainKalman {
     }
 
     /// Filters `z` (C-order samples × `n_axes`) from `state`, writing the rate and bias estimates
-    /// into `rate` and `bias` (same layout) and advancing `state`.
+    /// into `rate` and `bias` (same layout) and advancing `state` (its level, the estimates after
+    /// the last sample and the sample count).
     ///
-    /// On error (including a NaN or infinity in `z`, reported with its sample and axis) `state`
-    /// is left exactly as it was.
+    /// `state` must come from this filter ([`check_state`](Self::check_state)). On error
+    /// (including a NaN or infinity in `z`, reported with its sample and axis) `state` is left
+    /// exactly as it was. An empty `z` leaves it unchanged.
     pub fn filter_into(
         &self,
         z: &[f64],
         n_axes: usize,
-        state: &mut FilterState,
+        state: &mut KalmanState,
         rate: &mut [f64],
         bias: &mut [f64],
     ) -> Result<()> {
@@ -511,12 +586,16 @@ impl FixedGainKalman {
                 reason: format!("{} values do not fill rows of {n_axes} axes", z.len()),
             });
         }
-        state.check(n_axes)?;
+        self.check_state(state, n_axes)?;
+        state.check_finite()?;
         if rate.len() != z.len() || bias.len() != z.len() {
             return Err(Error::ShapeMismatch {
                 name: "z",
                 reason: "output buffers must have the length of z".into(),
             });
+        }
+        if z.is_empty() {
+            return Ok(());
         }
         let mut level = state.level.clone();
         let c = self.coefficients();
@@ -548,7 +627,11 @@ impl FixedGainKalman {
                 ),
             });
         }
+        let last = z.len() - n_axes;
         state.level = level;
+        state.rate.copy_from_slice(&rate[last..]);
+        state.bias.copy_from_slice(&bias[last..]);
+        state.samples = state.samples.saturating_add((z.len() / n_axes) as u64);
         Ok(())
     }
 
@@ -557,7 +640,7 @@ impl FixedGainKalman {
         &self,
         z: &[f64],
         n_axes: usize,
-        state: &mut FilterState,
+        state: &mut KalmanState,
     ) -> Result<(Vec<f64>, Vec<f64>)> {
         let mut rate = vec![0.0; z.len()];
         let mut bias = vec![0.0; z.len()];
@@ -638,31 +721,65 @@ fn run_dynamic(
     }
 }
 
-/// The carried state of the recursion, per axis: the scaled observable level
-/// `u = (ω̂ + b̂)/(1 − p)` and the constant offset `c = ω̂ − g1·u` of the unobservable mode.
+/// The state a stream carries from one chunk to the next, per axis: the scaled observable
+/// level `u = (ω̂ + b̂)/(1 − p)` and the constant offset `c = ω̂ − g1·u` of the unobservable mode
+/// (exactly the loop's variables, so resuming from a state reproduces one-shot processing bit
+/// for bit), the estimates `ω̂`, `b̂` after the last sample, the recursion gain `G` of the
+/// filter that produced it (checked on resume: [`FixedGainKalman::check_state`]) and the number
+/// of samples processed.
 ///
-/// Exactly these numbers are the loop's variables, so resuming from a state reproduces one-shot
-/// processing bit for bit. Build one with [`FixedGainKalman::initial_state`]; read the
+/// Build one with [`FixedGainKalman::initial_state`] (or
+/// [`FixedGainKalman::initial_state_from_first_sample`]), advance it with
+/// [`FixedGainKalman::filter_into`], rebuild a stored one with [`KalmanState::new`]; read the
 /// estimates it stands for with [`FixedGainKalman::estimates`].
 #[derive(Debug, Clone, PartialEq)]
-pub struct FilterState {
-    /// `u = s/(1 − p)` per axis.
-    pub level: Vec<f64>,
-    /// `c = ω̂ − g1·u` per axis (constant while filtering).
-    pub offset: Vec<f64>,
+pub struct KalmanState {
+    level: Vec<f64>,
+    offset: Vec<f64>,
+    rate: Vec<f64>,
+    bias: Vec<f64>,
+    gain: [f64; 2],
+    samples: u64,
 }
 
-impl FilterState {
-    fn check(&self, n_axes: usize) -> Result<()> {
-        if self.level.len() != n_axes || self.offset.len() != n_axes {
+impl KalmanState {
+    /// A state from its parts, as read back from [`KalmanState::level`] and the other getters
+    /// (e.g. when unpickling). Every part needs one value per axis, at least one axis, and
+    /// `level` and `offset` must be finite.
+    pub fn new(
+        level: Vec<f64>,
+        offset: Vec<f64>,
+        rate: Vec<f64>,
+        bias: Vec<f64>,
+        gain: [f64; 2],
+        samples: u64,
+    ) -> Result<Self> {
+        let n = level.len();
+        if n == 0 || offset.len() != n || rate.len() != n || bias.len() != n {
             return Err(Error::ShapeMismatch {
                 name: "state",
                 reason: format!(
-                    "state holds {} axes but the data has {n_axes}",
-                    self.level.len()
+                    "level, offset, rate and bias need one value per axis (got {n}, {}, {} \
+                     and {})",
+                    offset.len(),
+                    rate.len(),
+                    bias.len()
                 ),
             });
         }
+        let state = KalmanState {
+            level,
+            offset,
+            rate,
+            bias,
+            gain,
+            samples,
+        };
+        state.check_finite()?;
+        Ok(state)
+    }
+
+    fn check_finite(&self) -> Result<()> {
         if self
             .level
             .iter()
@@ -672,6 +789,41 @@ impl FilterState {
             return Err(Error::invalid("state", "contains a non-finite value"));
         }
         Ok(())
+    }
+
+    /// `u = s/(1 − p)` per axis.
+    pub fn level(&self) -> &[f64] {
+        &self.level
+    }
+
+    /// `c = ω̂ − g1·u` per axis (constant while filtering).
+    pub fn offset(&self) -> &[f64] {
+        &self.offset
+    }
+
+    /// Rate estimate `ω̂` after the last sample (the initial `ω₀` before the first), per axis.
+    pub fn rate(&self) -> &[f64] {
+        &self.rate
+    }
+
+    /// Bias estimate `b̂` after the last sample (the initial `b₀` before the first), per axis.
+    pub fn bias(&self) -> &[f64] {
+        &self.bias
+    }
+
+    /// Recursion gain `G = [g1, g2]` of the filter that produced the state.
+    pub fn gain(&self) -> [f64; 2] {
+        self.gain
+    }
+
+    /// Samples (rows) processed since the initial state.
+    pub fn samples(&self) -> u64 {
+        self.samples
+    }
+
+    /// Number of axes.
+    pub fn n_axes(&self) -> usize {
+        self.level.len()
     }
 }
 
@@ -800,6 +952,71 @@ mod tests {
     }
 
     #[test]
+    fn state_records_estimates_and_rejects_foreign_states() {
+        let f = FixedGainKalman::new(nr_noise(), 1000.0, Form::Standard).unwrap();
+        let other = FixedGainKalman::new(nr_noise(), 2000.0, Form::Standard).unwrap();
+        let z: Vec<f64> = (0..40).map(|i| f64::from(i).cos()).collect();
+        let mut st = f.initial_state(&[0.5, 1.0], &[0.0, -1.0]).unwrap();
+        assert_eq!(
+            (st.rate(), st.bias(), st.samples()),
+            (&[0.5, 1.0][..], &[0.0, -1.0][..], 0)
+        );
+        let (r, b) = f.filter(&z, 2, &mut st).unwrap();
+        assert_eq!((st.rate(), st.bias()), (&r[38..], &b[38..]));
+        assert_eq!(
+            (st.samples(), st.n_axes(), st.gain()),
+            (20, 2, f.g().into())
+        );
+        // An empty chunk is a no-op.
+        let before = st.clone();
+        f.filter(&[], 2, &mut st).unwrap();
+        assert_eq!(st, before);
+        // Rebuilt from its parts, the state resumes identically.
+        let mut copy = KalmanState::new(
+            st.level().to_vec(),
+            st.offset().to_vec(),
+            st.rate().to_vec(),
+            st.bias().to_vec(),
+            st.gain(),
+            st.samples(),
+        )
+        .unwrap();
+        assert_eq!(f.filter(&z, 2, &mut copy), f.filter(&z, 2, &mut st));
+        let err = other.filter(&z, 2, &mut st).unwrap_err().to_string();
+        assert!(
+            err.contains("state") && err.contains("different filter"),
+            "{err}"
+        );
+        assert!(other.estimates(&st).is_err());
+        let err = f.filter(&z, 1, &mut st).unwrap_err().to_string();
+        assert!(err.contains("state carries 2 axes but z has 1"), "{err}");
+        assert_eq!(st, copy);
+        let bad = |level: Vec<f64>, rate: Vec<f64>| {
+            KalmanState::new(level, vec![0.0], rate, vec![0.0], [0.1, 0.0], 0)
+        };
+        assert!(
+            bad(vec![f64::NAN], vec![0.0])
+                .unwrap_err()
+                .to_string()
+                .contains("state")
+        );
+        assert!(
+            bad(vec![0.0], vec![])
+                .unwrap_err()
+                .to_string()
+                .contains("state")
+        );
+        let err = f
+            .initial_state_from_first_sample(&[1.0, f64::NAN, 0.0, 0.0], 2)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains('z') && err.contains("sample 0 axis 1"),
+            "{err}"
+        );
+    }
+
+    #[test]
     fn bad_parameters() {
         assert!(DiscreteNoise::from_coefficients(0.0, 1.0, 1.0).is_err());
         assert!(DiscreteNoise::from_coefficients(100.0, -1.0, 1.0).is_err());
@@ -809,5 +1026,14 @@ mod tests {
         assert!(q_omega_for_bandwidth(100.0, &n, Form::Standard).is_err());
         assert!(q_omega_for_bandwidth(1e-3, &n, Form::Standard).is_err());
         assert!(Form::parse("fast").is_err());
+        for (q, bw) in [(None, None), (Some(1.0), Some(1.0))] {
+            let err = FixedGainKalman::design(n, q, bw, Form::Standard).unwrap_err();
+            assert!(err.to_string().contains("exactly one"), "{err}");
+        }
+        let by_q = FixedGainKalman::design(n, Some(1000.0), None, Form::Standard).unwrap();
+        assert_eq!(
+            by_q,
+            FixedGainKalman::new(n, 1000.0, Form::Standard).unwrap()
+        );
     }
 }

@@ -109,6 +109,22 @@ pub enum Method {
     Polynomial(usize),
 }
 
+impl Method {
+    /// Parses `"linear"`, `"pchip"` or `"polynomial"` (of degree `degree`, which the other
+    /// methods ignore).
+    pub fn parse(name: &str, degree: usize) -> Result<Self> {
+        match name {
+            "linear" => Ok(Method::Linear),
+            "pchip" => Ok(Method::Pchip),
+            "polynomial" => Ok(Method::Polynomial(degree)),
+            other => Err(Error::invalid(
+                "method",
+                format!("must be 'linear', 'pchip' or 'polynomial', got {other:?}"),
+            )),
+        }
+    }
+}
+
 /// Sorted, validated nodes.
 fn nodes(x: &[f64], y: &[f64]) -> Result<(Vec<f64>, Vec<f64>)> {
     validate::finite("temperatures", x)?;
@@ -298,6 +314,17 @@ pub fn interpolate(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn method_parse() {
+        assert_eq!(Method::parse("pchip", 7).unwrap(), Method::Pchip);
+        assert_eq!(
+            Method::parse("polynomial", 3).unwrap(),
+            Method::Polynomial(3)
+        );
+        let err = Method::parse("cubic", 3).unwrap_err().to_string();
+        assert!(err.contains("method") && err.contains("cubic"), "{err}");
+    }
 
     #[test]
     fn ar1_exact_on_geometric_series() {

@@ -1,18 +1,15 @@
 //! Integration tests of `gyrocore::kalman`: streaming, multi-axis layout and the response.
 
 use gyrocore::kalman::{DiscreteNoise, FixedGainKalman, Form};
+use gyrocore::random::NormalStream;
 
 fn signal(n: usize, seed: u64) -> Vec<f64> {
-    // A deterministic pseudo-random walk plus a sine (SplitMix64).
-    let mut state = seed;
+    // A deterministic pseudo-random walk plus a sine.
+    let mut stream = NormalStream::new(seed);
     let mut walk = 0.0;
     (0..n)
         .map(|i| {
-            state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            let u = ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+            let u = stream.uniform() - 0.5;
             walk += 1e-2 * u;
             u + walk + (i as f64 * 0.01).sin()
         })
@@ -65,11 +62,14 @@ fn estimates_of_state_are_the_last_outputs_and_x0_round_trips() {
     for kf in filters() {
         let z = signal(300, 3);
         let mut st = kf.initial_state(&[1.5], &[-0.25]).unwrap();
-        let (r0, b0) = kf.estimates(&st);
+        let (r0, b0) = kf.estimates(&st).unwrap();
         assert!((r0[0] - 1.5).abs() < 1e-14 && (b0[0] + 0.25).abs() < 1e-14);
         let (rate, bias) = kf.filter(&z, 1, &mut st).unwrap();
-        let (r, b) = kf.estimates(&st);
+        let (r, b) = kf.estimates(&st).unwrap();
         assert_eq!((r[0], b[0]), (rate[299], bias[299]));
+        // The state records the same estimates and the rows processed.
+        assert_eq!((st.rate(), st.bias()), (&r[..], &b[..]));
+        assert_eq!(st.samples(), 300);
     }
 }
 

@@ -4,34 +4,17 @@ use gyrocore::fractional;
 use gyrocore::predict::{
     Algorithm, MeanPrior, Model, batch::Compiled, fractional_kalman, fractional_kalman_rows,
 };
-
-/// Deterministic standard normals (SplitMix64 + Box–Muller), enough for test data.
-struct Normals(u64);
-
-impl Normals {
-    fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        ((z >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    }
-    fn normal(&mut self) -> f64 {
-        let (u1, u2) = (self.uniform(), self.uniform());
-        (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
-    }
-}
+use gyrocore::random::NormalStream;
 
 /// Type-II ARFIMA(0, d, 0) plus white noise plus a constant.
 fn simulate(seed: u64, n: usize, d: f64, q: f64, r: f64, bias: f64) -> Vec<f64> {
-    let mut g = Normals(seed);
-    let w: Vec<f64> = (0..n).map(|_| g.normal() * q.sqrt()).collect();
+    let mut g = NormalStream::new(seed);
+    let w: Vec<f64> = (0..n).map(|_| g.next_normal() * q.sqrt()).collect();
     let psi = fractional::weights(-d, n).unwrap();
     (0..n)
         .map(|t| {
             let x: f64 = (0..=t).map(|i| psi[t - i] * w[i]).sum();
-            bias + x + r.sqrt() * g.normal()
+            bias + x + r.sqrt() * g.next_normal()
         })
         .collect()
 }

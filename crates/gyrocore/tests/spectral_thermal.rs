@@ -9,16 +9,8 @@ fn ts_filter_then_ar1_gives_spec_coefficient() {
     // SPEC §9: white noise through the 16 Hz [TS] filter gives c ≈ +0.846 ([TS] prints −0.9).
     let f = fir::kaiser_lowpass(100.0, 14.0, 18.0, 0.0001, 100.0).unwrap();
     assert_eq!(f.numtaps(), 171);
-    // Deterministic white-ish noise: a xorshift generator mapped to (−0.5, 0.5).
-    let mut state = 0x2545_f491_4f6c_dd1d_u64;
-    let x: Vec<f64> = (0..200_000)
-        .map(|_| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        })
-        .collect();
+    // Deterministic white noise.
+    let x = gyrocore::random::normal_vec(200_000, 0x2545_f491_4f6c_dd1d);
     let y = fir::filter(&f.taps, &x, Mode::Causal).unwrap();
     let fit = thermal::fit_ar1(&y[170..], 0.01, true).unwrap();
     assert!((fit.c - 0.846).abs() < 0.005, "c = {}", fit.c);

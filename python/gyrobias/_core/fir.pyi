@@ -5,7 +5,7 @@ from typing import TypedDict, type_check_only
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["filter_rows", "filter_stream", "frequency_response", "kaiser_lowpass"]
+__all__ = ["filter_rows", "filter_stream_rows", "frequency_response", "kaiser_lowpass"]
 
 @type_check_only
 class KaiserLowpass(TypedDict):
@@ -28,6 +28,6 @@ def filter_rows(
 def frequency_response(
     taps: NDArray[np.float64], fs: float, freqs: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
-def filter_stream(
+def filter_stream_rows(
     taps: NDArray[np.float64], x: NDArray[np.float64], state: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...

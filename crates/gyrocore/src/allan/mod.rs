@@ -756,6 +756,31 @@ pub enum Taus {
     Explicit(Vec<f64>),
 }
 
+impl Taus {
+    /// The τ of a call: the `explicit` τ values (s) if given, else the specification `spec`:
+    /// `"octave"`, `"decade"`, `"log"` (`per_decade` points per decade) or `"all"`.
+    pub fn parse(spec: &str, per_decade: usize, explicit: Option<Vec<f64>>) -> Result<Self> {
+        if let Some(t) = explicit {
+            return Ok(Taus::Explicit(t));
+        }
+        Ok(Taus::Spec(match spec {
+            "octave" => TauSpec::Octave,
+            "decade" => TauSpec::Decade,
+            "log" => TauSpec::Log { per_decade },
+            "all" => TauSpec::All,
+            other => {
+                return Err(Error::invalid(
+                    "taus",
+                    format!(
+                        "must be 'octave', 'decade', 'log', 'all' or an array of seconds, \
+                         got {other:?}"
+                    ),
+                ));
+            }
+        }))
+    }
+}
+
 /// Averaging factors for `taus` on `n_samples` input samples.
 pub fn resolve_factors(
     taus: &Taus,

@@ -802,6 +802,18 @@ pub fn parse_model_terms(symbols: &[&str]) -> Result<([bool; 5], usize)> {
     Ok((enabled, n_gm))
 }
 
+/// The term symbols of a model, the inverse of [`parse_model_terms`]: the enabled power-law
+/// terms in [`Term::ALL`] order, then "GM" and "GM2" for one or two Gauss–Markov terms.
+pub fn model_term_symbols(enabled: &[bool; 5], gauss_markov: usize) -> Vec<&'static str> {
+    let mut symbols: Vec<&'static str> = Term::ALL
+        .iter()
+        .filter(|t| enabled[t.index()])
+        .map(|t| t.symbol())
+        .collect();
+    symbols.extend(["GM", "GM2"].iter().take(gauss_markov.min(2)));
+    symbols
+}
+
 /// Merges a newly excluded τ range into the list (adjacent ranges with the same reason join).
 fn exclude(list: &mut Vec<(f64, f64, String)>, lo: f64, hi: f64, reason: &str) {
     if let Some(e) = list.iter_mut().find(|e| e.2 == reason) {
@@ -1211,6 +1223,18 @@ pub fn diagnose(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn term_symbols_invert_the_parser() {
+        for symbols in [
+            vec!["N", "B", "K"],
+            vec!["Q", "R", "GM"],
+            vec!["N", "GM", "GM2"],
+        ] {
+            let (enabled, n_gm) = parse_model_terms(&symbols).unwrap();
+            assert_eq!(model_term_symbols(&enabled, n_gm), symbols);
+        }
+    }
 
     /// Exact model curve on octave τ (no noise): the fit must return the coefficients.
     #[test]

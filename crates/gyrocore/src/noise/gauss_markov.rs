@@ -101,6 +101,14 @@ pub fn ar1_parameters(sigma: f64, correlation_time: f64, t0: f64) -> (f64, f64) 
     (phi, sigma * one_minus.sqrt())
 }
 
+/// [`allan_variance`] of each component `(q², T)` at `taus`: one curve per component.
+pub fn allan_variance_curves(components: &[(f64, f64)], taus: &[f64]) -> Vec<Vec<f64>> {
+    components
+        .iter()
+        .map(|&(q2, t)| taus.iter().map(|&tau| allan_variance(q2, t, tau)).collect())
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -196,5 +204,17 @@ mod tests {
         let (phi, e) = ar1_parameters(2.0, 10.0, 0.01);
         assert!((phi - (-0.001f64).exp()).abs() < 1e-15);
         assert!((e * e / (1.0 - phi * phi) - 4.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn curves_are_the_pointwise_variances() {
+        let taus = [0.01, 1.0, 250.0];
+        let curves = allan_variance_curves(&[(2.0, 5.0), (1e-3, 0.1)], &taus);
+        assert_eq!(curves.len(), 2);
+        for (c, (q2, t)) in curves.iter().zip([(2.0, 5.0), (1e-3, 0.1)]) {
+            let expected: Vec<f64> = taus.iter().map(|&tau| allan_variance(q2, t, tau)).collect();
+            assert_eq!(*c, expected);
+        }
+        assert!(allan_variance_curves(&[], &taus).is_empty());
     }
 }

@@ -52,7 +52,7 @@ use nalgebra::DMatrix;
 use rayon::prelude::*;
 
 use super::covariance::correlation_with;
-use super::curve::Curve;
+use super::curve::{Curve, TermEstimate};
 use super::fit::{
     CovarianceSource, Inner, JointFit, Whitener, active_params, edf_model, finish, full_model,
     irls, jacobian, profile_times,
@@ -464,7 +464,7 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
         asymptotic_covariance(&curve, &inner, &l, &requested)
     };
     let used: Vec<usize> = (0..curve.len()).collect();
-    let fit = finish(
+    let mut fit = finish(
         &curve,
         &used,
         &requested,
@@ -475,6 +475,7 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
         Vec::new(),
         CovarianceSource::Given(cov),
     );
+    label_dropped(&mut fit, options.enabled, enabled, n_gm, criterion);
     Ok(GmwmFit {
         fit,
         selected: (enabled, n_gm),
@@ -483,6 +484,37 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
         bootstrap: options.bootstrap,
         wavelet: wv,
     })
+}
+
+/// Terms the user asked for that the model selection left out are missing because of the
+/// selection, not because the non-negative fit set them to zero (which is what [`finish`] says of
+/// every zero term): relabel them with the chosen model and its WVIC.
+fn label_dropped(
+    fit: &mut JointFit,
+    requested: [bool; 5],
+    chosen: [bool; 5],
+    n_gm: usize,
+    criterion: f64,
+) {
+    let reason = format!(
+        "dropped by the model selection: the sub-model {{{}}} has the lowest WVIC ({})",
+        symbols(chosen, n_gm).join(", "),
+        super::fit::sig(criterion, 4)
+    );
+    for t in &mut fit.terms {
+        let j = t.term.index();
+        if requested[j] && !chosen[j] {
+            *t = TermEstimate::missing(t.term, reason.clone());
+        }
+    }
+    for gm in fit.gauss_markov.iter_mut().skip(n_gm) {
+        gm.sigma = None;
+        gm.correlation_time = None;
+        gm.sigma_uncertainty = f64::NAN;
+        gm.correlation_time_uncertainty = f64::NAN;
+        gm.tau_range = None;
+        gm.missing = Some(reason.clone());
+    }
 }
 
 /// Keeps the reported number of Gauss–Markov terms when the selection dropped some (their

@@ -37,11 +37,11 @@ pub mod wavelet;
 pub use curve::{Curve, TermEstimate, parse_terms};
 pub use fit::{
     Diagnostics, FitOptions, GaussMarkovEstimate, JointFit, diagnose, fit, full_model, joint,
-    parse_model_terms,
+    model_term_symbols, parse_model_terms,
 };
 pub use gmwm::{GmwmFit, GmwmOptions, gmwm};
 pub use ieee::{ReadOff, ReadOffOptions, read_off};
-pub use model::{FLICKER_FACTOR, Term, approximate_edf, model_variance};
+pub use model::{FLICKER_FACTOR, Term, approximate_edf, model_curves, model_variance};
 pub use overbound::{Conservative, Overbound, conservative, overbound, overbound_above};
 pub use simulate::{Ar1, NoiseSpec, simulate, simulate_axis};
 pub use wavelet::{WaveletVariance, haar};

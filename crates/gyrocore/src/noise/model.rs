@@ -107,6 +107,18 @@ pub fn model_variance(c: &[f64; 5], tau: f64) -> f64 {
     Term::ALL.iter().map(|t| c[t.index()] * t.basis(tau)).sum()
 }
 
+/// The model's curves at `taus`: the total [`model_variance`] and each term's contribution
+/// `c_j g_j(τ)`, in [`Term::ALL`] order.
+pub fn model_curves(c: &[f64; 5], taus: &[f64]) -> (Vec<f64>, [Vec<f64>; 5]) {
+    let total = taus.iter().map(|&tau| model_variance(c, tau)).collect();
+    let parts = Term::ALL.map(|t| {
+        taus.iter()
+            .map(|&tau| c[t.index()] * t.basis(tau))
+            .collect()
+    });
+    (total, parts)
+}
+
 /// SP1065's simple EDF approximations for the overlapping Allan variance (Table 5, after
 /// Howe, Allan & Barnes 1981) with `n_phase` angle samples at averaging factor `m` for
 /// power-law noise α (rate PSD ∝ f^α):
@@ -157,6 +169,20 @@ pub fn approximate_edf(n_phase: usize, m: usize, alpha: i32) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn model_curves_sum_to_the_total() {
+        let c = [1e-6, 4e-4, 1e-5, 1e-7, 1e-9];
+        let taus = [0.01, 0.3, 1.0, 17.0, 1e3];
+        let (total, parts) = model_curves(&c, &taus);
+        for (i, &tau) in taus.iter().enumerate() {
+            assert_eq!(total[i], model_variance(&c, tau));
+            let sum: f64 = parts.iter().map(|p| p[i]).sum();
+            // Five positive terms summed in the same order: equal up to rounding.
+            assert!((sum - total[i]).abs() <= 4.0 * f64::EPSILON * total[i]);
+            assert_eq!(parts[2][i], c[2] * Term::BiasInstability.basis(tau));
+        }
+    }
 
     #[test]
     fn flicker_factor() {

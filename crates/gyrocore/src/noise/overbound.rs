@@ -509,13 +509,8 @@ mod tests {
 
     #[test]
     fn matches_vertex_enumeration() {
-        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut uniform = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut stream = crate::random::NormalStream::new(0x9e37_79b9_7f4a_7c15);
+        let mut uniform = || stream.uniform();
         for case in 0..40 {
             let cols = 1 + case % 5;
             let rows = 3 + case % 9;

@@ -208,6 +208,26 @@ impl Compiled {
 
     /// Predicts every row of a row-major `rows × k` batch (`n_threads = 0`: all threads).
     pub fn apply(&self, data: &[f64], n_threads: usize) -> Result<BatchPrediction> {
+        self.apply_rows(data, self.calibration_length, n_threads)
+    }
+
+    /// [`apply`](Self::apply) to a row-major batch of rows of `n_columns` samples, which must
+    /// be the calibration length the predictor was compiled for.
+    pub fn apply_rows(
+        &self,
+        data: &[f64],
+        n_columns: usize,
+        n_threads: usize,
+    ) -> Result<BatchPrediction> {
+        if n_columns != self.calibration_length {
+            return Err(Error::ShapeMismatch {
+                name: "batch",
+                reason: format!(
+                    "batch rows have {n_columns} samples, the predictor was compiled for {}",
+                    self.calibration_length
+                ),
+            });
+        }
         let rows = check_rows("batch", data, self.calibration_length)?;
         let mut bias = vec![0.0; rows * self.horizon];
         let mut mean = vec![0.0; rows];
