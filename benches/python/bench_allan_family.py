@@ -19,6 +19,12 @@ Both libraries are therefore timed on the *same* τ set, chosen so that AllanToo
 
 gyrobias times are the best of 3; AllanTools is run once (minutes). Numbers are wall-clock on
 whatever machine runs the script — say so when quoting them on a shared host.
+
+A scaling table follows (gyrobias only): Théo1 at octave τ and ThéoBR (octave τ plus the bias
+ratio's Théo1 at every ``m = 12 + 4i`` up to ≈ 0.13·N) for N = 1e4, 1e5, 1e6 (``--quick``: up
+to 1e5). Octave Théo1 is exact and direct, ≈ N²/8 brackets at its largest τ, so its time grows
+≈ 100× per decade of N; the bias ratio uses the structure-function sweep, ≈ 0.13·N² squared
+increments (it was ≈ N³/1000 brackets summed directly).
 """
 
 from __future__ import annotations
@@ -101,6 +107,17 @@ def bench_theo1(n: int, max_m: int) -> list[tuple[str, float, float]]:
     return rows
 
 
+def bench_scaling(fn: object, sizes: tuple[int, ...]) -> list[tuple[int, float]]:
+    """Wall-clock of ``fn(rate, 1.0)`` (octave τ, no intervals) on white FM of each size."""
+    out = []
+    for n in sizes:
+        rate = np.random.default_rng(3).normal(size=n)
+        repeats = 3 if n <= 100_000 else 1
+        t = best_of(lambda r=rate: fn(r, 1.0, confidence=None), repeats=repeats)  # type: ignore[operator]
+        out.append((n, t))
+    return out
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
@@ -115,6 +132,15 @@ def main() -> None:
     for name, ours, theirs in rows:
         print(f"{name:<62} {ours:12.4f} {theirs:15.2f} {theirs / ours:8.0f}×")
     print("targets: mtotdev/htotdev N=1e4 octave ≥ 100×, theo1 N=1e5 ≥ 20×")
+    sizes = (10_000, 100_000) if args.quick else (10_000, 100_000, 1_000_000)
+    print()
+    print(f"{'scaling (gyrobias only, octave τ)':<40} {'N':>9} {'time [s]':>10} {'× prev.':>8}")
+    for name, fn in (("theo1", gyrobias.allan.theo1), ("theobr", gyrobias.allan.theobr)):
+        previous = None
+        for n, t in bench_scaling(fn, sizes):
+            growth = "" if previous is None else f"{t / previous:7.0f}×"
+            print(f"{name:<40} {n:9.0e} {t:10.3f} {growth:>8}")
+            previous = t
 
 
 if __name__ == "__main__":

@@ -71,13 +71,6 @@ def integer(name: str, value: Any) -> int:
     return v
 
 
-def text(name: str, value: Any) -> str:
-    """``value`` if it is a ``str`` (an option name the core parses), else ``TypeError``."""
-    if not isinstance(value, str):
-        raise TypeError(f"{name} must be a string, got {type(value).__name__}")
-    return value
-
-
 def boolean(name: str, value: Any) -> bool:
     """``value`` if it is a bool (``True``/``False``, not ``1``/``0`` or ``"yes"``), else ``TypeError``."""
     if not isinstance(value, bool):

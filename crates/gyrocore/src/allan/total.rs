@@ -316,15 +316,15 @@ mod tests {
         total
     }
 
+    /// A random walk (cumulative sum of seeded normal deviates, scaled to the step size the
+    /// tolerances were set with) on a small ramp.
     fn series(n: usize) -> Vec<f64> {
-        let mut s = 7u64;
         let mut acc = 0.0;
-        (0..n)
-            .map(|k| {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                acc += (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        crate::random::normal_vec(n, 7)
+            .into_iter()
+            .enumerate()
+            .map(|(k, d)| {
+                acc += 0.29 * d;
                 acc + 0.01 * k as f64
             })
             .collect()
