@@ -472,7 +472,7 @@ pub fn analyse_axes(
 
 #[cfg(test)]
 mod tests {
-    use super::super::TauSpec;
+    use super::super::{TauSpec, angle_series};
     use super::*;
 
     fn rate(n: usize, seed: u64) -> Vec<f64> {
