@@ -13,6 +13,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gyrobias import _core
+
 
 def as_float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> NDArray[np.float64]:
     """Return ``value`` as a C-contiguous float64 array with one of ``ndims`` dimensions.
@@ -56,6 +58,20 @@ def real(name: str, value: Any) -> float:
     return float(value)
 
 
+def sample_rate(value: Any) -> float:
+    """``value`` as the sample rate ``fs`` in Hz, safe to divide by.
+
+    Only the type is checked here (``TypeError``); the range — finite, > 0 and with a finite
+    period ``1/fs`` — is the core's check (``gyrocore::validate::sample_period``), whose
+    ``ValueError`` names ``fs``. Wrappers that compute with ``fs`` themselves (``t0 = 1/fs``,
+    ``r = N²·fs``, …) call this before doing so; wrappers that only pass ``fs`` to a core
+    function that checks it need just :func:`real`.
+    """
+    fs = real("fs", value)
+    _core.validate.sample_period(fs)
+    return fs
+
+
 def integer(name: str, value: Any) -> int:
     """``value`` as a Python int if it is an integer from 0 to 2**63 − 1, else an error naming it.
 
@@ -69,6 +85,17 @@ def integer(name: str, value: Any) -> int:
     if not 0 <= v < _SIZE_LIMIT:
         raise ValueError(f"{name} must be an integer from 0 to 2**63 - 1, got {v}")
     return v
+
+
+def axis_names(value: Any, n_axes: int) -> Any:
+    """``value`` (``None`` or one name per axis) if it names all ``n_axes`` axes, else ``ValueError``.
+
+    The one check that ``axis_names`` fits the data (a shape check): every public function
+    taking ``axis_names`` calls it, and wrappers (``fleet``) leave it to the function they call.
+    """
+    if value is not None and len(value) != n_axes:
+        raise ValueError(f"axis_names has {len(value)} names for {n_axes} axes")
+    return value
 
 
 def boolean(name: str, value: Any) -> bool:
