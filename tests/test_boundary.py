@@ -320,3 +320,34 @@ def test_cli_filter_failure_mid_write_leaves_no_file(
     assert main(argv) == 0
     back = np.loadtxt(out, delimiter=",", skiprows=1) if suffix == ".csv" else np.load(out)
     assert back.shape == (400, 4)
+
+
+# --- representable counts: the binding's check, not a second one in Python ---------------------
+
+# Counts the Python layer computes with before the core sees them (a frequency grid, a batch
+# shape's product, log sections): their range is Python's own (and only) check.
+_PYTHON_OWNED = {
+    "fir.KaiserLowpass.frequency_response n",
+    "fractional.arfima size",
+    "predict.evaluate calibration",
+    "predict.evaluate horizon",
+}
+
+
+@pytest.mark.parametrize("value", [2**64, -1])
+def test_unrepresentable_counts_are_the_binding_check(value: int) -> None:
+    """Every other count reaches the binding as given: its count extractor's message (not a
+    Python copy of the same range check with another bound) is what the user sees."""
+    from tests.test_robustness import COUNT_CASES
+
+    for case, call in COUNT_CASES.items():
+        name = case.rsplit(" ", 1)[1]
+        pattern = (
+            rf"^{name} must be an integer from 0 to 2\*\*63 - 1"
+            if case in _PYTHON_OWNED
+            else rf"^invalid {name}: must be an integer from 0 to 2\*\*64 - 1"
+        )
+        if name == "n_threads" and value == -1:
+            pattern = r"^invalid n_threads: must be an integer from 0"
+        with pytest.raises(ValueError, match=pattern):
+            call(value)

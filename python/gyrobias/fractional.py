@@ -43,7 +43,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, integer, positive_float, real, string
+from gyrobias._validation import as_float_array, count, integer, positive_float, real, string
 from gyrobias._validation import seed as seed_value
 
 __all__ = [
@@ -244,9 +244,9 @@ def arfima(
     if size is None:
         batch: tuple[int, ...] = ()
     elif isinstance(size, tuple):
-        batch = tuple(integer("size", s) for s in size)
+        batch = tuple(count("size", s) for s in size)  # their product is formed here
     else:
-        batch = (integer("size", size),)
+        batch = (count("size", size),)
     seed = seed_value("seed", seed)
     rows = math.prod(batch)
     if rows >= 2**63:

@@ -27,6 +27,7 @@ from gyrobias import _core
 from gyrobias._validation import (
     as_float_array,
     choice,
+    count,
     integer,
     positive_float,
     real,
@@ -585,10 +586,10 @@ def evaluate(
         Per method the integrated error and RSSE of every section and their mean and standard
         deviation ([BP] Table I); ``.table()`` prints it with ratios to CM.
     """
-    k = integer("calibration", calibration)
+    k = count("calibration", calibration)
     if k < 2:  # the sections are cut here, before any core call
         raise ValueError(f"calibration must be at least 2 samples, got {k}")
-    h = integer("horizon", horizon)
+    h = count("horizon", horizon)
     arr = as_float_array("log", log, ndims=(1, 2))
     if arr.ndim == 1:
         sections = arr.size // (k + h)
