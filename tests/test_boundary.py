@@ -59,6 +59,26 @@ def test_bad_fs_is_the_cores_value_error(case: str, fs: float) -> None:
         FS_CASES[case](fs)
 
 
+@pytest.mark.parametrize(
+    ("kwargs", "pattern"),
+    [
+        ({"arw": -0.01}, r"^invalid arw: must be finite and >= 0"),
+        ({"arw": np.inf}, r"^invalid arw: must be finite and >= 0"),
+        ({"arw": 1e200}, r"^invalid arw: r = N²·fs overflows"),
+        ({"bias_instability": 0.0}, r"^invalid bias_instability: must be finite and > 0"),
+        ({"bias_instability": 1e-200}, r"^invalid bias_instability: its square"),
+    ],
+)
+def test_from_noise_mapping_is_the_cores(kwargs: dict[str, float], pattern: str) -> None:
+    """q = B², r = N²·fs and their preconditions are the core's (predict::noise_parameters);
+    B = 1e-200 used to give q = 0 and the core's error about a q the user never gave."""
+    args = {"arw": 0.01, "bias_instability": 0.001, "fs": 100.0, **kwargs}
+    with pytest.raises(ValueError, match=pattern):
+        predict.FractionalKalmanPredictor.from_noise(**args)
+    p = predict.FractionalKalmanPredictor.from_noise(arw=0.01, bias_instability=0.001, fs=100.0)
+    assert (p.q, p.r) == (0.001**2, 0.01**2 * 100.0)
+
+
 def test_io_load_fs_is_checked_by_the_core(tmp_path: Path) -> None:
     path = tmp_path / "r.npy"
     np.save(path, _RATE)

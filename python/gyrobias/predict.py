@@ -29,9 +29,7 @@ from gyrobias._validation import (
     choice,
     count,
     integer,
-    positive_float,
     real,
-    sample_rate,
 )
 
 __all__ = [
@@ -435,11 +433,11 @@ class FractionalKalmanPredictor:
             raise ValueError("from_noise needs coefficients or both arw= and bias_instability=")
         if fs is None:
             raise ValueError("fs (the sample rate in Hz) is required")
-        fs = sample_rate(fs)  # the core checks fs before r = N²·fs is formed
-        if not (math.isfinite(arw) and arw >= 0.0):
-            raise ValueError(f"arw (N) must be finite and ≥ 0, got {arw}")
-        b = positive_float("bias_instability", bias_instability)
-        return cls(d=d, q=b * b, r=arw * arw * fs, mean=mean)
+        # q = B², r = N²·fs and the ranges of arw, bias_instability and fs are the core's.
+        q, r = _core.predict.noise_parameters(
+            real("arw", arw), real("bias_instability", bias_instability), real("fs", fs)
+        )
+        return cls(d=d, q=q, r=r, mean=mean)
 
 
 # --- batch test ([BP] §V-C, Table I) -------------------------------------------------------------
