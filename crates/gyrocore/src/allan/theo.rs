@@ -18,7 +18,7 @@
 //! * **blocks** — the record split exactly into blocks of `≈ 4m` outer terms, each a residual
 //!   about its own line, the squared bracket expanded into prefix sums and correlations by
 //!   FFT, the triangle of pairs at each block end by divide and conquer: `O(N log m)` per τ
-//!   ([`blocks`]). Each block checks an a-priori rounding bound (≤ 1e-11 of its sum) and is
+//!   (module `blocks`). Each block checks an a-priori rounding bound (≤ 1e-11 of its sum) and is
 //!   summed directly where it fails. Used for large `m`: the octave set costs
 //!   `O(N log² N)`, Allan-like, instead of `O(N²)` (measured 3.7 s at N = 1e6, was 204 s).
 //! * **structure-function sweep** — polarisation turns every squared bracket into six squared
