@@ -77,7 +77,12 @@ pub fn allocatable<T>(name: &'static str, count: usize) -> Result<()> {
         return Err(too_large);
     }
     let mut probe: Vec<T> = Vec::new();
-    probe.try_reserve_exact(count).map_err(|_| too_large)
+    let reserved = probe.try_reserve_exact(count);
+    // Without the black box an optimised build may elide the unused allocation and its free
+    // as a pair and report success (observed with `cargo test --release`): the probe must
+    // really reach the allocator.
+    std::hint::black_box(&mut probe);
+    reserved.map_err(|_| too_large)
 }
 
 /// `a·b` element count for the argument `name`, or [`Error::Allocation`] when the product
