@@ -220,42 +220,112 @@ fn detrend(x: &[f64]) -> Detrended {
     }
 }
 
+/// Terms per compensated block of [`structure_function`]: each lag's sum is the Neumaier sum
+/// of plain (eight-lane) sums over consecutive blocks of this many terms, from `t = 0`.
+const SF_BLOCK: usize = 2048;
+
+/// Consecutive lags that share one pass over the record in [`structure_function`].
+const SF_LAGS: usize = 64;
+
 /// `Σ_{t=0}^{N−ℓ−1} (r_{t+ℓ} − r_t)²` for `ℓ = 0..=max_lag` (structure function; entry 0 is 0).
 ///
-/// Each lag is one vectorised pass in eight lanes, blocks of 2048 terms combined by a Neumaier
-/// sum (relative error ≈ 256 ε worst case, the terms being non-negative). Lags run in parallel,
-/// each in a fixed order: thread-count independent.
+/// Each lag's sum is, in a fixed order, the Neumaier sum of its blocks of [`SF_BLOCK`] terms
+/// (`t` in `[j·B, (j + 1)·B)`), each block summed in eight lanes: relative error ≈ 256 ε
+/// worst case, the terms being non-negative.
+///
+/// Cache blocking: a task owns [`SF_LAGS`] consecutive lags and walks the record once, block by
+/// block; the block's `r[t..]` and the overlapping slices `r[t + ℓ..]` of its lags (≈ 33 kB)
+/// stay in L1/L2 while all lags of the group use them, instead of streaming the whole record
+/// once per lag. The per-lag block sums and their order are those of one pass per lag
+/// (`structure_function_per_lag` in the tests gives identical bits), so the result depends
+/// neither on the grouping nor on the thread count. Measured on white FM (2 shared cores,
+/// load ≈ 3–5): ThéoBR at N = 5e5 *TBD*.
 fn structure_function(r: &[f64], max_lag: usize) -> Vec<f64> {
-    const BLOCK: usize = 2048;
     let n = r.len();
-    let mut sf: Vec<f64> = (1..max_lag + 1)
+    let groups: Vec<Vec<f64>> = (0..max_lag.div_ceil(SF_LAGS))
         .into_par_iter()
-        .with_min_len(if n < 4096 { 64 } else { 1 })
-        .map(|lag| {
-            let count = n - lag;
-            let a = &r[..count];
-            let b = &r[lag..];
-            let blocks = a.chunks(BLOCK).zip(b.chunks(BLOCK)).map(|(ca, cb)| {
-                let mut lanes = [0.0_f64; 8];
-                let whole = ca.len() - ca.len() % 8;
-                for (pa, pb) in ca[..whole].chunks_exact(8).zip(cb[..whole].chunks_exact(8)) {
-                    for l in 0..8 {
-                        let d = pb[l] - pa[l];
-                        lanes[l] += d * d;
-                    }
-                }
-                let mut tail = 0.0;
-                for i in whole..ca.len() {
-                    let d = cb[i] - ca[i];
-                    tail += d * d;
-                }
-                lanes.iter().sum::<f64>() + tail
-            });
-            validate::neumaier_sum(blocks)
+        .with_min_len(if n < 4096 { 8 } else { 1 })
+        .map(|g| {
+            let lo = 1 + g * SF_LAGS;
+            let hi = max_lag.min(lo + SF_LAGS - 1);
+            pulp::Arch::new().dispatch(LagGroup { r, lo, hi })
         })
         .collect();
-    sf.insert(0, 0.0);
+    let mut sf = Vec::with_capacity(max_lag + 1);
+    sf.push(0.0);
+    sf.extend(groups.into_iter().flatten());
     sf
+}
+
+/// The lags `lo..=hi` of [`structure_function`] in one walk over the record, as a `pulp`
+/// operation so that it is compiled (fully inlined) inside the CPU-feature-specific function
+/// the dispatcher selects (AVX2 where available; the lanes make the same roundings in every
+/// variant, no fused multiply-add is formed, so the bits do not depend on the CPU).
+struct LagGroup<'a> {
+    r: &'a [f64],
+    lo: usize,
+    hi: usize,
+}
+
+impl pulp::WithSimd for LagGroup<'_> {
+    type Output = Vec<f64>;
+
+    #[allow(clippy::inline_always)] // pulp's contract: inlined into the dispatched function
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Vec<f64> {
+        let LagGroup { r, lo, hi } = self;
+        let n = r.len();
+        let mut acc = [(0.0_f64, 0.0_f64); SF_LAGS];
+        // Lag `lo` has the most terms: its blocks cover every block of the group.
+        let mut t = 0;
+        while t < n - lo {
+            for lag in lo..=hi {
+                let count = n - lag;
+                if t >= count {
+                    break;
+                }
+                let len = SF_BLOCK.min(count - t);
+                let block = squared_increments(&r[t..t + len], &r[t + lag..t + lag + len]);
+                let (sum, comp) = &mut acc[lag - lo];
+                neumaier_add(sum, comp, block);
+            }
+            t += SF_BLOCK;
+        }
+        acc[..=hi - lo].iter().map(|&(s, c)| s + c).collect()
+    }
+}
+
+/// One step of [`validate::neumaier_sum`]: adds `v` to the running `sum` and compensation.
+#[inline]
+fn neumaier_add(sum: &mut f64, comp: &mut f64, v: f64) {
+    let t = *sum + v;
+    if sum.abs() >= v.abs() {
+        *comp += (*sum - t) + v;
+    } else {
+        *comp += (v - t) + *sum;
+    }
+    *sum = t;
+}
+
+/// `Σ_i (b_i − a_i)²` over equal-length slices, in eight lanes (lanes summed in order, then
+/// the ragged tail).
+#[allow(clippy::inline_always)] // inlined into the dispatched [`LagGroup`]
+#[inline(always)]
+fn squared_increments(a: &[f64], b: &[f64]) -> f64 {
+    let mut lanes = [0.0_f64; 8];
+    let whole = a.len() - a.len() % 8;
+    for (pa, pb) in a[..whole].chunks_exact(8).zip(b[..whole].chunks_exact(8)) {
+        for l in 0..8 {
+            let d = pb[l] - pa[l];
+            lanes[l] += d * d;
+        }
+    }
+    let mut tail = 0.0;
+    for i in whole..a.len() {
+        let d = b[i] - a[i];
+        tail += d * d;
+    }
+    lanes.iter().sum::<f64>() + tail
 }
 
 /// Neumaier prefix sums `[0, v_0, v_0 + v_1, …]` of the first `len` values of `v`.
@@ -277,15 +347,44 @@ fn prefix_sums<'a>(v: impl Iterator<Item = &'a f64>, len: usize) -> Vec<f64> {
 /// `Σ_i B_k(r, i)` telescopes to four edge windows of `r` of length `k`: from the prefix sums
 /// `rp` of `r` and `zp` of `r` reversed (at least `m + 1` entries each).
 fn quadratic_part(p2: f64, n: usize, m: usize, rp: &[f64], zp: &[f64]) -> f64 {
-    if p2 == 0.0 {
-        return 0.0;
-    }
+    validate::neumaier_sum(quadratic_terms(p2, n, m, rp, zp))
+}
+
+/// The terms `k = 1..=m/2` of [`quadratic_part`] (none when `p2 = 0`).
+fn quadratic_terms<'a>(
+    p2: f64,
+    n: usize,
+    m: usize,
+    rp: &'a [f64],
+    zp: &'a [f64],
+) -> impl Iterator<Item = f64> + 'a {
     let count = (n - m) as f64;
-    validate::neumaier_sum((1..=m / 2).map(|k| {
+    let h = if p2 == 0.0 { 0 } else { m / 2 };
+    (1..=h).map(move |k| {
         let beta = 2.0 * p2 * (k * (m - k)) as f64;
         let sum_b = (rp[k] - rp[m] + rp[m - k]) + (zp[k] - zp[m] + zp[m - k]);
         beta * (count * beta + 2.0 * sum_b) / k as f64
-    }))
+    })
+}
+
+/// Neumaier sum of `values` in four interleaved lanes (value `i` to lane `i mod 4`), the
+/// lanes' sums and compensations then combined by [`validate::neumaier_sum`]. Same error
+/// bound as one Neumaier sum (≈ 2ε·|S| + O(n ε²)·Σ|v|), but four independent dependency
+/// chains instead of one: the `O(M²)` combinations of the sweep were latency-bound on it.
+#[inline]
+fn neumaier_lanes(values: &[f64]) -> f64 {
+    let mut sum = [0.0_f64; 4];
+    let mut comp = [0.0_f64; 4];
+    let whole = values.len() - values.len() % 4;
+    for c in values[..whole].chunks_exact(4) {
+        for l in 0..4 {
+            neumaier_add(&mut sum[l], &mut comp[l], c[l]);
+        }
+    }
+    for (l, &v) in values[whole..].iter().enumerate() {
+        neumaier_add(&mut sum[l], &mut comp[l], v);
+    }
+    validate::neumaier_sum(sum.into_iter().chain(comp))
 }
 
 /// Cost of one bracket of the direct sum, in the nanosecond-like units of [`blocks::cost`]
@@ -339,32 +438,61 @@ impl<'a> EdgeSweep<'a> {
     }
 
     /// From `m` to `m + 2`.
+    ///
+    /// Both loops run over contiguous slices (one of them reversed) without index
+    /// arithmetic, so they vectorise; the two new samples `m`, `m + 1` update `pairs` in one
+    /// pass (each entry still gets `+ d_m²` then `+ d_{m+1}²`, the order of one pass each).
+    #[allow(clippy::inline_always)] // inlined into the dispatched `edge_series`
+    #[inline(always)]
     fn advance(&mut self) {
         let (x, m) = (self.x, self.m);
         let h = m / 2;
-        for (j, v) in self.tri.iter_mut().enumerate() {
-            let k = h - j;
-            let d = x[m - k] - x[k];
+        // tri[j] += (x_{m−k} − x_k)², k = h − j: x_{m−h..m} ascending against x_{1..=h} reversed.
+        for ((v, &a), &b) in self
+            .tri
+            .iter_mut()
+            .zip(&x[m - h..m])
+            .zip(x[1..=h].iter().rev())
+        {
+            let d = a - b;
             *v += d * d;
         }
         self.tri.push((x[m] - x[0]).powi(2));
-        for new in [m, m + 1] {
+        // pairs[ℓ] += (x_m − x_{m−ℓ})², then += (x_{m+1} − x_{m+1−ℓ})², for ℓ = 1..m; the new
+        // lags m and m + 1 start from zero.
+        let (xm, xm1) = (x[m], x[m + 1]);
+        if m == 0 {
             self.pairs.push(0.0);
-            let xn = x[new];
-            for (lag, v) in self.pairs.iter_mut().enumerate().skip(1) {
-                let d = xn - x[new - lag];
-                *v += d * d;
-            }
         }
+        for ((v, &a), &b) in self.pairs[1..]
+            .iter_mut()
+            .zip(x[..m].iter().rev())
+            .zip(x[1..=m].iter().rev())
+        {
+            let d = xm - a;
+            let e = xm1 - b;
+            *v += d * d;
+            *v += e * e;
+        }
+        if m > 0 {
+            let (d, e) = (xm - x[0], xm1 - x[1]);
+            self.pairs.push(d * d + e * e);
+        }
+        let d = xm1 - x[0];
+        self.pairs.push(d * d);
         self.m = m + 2;
     }
 
     /// `Σ_{k=1}^{h} (1/k)·[pairs(k) + pairs(m − k) − tri(k)]` at the current `m`.
-    fn edge(&self) -> f64 {
+    #[allow(clippy::inline_always)] // inlined into the dispatched `edge_series`
+    #[inline(always)]
+    fn edge(&self, terms: &mut Vec<f64>) -> f64 {
         let (m, h) = (self.m, self.m / 2);
-        validate::neumaier_sum(
+        terms.clear();
+        terms.extend(
             (1..=h).map(|k| (self.pairs[k] + self.pairs[m - k] - self.tri[h - k]) / k as f64),
-        )
+        );
+        neumaier_lanes(terms)
     }
 }
 
@@ -405,35 +533,44 @@ fn theo1_sums_sweep(d: &Detrended, ms: &[usize]) -> Vec<f64> {
         || rayon::join(|| edge_series(r, ms), || edge_series(&z, ms)),
     );
     let (rp, zp) = (prefix_sums(r.iter(), max_m), prefix_sums(z.iter(), max_m));
-    ms.iter()
-        .zip(head.iter().zip(&tail))
+    let inverse: Vec<f64> = (0..=max_m / 2).map(|k| 1.0 / k as f64).collect();
+    ms.par_iter()
+        .zip(head.par_iter().zip(&tail))
         .map(|(&m, (&eh, &et))| {
             let h = m / 2;
             let mut terms = Vec::with_capacity(3 * h + 2);
-            for k in 1..=h {
-                let w = 1.0 / k as f64;
+            for (k, &w) in (1..=h).zip(&inverse[1..]) {
                 terms.push(w * (2.0 * sf[k] + 2.0 * sf[m - k]));
                 terms.push(-w * (sf[m] + sf[m - 2 * k]));
             }
             terms.push(-eh);
             terms.push(-et);
-            terms.push(quadratic_part(p2, n, m, &rp, &zp));
-            validate::neumaier_sum(terms)
+            terms.extend(quadratic_terms(p2, n, m, &rp, &zp));
+            neumaier_lanes(&terms)
         })
         .collect()
 }
 
 /// `E(x, m)` of [`theo1_sums_sweep`] at each (ascending, even) `m` of `ms`.
+///
+/// Dispatched by `pulp` so that [`EdgeSweep::advance`]'s loops are compiled for the CPU
+/// (AVX2 where available; same roundings in every variant, no fused multiply-add).
 fn edge_series(x: &[f64], ms: &[usize]) -> Vec<f64> {
-    let mut sweep = EdgeSweep::new(x);
-    ms.iter()
-        .map(|&m| {
-            while sweep.m < m {
-                sweep.advance();
-            }
-            sweep.edge()
-        })
-        .collect()
+    pulp::Arch::new().dispatch(
+        #[inline(always)]
+        || {
+            let mut sweep = EdgeSweep::new(x);
+            let mut terms = Vec::new();
+            ms.iter()
+                .map(|&m| {
+                    while sweep.m < m {
+                        sweep.advance();
+                    }
+                    sweep.edge(&mut terms)
+                })
+                .collect()
+        },
+    )
 }
 
 /// Largest even `m` of Théo1 on `n_angle` samples (`m ≤ N − 1`).
@@ -543,15 +680,19 @@ pub fn bias_ratio(x: &[f64], t0: f64) -> Result<f64> {
     })?;
     let theo_ms: Vec<usize> = (0..terms).map(|i| 12 + 4 * i).collect();
     let theos = theo1_many(x, t0, &theo_ms)?;
-    let avars: Vec<Result<f64>> = (0..terms)
-        .into_par_iter()
-        .with_max_len(1)
-        .map(|i| Ok(super::variance(x, t0, 9 + 3 * i, super::Estimator::Overlapping)?.0))
-        .collect();
-    let mut vals = Vec::with_capacity(terms);
-    for (a, (th, _)) in avars.into_iter().zip(theos) {
-        vals.push(a? / th);
-    }
+    // The fused all-τ pass: the same bits as `variance` at each factor, one cache-blocked
+    // walk over the record instead of one pass per factor.
+    let avar_ms: Vec<usize> = (0..terms).map(|i| 9 + 3 * i).collect();
+    let (mut avars, mut counts) = (vec![0.0; terms], vec![0; terms]);
+    super::variances_into(
+        x,
+        t0,
+        &avar_ms,
+        super::Estimator::Overlapping,
+        &mut avars,
+        &mut counts,
+    )?;
+    let vals: Vec<f64> = avars.iter().zip(theos).map(|(a, (th, _))| a / th).collect();
     let ratio = validate::neumaier_sum(vals) / terms as f64;
     if ratio.is_finite() {
         Ok(ratio)
@@ -718,6 +859,107 @@ mod tests {
                     "N={n} {name}: {sweep} {direct}"
                 );
             }
+        }
+    }
+
+    /// One pass per lag (the unblocked structure function): the same per-lag blocks of
+    /// [`SF_BLOCK`] terms, eight-lane sums, combined by [`validate::neumaier_sum`] in order.
+    fn structure_function_per_lag(r: &[f64], max_lag: usize) -> Vec<f64> {
+        let n = r.len();
+        let mut sf = vec![0.0];
+        sf.extend((1..=max_lag).map(|lag| {
+            let count = n - lag;
+            validate::neumaier_sum(
+                r[..count]
+                    .chunks(SF_BLOCK)
+                    .zip(r[lag..].chunks(SF_BLOCK))
+                    .map(|(a, b)| squared_increments(a, b)),
+            )
+        }));
+        sf
+    }
+
+    /// The lag-blocked structure function equals one pass per lag bit for bit, and the
+    /// error-free sum (TwoSum differences, compensated squares) to ≈ 256 ε, for lags spanning
+    /// several lag groups and record blocks with ragged ends (N not a multiple of the block,
+    /// last group partial, lags whose term count ends inside / on a block boundary); and it
+    /// is bit-identical with 1 and 3 threads.
+    #[test]
+    fn blocked_structure_function_equals_per_lag_passes() {
+        let n = 3 * SF_BLOCK + 517;
+        let max_lag = 3 * SF_LAGS + 29 + SF_BLOCK;
+        let mut worst = 0.0_f64;
+        for (name, x) in [("white FM", white_fm(n, 41)), ("drifting", drifting(n, 42))] {
+            let r = detrend(&x).r;
+            let per_lag = structure_function_per_lag(&r, max_lag);
+            let run = |threads: usize| {
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap()
+                    .install(|| structure_function(&r, max_lag))
+            };
+            let (one, three) = (run(1), run(3));
+            assert_eq!(one.len(), max_lag + 1);
+            for lag in 0..=max_lag {
+                assert_eq!(
+                    one[lag].to_bits(),
+                    per_lag[lag].to_bits(),
+                    "{name} lag {lag}"
+                );
+                assert_eq!(one[lag].to_bits(), three[lag].to_bits(), "{name} lag {lag}");
+            }
+            for lag in 1..=max_lag {
+                let exact = validate::neumaier_sum((0..n - lag).map(|t| {
+                    let (d, e) = two_sum(r[t + lag], -r[t]);
+                    let (s, s_lo) = two_prod(d, d);
+                    s + (s_lo + 2.0 * d * e)
+                }));
+                worst = worst.max(((one[lag] - exact) / exact).abs());
+            }
+        }
+        eprintln!("blocked structure function: max rel to error-free {worst:.1e}");
+        // 1e-12: ≈ 256 ε bound of eight-lane block sums of non-negative terms.
+        assert!(worst <= 1e-12, "{worst}");
+    }
+
+    /// [`EdgeSweep`]'s slice loops make the roundings of the index form of its recurrences
+    /// (`tri` from `x_{m−k} − x_k`, `pairs` from one pass per new sample), bit for bit, and
+    /// `pairs` is the structure function of the first `m` samples.
+    #[test]
+    fn edge_sweep_equals_index_form() {
+        let x = white_fm(301, 51);
+        let mut sweep = EdgeSweep::new(&x);
+        let (mut pairs, mut tri): (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
+        for m in (0..290).step_by(2) {
+            let h = m / 2;
+            for (j, v) in tri.iter_mut().enumerate() {
+                let k = h - j;
+                let d = x[m - k] - x[k];
+                *v += d * d;
+            }
+            tri.push((x[m] - x[0]).powi(2));
+            for new in [m, m + 1] {
+                pairs.push(0.0);
+                for (lag, v) in pairs.iter_mut().enumerate().skip(1) {
+                    let d = x[new] - x[new - lag];
+                    *v += d * d;
+                }
+            }
+            sweep.advance();
+            assert_eq!(sweep.m, m + 2);
+            let bits = |v: &[f64]| v.iter().map(|a| a.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&sweep.pairs), bits(&pairs), "m={m}");
+            assert_eq!(bits(&sweep.tri), bits(&tri), "m={m}");
+        }
+        let m = sweep.m;
+        for lag in 1..m {
+            let direct: f64 = (0..m - lag).map(|t| (x[t + lag] - x[t]).powi(2)).sum();
+            // 1e-12: the same squares, accumulated in another order.
+            assert!(
+                (sweep.pairs[lag] - direct).abs() <= 1e-12 * direct,
+                "lag {lag}"
+            );
         }
     }
 
