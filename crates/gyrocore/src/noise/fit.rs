@@ -611,7 +611,7 @@ pub(crate) fn irls(
 /// so a remembered matrix is the one a fresh call returns.
 #[derive(Default)]
 pub(crate) struct CorrelationMemo {
-    key: Option<(Vec<usize>, [u64; 5], Vec<(u64, u64)>)>,
+    key: Option<MemoKey>,
     rho: Vec<f64>,
 }
 
@@ -640,6 +640,9 @@ impl CorrelationMemo {
         &self.rho
     }
 }
+
+/// What a [`CorrelationMemo`] was computed for: the points and the bits of `c` and `gm`.
+type MemoKey = (Vec<usize>, [u64; 5], Vec<(u64, u64)>);
 
 /// Goodness of fit on the points `used` (module docs): (χ², ν, p, z per used point).
 pub(crate) fn goodness(
