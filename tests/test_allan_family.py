@@ -246,6 +246,44 @@ def test_fast_kernels_equal_literal_definitions(x: np.ndarray, fs: float) -> Non
         assert np.all(np.abs(r.avar - expect) <= tol), (fn.__name__, r.avar, expect)
 
 
+def _long_record(kind: str, n: int, seed: int) -> np.ndarray:
+    """Angle records on which products of samples cancel (random-walk FM, drift) or that are
+    far from any noise model (sparse steps and spikes)."""
+    rng = np.random.default_rng(seed)
+    w = rng.normal(size=n)
+    t = np.arange(n, dtype=float)
+    if kind == "white FM":
+        return np.cumsum(w)
+    if kind == "random-walk FM":
+        return np.cumsum(np.cumsum(w))
+    if kind == "drifting":
+        return np.cumsum(w) + 3e6 * t + 1e-3 * t**2 + 2.5e9
+    steps = np.zeros(n)
+    steps[rng.integers(0, n, size=5)] = rng.normal(size=5) * 1e3
+    return np.cumsum(steps) + 1e-3 * w
+
+
+@settings(max_examples=8, deadline=None)
+@given(
+    kind=st.sampled_from(["white FM", "random-walk FM", "drifting", "steps"]),
+    n=st.integers(5000, 9000),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_theo1_large_factors_equal_literal_definition(kind: str, n: int, seed: int) -> None:
+    """Large m go through the core's block-FFT sum (an expansion into correlations, exact in
+    exact arithmetic); it must still equal SP 1065 eq. 30 summed literally."""
+    x = _long_record(kind, n, seed)
+    top = (n - 1) - (n - 1) % 2
+    ms = [1024, 2048, 4096, top - 2, top]
+    r = allan.theo1(x, 2.0, taus=0.75 * np.array(ms) / 2.0, data_type="angle", confidence=None)
+    assert isinstance(r, gyrobias.AllanResult)
+    expect = np.array([ref.theo1(x, 0.5, m) for m in ms])
+    # 1e-10: the core accepts a block only if its a-priori rounding bound is ≤ 1e-11 of the
+    # block's sum (measured ≤ 6e-14); the literal NumPy sum itself rounds at ≈ 1e-13 on the
+    # drifting record (differences of values ≈ 1e10).
+    np.testing.assert_allclose(r.avar, expect, rtol=1e-10)
+
+
 @settings(max_examples=25, deadline=None)
 @given(
     rate=arrays(np.float64, st.integers(20, 120), elements=st.floats(-10, 10)),

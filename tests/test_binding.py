@@ -19,7 +19,18 @@ import pytest
 
 from gyrobias import _core
 
-SUBMODULES = ("allan", "fir", "fractional", "kalman", "noise", "predict", "spectral", "thermal")
+SUBMODULES = (
+    "allan",
+    "fir",
+    "fractional",
+    "kalman",
+    "noise",
+    "predict",
+    "spectral",
+    "stats",
+    "thermal",
+    "validate",
+)
 
 
 @pytest.mark.parametrize("name", SUBMODULES)

@@ -243,7 +243,7 @@ def test_allan_npy_needs_fs(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
             ["allan", "{log}", "--confidence", "1.5"],
             "confidence: must lie strictly between 0 and 1",
         ),
-        (["allan", "{log}", "--fs", "-3"], "fs must be finite and > 0"),
+        (["allan", "{log}", "--fs", "-3"], "invalid fs: must be finite and > 0"),
         (
             ["allan", "{log}", "--per-decade", "0", "--taus", "log"],
             "invalid per_decade: must be >= 1",

@@ -427,6 +427,26 @@ def test_counts_beyond_machine_integers_are_named_value_errors(case: str, value:
         COUNT_CASES[case](value)
 
 
+@pytest.mark.parametrize("value", [2.5, "3", None])
+@pytest.mark.parametrize("case", list(COUNT_CASES))
+def test_non_integer_counts_are_type_errors_naming_the_argument(case: str, value: Any) -> None:
+    """A float, a numeric string or None where a count is expected is a TypeError naming the
+    argument (the binding's count extractor says so too; pyo3's own message did not name it)."""
+    name = case.rsplit(" ", 1)[1]
+    if value is None and name in (
+        "seed",
+        "m",
+        "nperseg",
+        "noverlap",
+        "padlen",
+        "size",
+        "n_threads",
+    ):
+        pytest.skip(f"{name}=None means the default")
+    with pytest.raises(TypeError, match=rf"\b{name}\b.*integer|integer.*\b{name}\b"):
+        COUNT_CASES[case](value)
+
+
 def test_binding_counts_are_named_value_errors() -> None:
     """The same at the binding itself: every integer argument of ``_core`` is converted by one
     extractor that names it."""
@@ -449,7 +469,7 @@ def test_binding_counts_are_named_value_errors() -> None:
         ]:
             with pytest.raises(ValueError, match=f"invalid {name}: must be an integer"):
                 call(value)
-    with pytest.raises(TypeError):
+    with pytest.raises(TypeError, match="^n must be an integer, got float"):
         _core.fractional.weights(0.4, 2.5)  # type: ignore[arg-type]
 
 

@@ -13,6 +13,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gyrobias import _core
+
 
 def as_float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> NDArray[np.float64]:
     """Return ``value`` as a C-contiguous float64 array with one of ``ndims`` dimensions.
@@ -56,19 +58,55 @@ def real(name: str, value: Any) -> float:
     return float(value)
 
 
-def integer(name: str, value: Any) -> int:
-    """``value`` as a Python int if it is an integer from 0 to 2**63 − 1, else an error naming it.
+def sample_rate(value: Any) -> float:
+    """``value`` as the sample rate ``fs`` in Hz, safe to divide by.
 
-    Counts and sizes cross into the core as unsigned 64-bit integers; anything the core cannot
-    represent is refused here (``TypeError`` for non-integers and bools, ``ValueError`` for
-    negative or too large values). Ranges beyond that (``n >= 2``, …) are the core's checks.
+    Only the type is checked here (``TypeError``); the range — finite, > 0 and with a finite
+    period ``1/fs`` — is the core's check (``gyrocore::validate::sample_period``), whose
+    ``ValueError`` names ``fs``. Wrappers that compute with ``fs`` themselves (``t0 = 1/fs``,
+    ``r = N²·fs``, …) call this before doing so; wrappers that only pass ``fs`` to a core
+    function that checks it need just :func:`real`.
+    """
+    fs = real("fs", value)
+    _core.validate.sample_period(fs)
+    return fs
+
+
+def integer(name: str, value: Any) -> int:
+    """``value`` as a Python int if it is an integer (not a bool), else ``TypeError`` naming it.
+
+    Only the type is checked: a count passed on to the core is converted by the binding's one
+    count extractor, which refuses a negative value or one the core cannot represent with a
+    ``ValueError`` naming ``name``; ranges beyond that (``n >= 2``, …) are the core's checks. A
+    count that Python itself computes with before the core sees it goes through :func:`count`.
     """
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
-    v = int(value)
+    return int(value)
+
+
+def count(name: str, value: Any) -> int:
+    """:func:`integer` from 0 to 2**63 − 1, else ``ValueError`` naming ``name``.
+
+    For the few counts the Python layer computes with itself (a frequency grid, the product of
+    a batch shape, sections cut from a log) and the core never sees as given: the range is then
+    Python's check, there is no second one.
+    """
+    v = integer(name, value)
     if not 0 <= v < _SIZE_LIMIT:
         raise ValueError(f"{name} must be an integer from 0 to 2**63 - 1, got {v}")
     return v
+
+
+def axis_names(value: Any, n_axes: int) -> Any:
+    """``value`` (``None`` or one name per axis) if it names all ``n_axes`` axes, else ``ValueError``.
+
+    The one check that ``axis_names`` fits the data (a shape check): every public function
+    taking ``axis_names`` calls it, and wrappers (``fleet``) leave it to the function they call.
+    """
+    if value is not None and len(value) != n_axes:
+        raise ValueError(f"axis_names has {len(value)} names for {n_axes} axes")
+    return value
 
 
 def boolean(name: str, value: Any) -> bool:
@@ -81,18 +119,16 @@ def boolean(name: str, value: Any) -> bool:
 def seed(name: str, value: Any) -> int:
     """A 64-bit seed for the core's generator: ``value`` itself, or a fresh one if ``None``.
 
-    The seed crosses into the core as an unsigned 64-bit integer: ``TypeError`` for anything
-    but an integer or ``None``, ``ValueError`` outside ``[0, 2**64)``. ``None`` draws a seed
-    from the operating system's entropy.
+    ``TypeError`` for anything but an integer or ``None``; ``None`` draws a seed from the
+    operating system's entropy. The seed crosses into the core as an unsigned 64-bit integer:
+    one outside ``[0, 2**64)`` is refused by the binding's count extractor (a ``ValueError``
+    naming the argument).
     """
     if value is None:
         return int(np.random.SeedSequence().generate_state(1, dtype=np.uint64)[0])
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise TypeError(f"{name} must be an integer or None, got {type(value).__name__}")
-    v = int(value)
-    if not 0 <= v < 2**64:
-        raise ValueError(f"{name} must satisfy 0 <= {name} < 2**64, got {v}")
-    return v
+    return int(value)
 
 
 def positive_float(name: str, value: Any) -> float:

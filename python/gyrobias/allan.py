@@ -42,7 +42,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice, integer, positive_float, real, string
+from gyrobias._validation import as_float_array, choice, integer, real, sample_rate, string
+from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.units import checked_units
 
 __all__ = [
@@ -79,7 +80,6 @@ Kind = Literal["adev", "mdev", "hdev", "totdev"]
 #: Every ``AllanResult.kind``.
 KINDS = ("adev", "mdev", "hdev", "totdev", "tdev", "mtotdev", "htotdev", "theo1", "theobr", "theoh")
 _ESTIMATOR_OF_KIND = {"mdev": "modified", "hdev": "hadamard", "totdev": "total"}
-_TAU_SPECS = ("octave", "decade", "log", "all")
 
 
 @dataclass(frozen=True)
@@ -276,14 +276,14 @@ def _tau_options(
     Only types and names are checked here; the ranges (``per_decade >= 1`` for log spacing,
     ``0 < confidence < 1``, τ on the sample grid, ...) are the core's preconditions.
     """
-    fs = positive_float("fs", fs)  # t0 = 1/fs is computed here
+    fs = sample_rate(fs)  # checked by the core before t0 = 1/fs is computed here
     string("data_type", data_type)  # its value is parsed by the core (DataType::parse)
     per_decade = integer("per_decade", per_decade)
     checked = None if confidence is None else real("confidence", confidence)
     explicit: NDArray[np.float64] | None = None
     spec = "octave"
     if isinstance(taus, str):
-        spec = choice("taus", taus, _TAU_SPECS)
+        spec = taus  # parsed by the core (Taus::parse), whose ValueError names taus
     else:
         explicit = as_float_array("taus", taus, ndims=(1,))
     return fs, spec, explicit, per_decade, checked
@@ -365,8 +365,7 @@ def _analyse(
         arr = as_float_array("data", data, ndims=(1, 2))  # other estimators: in memory
     matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
     n_axes = matrix.shape[1]
-    if axis_names is not None and len(axis_names) != n_axes:
-        raise ValueError(f"axis_names has {len(axis_names)} names for {n_axes} axes")
+    check_axis_names(axis_names, n_axes)
     readers = _file_readers(data) if estimator == "overlapping" and gaps == "error" else None
     raw: list[Any]
     if readers is not None:
@@ -573,8 +572,7 @@ def adev_batch(
     )
     batch = arr.reshape(arr.shape[0], arr.shape[1], 1) if arr.ndim == 2 else arr
     n_axes = batch.shape[2]
-    if axis_names is not None and len(axis_names) != n_axes:
-        raise ValueError(f"axis_names has {len(axis_names)} names for {n_axes} axes")
+    check_axis_names(axis_names, n_axes)
     raw_batch: list[list[Any]] = _core.allan.analyse_batch(
         batch,
         1.0 / fs,
@@ -969,8 +967,7 @@ def _analyse_family(
     )
     matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
     n_axes = matrix.shape[1]
-    if axis_names is not None and len(axis_names) != n_axes:
-        raise ValueError(f"axis_names has {len(axis_names)} names for {n_axes} axes")
+    check_axis_names(axis_names, n_axes)
     t0 = 1.0 / fs
     if progress is not None:
         progress(0.0)

@@ -32,7 +32,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _core
-from gyrobias._validation import choice
 
 if TYPE_CHECKING:
     from gyrobias.noise import NoiseCoefficients
@@ -204,17 +203,15 @@ def conservative(
         if not allowed:
             raise ValueError("coefficients: no term is present to inflate (pass terms=)")
     else:
-        allowed = [
-            choice("terms", str(t), _SYMBOLS)
-            for t in ([terms] if isinstance(terms, str) else terms)
-        ]
+        # The symbols are parsed by the core (noise::parse_terms), whose message names terms.
+        allowed = [str(t) for t in ([terms] if isinstance(terms, str) else terms)]
     lo, hi = coefficients.tau_range
     tau_range = (float(lo), float(hi)) if np.isfinite(lo) and np.isfinite(hi) and hi > lo else None
     raw = _core.noise.conservative(
         np.ascontiguousarray(allan.taus, dtype=np.float64),
         np.ascontiguousarray(allan.avar, dtype=np.float64),
-        np.ascontiguousarray(allan.m, dtype=np.uint64),
-        np.ascontiguousarray(allan.n_terms, dtype=np.uint64),
+        allan.m,  # integer arrays: converted (and range-checked) by the binding, naming them
+        allan.n_terms,
         allan.overlapping,
         None if allan.edf is None else np.ascontiguousarray(allan.edf, dtype=np.float64),
         [float(v) for v in reference],

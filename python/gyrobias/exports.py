@@ -48,14 +48,15 @@ directly).
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
 import tempfile
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, BinaryIO
 
 from gyrobias._validation import choice, positive_float
 
@@ -96,10 +97,14 @@ _SI = {
 _NAMES = {"N": "white noise N", "K": "random walk K", "B": "bias instability B"}
 
 
-def atomic_write(path: str | os.PathLike[str], text: str) -> Path:
-    """Write ``text`` (UTF-8) to ``path`` through a temporary file beside it and ``os.replace``.
+@contextlib.contextmanager
+def atomic_binary(path: str | os.PathLike[str]) -> Iterator[BinaryIO]:
+    """A binary file to write ``path`` with: a temporary file beside it, renamed over ``path``
+    (``os.replace``) when the ``with`` block ends without an exception.
 
-    A reader never sees a half-written file, and a failure leaves an existing file untouched.
+    A reader never sees a half-written file, and a failure (an exception in the block, an
+    interrupted run) leaves no file at ``path`` — or the existing one untouched — and no
+    temporary file. The file gets the target's mode if it exists, else the umask's.
     """
     target = Path(os.fspath(path))
     directory = target.parent if str(target.parent) else Path(".")
@@ -111,8 +116,8 @@ def atomic_write(path: str | os.PathLike[str], text: str) -> Path:
         mode = 0o666 & ~umask
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
+        with os.fdopen(fd, "wb") as fh:
+            yield fh
         os.chmod(tmp, mode)  # mkstemp creates 0600; keep the target's (or the umask's) mode
         os.replace(tmp, target)
     except BaseException:
@@ -121,7 +126,17 @@ def atomic_write(path: str | os.PathLike[str], text: str) -> Path:
         except OSError:
             pass
         raise
-    return target
+
+
+def atomic_write(path: str | os.PathLike[str], text: str) -> Path:
+    """Write ``text`` (UTF-8) to ``path`` through a temporary file beside it and ``os.replace``
+    (:func:`atomic_binary`).
+
+    A reader never sees a half-written file, and a failure leaves an existing file untouched.
+    """
+    with atomic_binary(path) as fh:
+        fh.write(text.encode("utf-8"))
+    return Path(os.fspath(path))
 
 
 def _group(name: str, value: Any, kind: str) -> list[NoiseCoefficients]:

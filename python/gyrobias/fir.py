@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, integer, real, string
+from gyrobias._validation import as_float_array, count, integer, real, string
 
 __all__ = ["FrequencyResponse", "KaiserLowpass", "apply", "kaiser_lowpass", "stream"]
 
@@ -125,7 +125,7 @@ class KaiserLowpass:
         With ``zero_phase=True`` the response of forward–backward filtering, ``|H(f)|²``.
         """
         if frequencies is None:
-            n = integer("n", n)
+            n = count("n", n)
             if n < 2:  # a grid from 0 to fs/2 (no core call): checked here
                 raise ValueError(f"n must be an integer >= 2, got {n!r}")
             freqs = np.linspace(0.0, 0.5 * self.fs, n)
@@ -310,7 +310,9 @@ def apply(
     moved = np.moveaxis(arr, axis, -1)
     shape = moved.shape
     rows = np.ascontiguousarray(moved.reshape(-1, shape[-1]))
-    out = _core.fir.filter_rows(h, rows, bool(zero_phase), padtype, padlen if zero_phase else 0)
+    # padlen is converted by the binding (which refuses a negative one) and ignored by the core
+    # unless zero_phase.
+    out = _core.fir.filter_rows(h, rows, bool(zero_phase), padtype, padlen)
     return np.moveaxis(out.reshape(shape), -1, axis)
 
 

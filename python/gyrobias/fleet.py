@@ -70,6 +70,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core, allan, io, noise
 from gyrobias._validation import as_float_array, positive_float, real
+from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.units import base_unit, sensor_kind
 
 __all__ = [
@@ -288,14 +289,9 @@ def _analyse_file(path: str, opts: _Options) -> list[dict[str, Any]]:
             raise ValueError(
                 f"{os.path.basename(path)} has no time column: give the sample rate (fs)"
             )
-        names: Sequence[str] = log.columns
-        if opts.axis_names is not None:
-            if len(opts.axis_names) != len(log.columns):
-                raise ValueError(
-                    f"axis_names has {len(opts.axis_names)} names for the {len(log.columns)} "
-                    f"channels of {os.path.basename(path)} ({', '.join(log.columns)})"
-                )
-            names = opts.axis_names
+        # A wrong number of axis_names is allan.adev's error (one check, _validation.axis_names),
+        # reported in this file's row.
+        names: Sequence[str] = log.columns if opts.axis_names is None else opts.axis_names
         units = (
             tuple(log.units) if len(log.units) == len(log.columns) else (None,) * len(log.columns)
         )
@@ -589,8 +585,7 @@ def analyse(
         if fs is None:
             raise ValueError("fs is required when sources is an array")
         n_axes = 1 if expanded.ndim == 2 else int(expanded.shape[2])
-        if names is not None and len(names) != n_axes:
-            raise ValueError(f"axis_names has {len(names)} names for {n_axes} axes")
+        check_axis_names(names, n_axes)  # before any unit runs (an error, not a row per unit)
         names = names or tuple(f"col{i}" for i in range(n_axes))
         array_units = io._resolve_units(
             units, names, None, "sources"
@@ -894,14 +889,8 @@ def write_table(table: DataFrame, path: str | os.PathLike[str]) -> None:
     The Allan curves ``adev_tau``/``adev`` become list columns; ``pandas.read_parquet`` reads
     the file back.
     """
+    from gyrobias.exports import atomic_binary
+
     _require("pyarrow")
-    target = os.fspath(path)
-    tmp = os.path.join(
-        os.path.dirname(os.path.abspath(target)), f".{os.path.basename(target)}.tmp{os.getpid()}"
-    )
-    try:
-        table.to_parquet(tmp, engine="pyarrow", index=False)
-        os.replace(tmp, target)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
+    with atomic_binary(path) as fh:
+        table.to_parquet(fh, engine="pyarrow", index=False)

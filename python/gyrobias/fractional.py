@@ -43,7 +43,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice, integer, positive_float, real
+from gyrobias._validation import as_float_array, count, integer, positive_float, real, string
 from gyrobias._validation import seed as seed_value
 
 __all__ = [
@@ -57,7 +57,6 @@ __all__ = [
 ]
 
 Method = Literal["auto", "direct", "fft"]
-_METHODS = ("auto", "direct", "fft")
 _ANY_NDIM = tuple(range(1, 33))
 
 
@@ -109,7 +108,7 @@ def _apply(
     name: str, x: ArrayLike, d: float, axis: int, method: str, op: Any
 ) -> NDArray[np.float64]:
     d = real("d", d)
-    method = choice("method", method, _METHODS)
+    method = string("method", method)  # parsed by the core (Method::parse)
     rows, shape = _rows(name, x, axis)
     out = op(rows, d, method).reshape(shape)
     return np.moveaxis(out, -1, int(axis))
@@ -240,14 +239,14 @@ def arfima(
     """
     n = integer("n", n)
     d = real("d", d)
-    sigma = positive_float("sigma", sigma)
-    kind_name = choice("kind", kind, ("type2", "stationary"))
+    sigma = real("sigma", sigma)  # sigma > 0: the core's check
+    kind_name = string("kind", kind)  # parsed by the core (arfima::Kind::parse)
     if size is None:
         batch: tuple[int, ...] = ()
     elif isinstance(size, tuple):
-        batch = tuple(integer("size", s) for s in size)
+        batch = tuple(count("size", s) for s in size)  # their product is formed here
     else:
-        batch = (integer("size", size),)
+        batch = (count("size", size),)
     seed = seed_value("seed", seed)
     rows = math.prod(batch)
     if rows >= 2**63:
@@ -318,7 +317,7 @@ def _elw_settings(m: Any, bounds: Any, level: Any) -> tuple[int | None, float, f
         lower, upper = bounds
     except (TypeError, ValueError):
         raise TypeError(f"bounds must be a pair (lower, upper), got {bounds!r}") from None
-    level = choice("level", level, ("shimotsu", "none"))
+    level = string("level", level)  # parsed by the core (elw::Level::parse)
     return m, real("bounds", lower), real("bounds", upper), level
 
 

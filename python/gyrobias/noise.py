@@ -39,7 +39,9 @@ from gyrobias._validation import (
     integer,
     positive_float,
     real,
+    sample_rate,
 )
+from gyrobias._validation import axis_names as check_axis_names
 from gyrobias._validation import seed as seed_value
 from gyrobias.units import CUSTOMARY, base_unit, parse_unit, sensor_kind
 
@@ -585,8 +587,9 @@ class NoiseCoefficients:
         kwargs.setdefault("indent", 2)
         text = json.dumps(self.to_dict(), **kwargs)
         if path is not None:
-            with open(path, "w", encoding="utf-8") as fh:
-                fh.write(text + "\n")
+            from gyrobias.exports import atomic_write
+
+            atomic_write(path, text + "\n")
         return text
 
     def summary(self) -> str:
@@ -960,8 +963,10 @@ def fit(
     auto_range = boolean("auto_range", auto_range)
     taus = np.ascontiguousarray(result.taus, dtype=np.float64)
     variance = np.ascontiguousarray(result.avar, dtype=np.float64)
-    m = np.ascontiguousarray(result.m, dtype=np.uint64)
-    n_terms = np.ascontiguousarray(result.n_terms, dtype=np.uint64)
+    # Integer arrays: converted by the binding, which names m / n_terms if an element is
+    # negative, too large or not an integer (a cast to uint64 here would wrap -1 silently).
+    m = result.m
+    n_terms = result.n_terms
     edf = None if result.edf is None else np.ascontiguousarray(result.edf, dtype=np.float64)
     gm_raw: list[dict[str, Any]] = []
     raw: Mapping[str, Any]
@@ -1211,7 +1216,7 @@ def gmwm(
     from gyrobias.allan import AllanResult
 
     arr = as_float_array("data", data, ndims=(1, 2))
-    fs = positive_float("fs", fs)
+    fs = sample_rate(fs)  # the core checks fs before t0 = 1/fs is formed
     term_list = [str(t) for t in terms] if not isinstance(terms, str) else [terms]
     # The symbols are parsed by the core (noise::parse_model_terms), whose message names terms.
     select = boolean("select", select)
@@ -1220,8 +1225,7 @@ def gmwm(
     sensor = sensor_kind(units) if units is not None else None
     matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
     n_axes = matrix.shape[1]
-    if axis_names is not None and len(axis_names) != n_axes:
-        raise ValueError(f"axis_names has {len(axis_names)} names for {n_axes} axes")
+    check_axis_names(axis_names, n_axes)
     t0 = 1.0 / fs
     out = []
     for a in range(n_axes):
@@ -1370,8 +1374,9 @@ def write_kalibr(
     lines.append(f"rostopic: {rostopic}")
     lines.append(f"update_rate: {update_rate:.6g}  # Hz")
     text = "\n".join(lines) + "\n"
-    with open(path, "w", encoding="utf-8") as fh:
-        fh.write(text)
+    from gyrobias.exports import atomic_write
+
+    atomic_write(path, text)
     return text
 
 

@@ -185,13 +185,13 @@ def save_allan_plot(
             _overlay_fits(
                 ax, [items[i] for i in pick], None if fits is None else [fits[i] for i in pick]
             )
-        fig.savefig(os.fspath(path), dpi=dpi)
+        _save_atomically(fig, path, dpi)
         return
     fig = Figure(figsize=(7.5, 5.0), layout="constrained")
     ax = fig.add_subplot()
     _draw(ax, items, labels, title, bars, kwargs)
     _overlay_fits(ax, items, fits)
-    fig.savefig(os.fspath(path), dpi=dpi)
+    _save_atomically(fig, path, dpi)
 
 
 def _overlay_fits(ax: Any, items: list[AllanResult], fits: Sequence[Any] | None) -> None:
@@ -582,16 +582,13 @@ def save_fleet_plot(
 
 
 def _save_atomically(fig: Any, path: str | os.PathLike[str], dpi: int) -> None:
-    """``fig.savefig`` to a temporary file beside ``path``, then rename it over ``path``."""
-    target = os.fspath(path)
-    root, suffix = os.path.splitext(target)
-    tmp = f"{root}.tmp{os.getpid()}{suffix}"
-    try:
-        fig.savefig(tmp, dpi=dpi)
-        os.replace(tmp, target)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
+    """``fig.savefig`` through :func:`gyrobias.exports.atomic_binary` (a temporary file beside
+    ``path``, renamed over it); the image format comes from the suffix, as ``savefig(path)``."""
+    from gyrobias.exports import atomic_binary
+
+    suffix = os.path.splitext(os.fspath(path))[1][1:].lower()
+    with atomic_binary(path) as fh:
+        fig.savefig(fh, dpi=dpi, format=suffix or None)
 
 
 def _draw_fleet(fig: Any, ok: Any, title: str | None) -> None:

@@ -24,7 +24,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice, integer, positive_float, real
+from gyrobias._validation import (
+    as_float_array,
+    choice,
+    count,
+    integer,
+    real,
+)
 
 __all__ = [
     "CompiledPredictor",
@@ -43,11 +49,14 @@ _MEAN_MODES = ("sample", "diffuse", "none")
 
 
 def _n_threads(n_threads: int | None) -> int:
+    """``n_threads`` for the core, where 0 means "one per core": ``None`` → 0; an explicit 0 is
+    refused here, since the core would read it as that default."""
     if n_threads is None:
         return 0
-    if isinstance(n_threads, bool) or not isinstance(n_threads, (int, np.integer)) or n_threads < 1:
-        raise ValueError(f"n_threads must be a positive integer or None, got {n_threads!r}")
-    return int(n_threads)
+    n = integer("n_threads", n_threads)
+    if n == 0:
+        raise ValueError("n_threads must be a positive integer or None, got 0")
+    return n
 
 
 def _windows(name: str, value: Any) -> tuple[NDArray[np.float64], bool]:
@@ -424,11 +433,11 @@ class FractionalKalmanPredictor:
             raise ValueError("from_noise needs coefficients or both arw= and bias_instability=")
         if fs is None:
             raise ValueError("fs (the sample rate in Hz) is required")
-        fs = positive_float("fs", fs)
-        if not (math.isfinite(arw) and arw >= 0.0):
-            raise ValueError(f"arw (N) must be finite and ≥ 0, got {arw}")
-        b = positive_float("bias_instability", bias_instability)
-        return cls(d=d, q=b * b, r=arw * arw * fs, mean=mean)
+        # q = B², r = N²·fs and the ranges of arw, bias_instability and fs are the core's.
+        q, r = _core.predict.noise_parameters(
+            real("arw", arw), real("bias_instability", bias_instability), real("fs", fs)
+        )
+        return cls(d=d, q=q, r=r, mean=mean)
 
 
 # --- batch test ([BP] §V-C, Table I) -------------------------------------------------------------
@@ -575,10 +584,10 @@ def evaluate(
         Per method the integrated error and RSSE of every section and their mean and standard
         deviation ([BP] Table I); ``.table()`` prints it with ratios to CM.
     """
-    k = integer("calibration", calibration)
+    k = count("calibration", calibration)
     if k < 2:  # the sections are cut here, before any core call
         raise ValueError(f"calibration must be at least 2 samples, got {k}")
-    h = integer("horizon", horizon)
+    h = count("horizon", horizon)
     arr = as_float_array("log", log, ndims=(1, 2))
     if arr.ndim == 1:
         sections = arr.size // (k + h)

@@ -38,7 +38,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice, positive_float
+from gyrobias._validation import as_float_array, real, string
 
 __all__ = ["LSSAResult", "NoiseDensity", "PSDResult", "lssa", "noise_density", "psd"]
 
@@ -222,10 +222,7 @@ def lssa(
     yy = as_float_array("y", y)
     if tt.shape != yy.shape:
         raise ValueError(f"y has {yy.size} values but t has {tt.size}")
-    if isinstance(alpha, bool) or not isinstance(alpha, (int, float, np.integer, np.floating)):
-        raise TypeError(f"alpha must be a real number, got {type(alpha).__name__}")
-    if not 0.0 < float(alpha) < 1.0:
-        raise ValueError(f"alpha must lie strictly between 0 and 1, got {alpha!r}")
+    alpha = real("alpha", alpha)  # 0 < alpha < 1: the core's check (critical_value)
     ff = _core.spectral.default_frequencies(tt) if freqs is None else as_float_array("freqs", freqs)
     w = None if weights is None else as_float_array("weights", weights)
     c = None
@@ -252,8 +249,8 @@ def lssa(
     return LSSAResult(
         frequencies=ff,
         spectrum=np.asarray(r["spectrum"], dtype=np.float64),
-        alpha=float(alpha),
-        critical_value=float(_core.spectral.critical_value(tt.size, n_known, float(alpha))),
+        alpha=alpha,
+        critical_value=float(_core.spectral.critical_value(tt.size, n_known, alpha)),
         n=int(tt.size),
         n_known=n_known,
         trend=bool(trend),
@@ -368,14 +365,12 @@ def psd(
     ``P = 2σ²/fs``.
     """
     arr = as_float_array("x", x)
-    fs = positive_float("fs", fs)
-    choice("window", window, ("hann", "boxcar"))
+    fs = real("fs", fs)  # fs > 0: the core's check (spectral::welch)
+    string("window", window)  # parsed by the core (Window::parse)
+    # Types here; nperseg >= 2, noverlap < nperseg are the core's checks, a negative count the
+    # binding's (it names the argument).
     nps = _segment("nperseg", nperseg, min(arr.size, 4096))
-    nov = _segment("noverlap", noverlap, nps // 2)
-    if nps < 2:
-        raise ValueError(f"nperseg must be >= 2, got {nps}")
-    if nov < 0:
-        raise ValueError(f"noverlap must be >= 0, got {nov}")
+    nov = _segment("noverlap", noverlap, max(nps, 0) // 2)
     f, p = _core.spectral.welch(arr, fs, nps, nov, window)
     return PSDResult(f, p, fs, nps, nov, window, units)
 

@@ -34,7 +34,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice, positive_float
+from gyrobias._validation import as_float_array, integer, sample_rate, string
 
 __all__ = [
     "AR1Fit",
@@ -45,8 +45,6 @@ __all__ = [
     "build_temperature_model",
     "fit_ar1",
 ]
-
-_METHODS = ("linear", "pchip", "polynomial")
 
 
 @dataclass(frozen=True)
@@ -151,7 +149,7 @@ def fit_ar1(x: ArrayLike, fs: float = 1.0, *, demean: bool = True) -> AR1Fit:
     (0.9, -0.9)
     """
     arr = as_float_array("x", x)
-    fs = positive_float("fs", fs)
+    fs = sample_rate(fs)  # the core checks fs before dt = 1/fs is formed
     r = _core.thermal.fit_ar1(arr, 1.0 / fs, bool(demean))
     beta = float(r["beta"])
     pstd = float(r["process_std"])
@@ -208,29 +206,16 @@ class TemperatureModel:
     degree: int = 2
 
     def __post_init__(self) -> None:
+        # Types and shapes here; the values (finite, at least 2 distinct temperatures, the
+        # method's name, a degree the temperatures support) are the core's checks, run now by
+        # evaluating each parameter's interpolant once (thermal::interpolate, which names them).
         temps = as_float_array("temperatures", self.temperatures)
-        if not np.all(np.isfinite(temps)):
-            raise ValueError("temperatures contains a non-finite value")
-        if temps.size < 2:
-            raise ValueError(f"temperatures: at least 2 are needed, got {temps.size}")
-        order = np.argsort(temps, kind="stable")
-        st = temps[order]
-        dup = np.flatnonzero(np.diff(st) == 0.0)
-        if dup.size:
-            raise ValueError(f"temperatures must be distinct, {st[dup[0]]} is given twice")
-        choice("method", self.method, _METHODS)
-        if (
-            isinstance(self.degree, bool)
-            or not isinstance(self.degree, (int, np.integer))
-            or self.degree < 0
-        ):
-            raise ValueError(f"degree must be a non-negative integer, got {self.degree!r}")
-        if self.method == "polynomial" and self.degree > temps.size - 1:
-            raise ValueError(
-                f"degree {self.degree} needs at least {self.degree + 1} temperatures, got {temps.size}"
-            )
+        string("method", self.method)
+        degree = integer("degree", self.degree)
         if not isinstance(self.parameters, Mapping) or not self.parameters:
             raise ValueError("parameters must be a non-empty mapping of name -> values")
+        order = np.argsort(temps, kind="stable")
+        st = temps[order]
         params: dict[str, NDArray[np.float64]] = {}
         for name, values in self.parameters.items():
             if not isinstance(name, str):
@@ -240,13 +225,17 @@ class TemperatureModel:
                 raise ValueError(
                     f"parameters[{name!r}] has {v.size} values for {temps.size} temperatures"
                 )
-            if not np.all(np.isfinite(v)):
-                raise ValueError(f"parameters[{name!r}] contains a non-finite value")
+            try:
+                _core.thermal.interpolate(temps, v, self.method, degree, temps[:1], False)
+            except ValueError as exc:
+                if str(exc).startswith("values "):  # the core calls them values
+                    raise ValueError(f"parameters[{name!r}]: {exc}") from None
+                raise
             params[name] = v[order].copy()
         object.__setattr__(self, "temperatures", st.copy())
         object.__setattr__(self, "parameters", params)
         object.__setattr__(self, "units", dict(self.units))
-        object.__setattr__(self, "degree", int(self.degree))
+        object.__setattr__(self, "degree", degree)
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -475,7 +464,7 @@ def analyse_log(
     from gyrobias import allan, fir, noise, spectral
 
     arr = as_float_array("x", x)
-    fs = positive_float("fs", fs)
+    fs = sample_rate(fs)  # the core checks fs before round(fs) and m/fs
     if isinstance(temperature, bool) or not isinstance(
         temperature, (int, float, np.integer, np.floating)
     ):

@@ -25,6 +25,7 @@ mod predict;
 mod spectral;
 mod stats;
 mod thermal;
+mod validate;
 
 use pyo3::prelude::*;
 
@@ -58,5 +59,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     submodule(m, "kalman", kalman::register)?;
     submodule(m, "noise", noise::register)?;
     submodule(m, "stats", stats::register)?;
+    submodule(m, "validate", validate::register)?;
     Ok(())
 }

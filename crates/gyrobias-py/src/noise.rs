@@ -58,10 +58,6 @@ fn terms_to_py<'py>(py: Python<'py>, terms: &[TermEstimate]) -> PyResult<Vec<Bou
         .collect()
 }
 
-fn as_usize(v: &[u64]) -> Vec<usize> {
-    v.iter().map(|&x| x as usize).collect()
-}
-
 /// IEEE-952 read-off of the noise terms from an Allan-variance curve
 /// (`gyrocore::noise::read_off`).
 #[pyfunction]
@@ -71,8 +67,8 @@ fn read_off<'py>(
     py: Python<'py>,
     taus: PyReadonlyArray1<'py, f64>,
     variance: PyReadonlyArray1<'py, f64>,
-    m: PyReadonlyArray1<'py, u64>,
-    n_terms: PyReadonlyArray1<'py, u64>,
+    #[pyo3(from_py_with = count::factors)] m: Vec<usize>,
+    #[pyo3(from_py_with = count::n_terms)] n_terms: Vec<usize>,
     overlapping: bool,
     edf: Option<PyReadonlyArray1<'py, f64>>,
     terms: Vec<String>,
@@ -82,8 +78,6 @@ fn read_off<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
     let enabled = core(noise::parse_terms(&symbols))?;
-    let m = as_usize(&c_order(&m));
-    let n_terms = as_usize(&c_order(&n_terms));
     let edf = c_order_opt(edf.as_ref());
     let taus = c_order(&taus);
     let variance = c_order(&variance);
@@ -163,8 +157,8 @@ fn conservative<'py>(
     py: Python<'py>,
     taus: PyReadonlyArray1<'py, f64>,
     variance: PyReadonlyArray1<'py, f64>,
-    m: PyReadonlyArray1<'py, u64>,
-    n_terms: PyReadonlyArray1<'py, u64>,
+    #[pyo3(from_py_with = count::factors)] m: Vec<usize>,
+    #[pyo3(from_py_with = count::n_terms)] n_terms: Vec<usize>,
     overlapping: bool,
     edf: Option<PyReadonlyArray1<'py, f64>>,
     reference: [f64; 5],
@@ -174,8 +168,6 @@ fn conservative<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
     let allowed = core(noise::parse_terms(&symbols))?;
-    let m = as_usize(&c_order(&m));
-    let n_terms = as_usize(&c_order(&n_terms));
     let edf = c_order_opt(edf.as_ref());
     let taus = c_order(&taus);
     let variance = c_order(&variance);
@@ -247,8 +239,8 @@ fn fit<'py>(
     py: Python<'py>,
     taus: PyReadonlyArray1<'py, f64>,
     variance: PyReadonlyArray1<'py, f64>,
-    m: PyReadonlyArray1<'py, u64>,
-    n_terms: PyReadonlyArray1<'py, u64>,
+    #[pyo3(from_py_with = count::factors)] m: Vec<usize>,
+    #[pyo3(from_py_with = count::n_terms)] n_terms: Vec<usize>,
     overlapping: bool,
     edf: Option<PyReadonlyArray1<'py, f64>>,
     terms: Vec<String>,
@@ -258,8 +250,6 @@ fn fit<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
     let (enabled, gauss_markov) = core(noise::parse_model_terms(&symbols))?;
-    let m = as_usize(&c_order(&m));
-    let n_terms = as_usize(&c_order(&n_terms));
     let edf = c_order_opt(edf.as_ref());
     let taus = c_order(&taus);
     let variance = c_order(&variance);
@@ -300,16 +290,14 @@ fn diagnose<'py>(
     py: Python<'py>,
     taus: PyReadonlyArray1<'py, f64>,
     variance: PyReadonlyArray1<'py, f64>,
-    m: PyReadonlyArray1<'py, u64>,
-    n_terms: PyReadonlyArray1<'py, u64>,
+    #[pyo3(from_py_with = count::factors)] m: Vec<usize>,
+    #[pyo3(from_py_with = count::n_terms)] n_terms: Vec<usize>,
     overlapping: bool,
     edf: Option<PyReadonlyArray1<'py, f64>>,
     squared: [f64; 5],
     gauss_markov: Vec<(f64, f64)>,
     #[pyo3(from_py_with = count::n_params)] n_params: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let m = as_usize(&c_order(&m));
-    let n_terms = as_usize(&c_order(&n_terms));
     let edf = c_order_opt(edf.as_ref());
     let taus = c_order(&taus);
     let variance = c_order(&variance);

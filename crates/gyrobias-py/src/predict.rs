@@ -37,6 +37,13 @@ fn validate_model(
     Ok(())
 }
 
+/// The model variances `(q, r)` from noise coefficients (`gyrocore::predict::noise_parameters`).
+#[pyfunction]
+#[pyo3(signature = (arw, bias_instability, fs))]
+fn noise_parameters(arw: f64, bias_instability: f64, fs: f64) -> PyResult<(f64, f64)> {
+    core(predict::noise_parameters(arw, bias_instability, fs))
+}
+
 /// Fractional Kalman prediction of each row of a (windows × k) float64 array
 /// (`gyrocore::predict::fractional_kalman_rows`).
 ///
@@ -187,6 +194,7 @@ impl CompiledPredictor {
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(validate_model, m)?)?;
+    m.add_function(wrap_pyfunction!(noise_parameters, m)?)?;
     m.add_function(wrap_pyfunction!(fractional_kalman, m)?)?;
     m.add_function(wrap_pyfunction!(calibration_mean, m)?)?;
     m.add_function(wrap_pyfunction!(moving_average, m)?)?;

@@ -286,7 +286,15 @@ pub fn interpolate(
                 .collect())
         }
         Method::Polynomial(degree) => {
-            validate::min_len("temperatures", k, degree + 1)?;
+            if k <= degree {
+                return Err(Error::invalid(
+                    "degree",
+                    format!(
+                        "degree {degree} needs at least {} temperatures, got {k}",
+                        degree.saturating_add(1)
+                    ),
+                ));
+            }
             // Least squares in the scaled variable z = (t − centre)/half-range (conditioning).
             let centre = 0.5 * (lo + hi);
             let half = 0.5 * (hi - lo);

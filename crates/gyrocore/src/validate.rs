@@ -32,6 +32,25 @@ pub fn positive(name: &'static str, value: f64) -> Result<()> {
     }
 }
 
+/// The sample period `t0 = 1/fs` of the sample rate `fs` (Hz): the one check of `fs` for every
+/// caller that works with the period (the Allan family, wavelet variances, AR(1) fits, …).
+///
+/// `fs` must be finite and > 0 ([`positive`]'s message, naming `fs`) and have a finite period:
+/// a subnormal `fs` (below `2^-1022` Hz) overflows `1/fs` and is refused too, so a caller never
+/// divides by a rate this function has not accepted.
+pub fn sample_period(fs: f64) -> Result<f64> {
+    positive("fs", fs)?;
+    let t0 = 1.0 / fs;
+    if t0.is_finite() {
+        Ok(t0)
+    } else {
+        Err(Error::invalid(
+            "fs",
+            format!("must be finite and > 0 with a finite period 1/fs, got {fs:e}"),
+        ))
+    }
+}
+
 /// Fails unless `value` is finite and non-negative.
 pub fn non_negative(name: &'static str, value: f64) -> Result<()> {
     if value.is_finite() && value >= 0.0 {
@@ -58,7 +77,12 @@ pub fn allocatable<T>(name: &'static str, count: usize) -> Result<()> {
         return Err(too_large);
     }
     let mut probe: Vec<T> = Vec::new();
-    probe.try_reserve_exact(count).map_err(|_| too_large)
+    let reserved = probe.try_reserve_exact(count);
+    // Without the black box an optimised build may elide the unused allocation and its free
+    // as a pair and report success (observed with `cargo test --release`): the probe must
+    // really reach the allocator.
+    std::hint::black_box(&mut probe);
+    reserved.map_err(|_| too_large)
 }
 
 /// `a·b` element count for the argument `name`, or [`Error::Allocation`] when the product
@@ -118,6 +142,28 @@ mod tests {
             product("size", usize::MAX, 2),
             Err(Error::Allocation { name: "size", .. })
         ));
+    }
+
+    #[test]
+    fn sample_period_accepts_exactly_the_rates_with_a_period() {
+        assert_eq!(sample_period(100.0), Ok(0.01));
+        assert_eq!(sample_period(f64::MAX), Ok(1.0 / f64::MAX));
+        for fs in [
+            0.0,
+            -0.0,
+            -5.0,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            1e-310,
+        ] {
+            match sample_period(fs) {
+                Err(Error::InvalidParameter { name: "fs", reason }) => {
+                    assert!(reason.starts_with("must be finite and > 0"), "{reason}");
+                }
+                other => panic!("fs = {fs}: expected an fs error, got {other:?}"),
+            }
+        }
     }
 
     #[test]

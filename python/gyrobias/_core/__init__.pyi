@@ -14,5 +14,6 @@ from gyrobias._core import predict as predict
 from gyrobias._core import spectral as spectral
 from gyrobias._core import stats as stats
 from gyrobias._core import thermal as thermal
+from gyrobias._core import validate as validate
 
 class GyroLinAlgError(ValueError): ...

@@ -3,7 +3,7 @@
 from typing import Any, TypedDict, type_check_only
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "FLICKER_FACTOR",
@@ -57,8 +57,8 @@ def simulate(
 def read_off(
     taus: NDArray[np.float64],
     variance: NDArray[np.float64],
-    m: NDArray[np.uint64],
-    n_terms: NDArray[np.uint64],
+    m: ArrayLike,
+    n_terms: ArrayLike,
     overlapping: bool,
     edf: NDArray[np.float64] | None,
     terms: list[str],
@@ -100,8 +100,8 @@ def overbound(
 def conservative(
     taus: NDArray[np.float64],
     variance: NDArray[np.float64],
-    m: NDArray[np.uint64],
-    n_terms: NDArray[np.uint64],
+    m: ArrayLike,
+    n_terms: ArrayLike,
     overlapping: bool,
     edf: NDArray[np.float64] | None,
     reference: list[float] | tuple[float, float, float, float, float],
@@ -112,8 +112,8 @@ def conservative(
 def fit(
     taus: NDArray[np.float64],
     variance: NDArray[np.float64],
-    m: NDArray[np.uint64],
-    n_terms: NDArray[np.uint64],
+    m: ArrayLike,
+    n_terms: ArrayLike,
     overlapping: bool,
     edf: NDArray[np.float64] | None,
     terms: list[str],
@@ -124,8 +124,8 @@ def fit(
 def diagnose(
     taus: NDArray[np.float64],
     variance: NDArray[np.float64],
-    m: NDArray[np.uint64],
-    n_terms: NDArray[np.uint64],
+    m: ArrayLike,
+    n_terms: ArrayLike,
     overlapping: bool,
     edf: NDArray[np.float64] | None,
     squared: list[float] | tuple[float, float, float, float, float],

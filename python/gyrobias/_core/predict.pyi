@@ -10,6 +10,7 @@ __all__ = [
     "calibration_mean",
     "fractional_kalman",
     "moving_average",
+    "noise_parameters",
     "validate_model",
 ]
 
@@ -23,6 +24,7 @@ class BatchPrediction(TypedDict):
     mean: NDArray[np.float64]
     mean_std: float
 
+def noise_parameters(arw: float, bias_instability: float, fs: float) -> tuple[float, float]: ...
 def validate_model(
     d: float, q: float, r: float, mean: str, mu0: float, p0: float, algorithm: str
 ) -> None: ...

@@ -225,7 +225,9 @@ def run(args: argparse.Namespace) -> int:
         }
         if args.noise_coefficients:
             doc["noise_coefficients"] = [c.to_dict() for c in args.noise_coefficients]
-        args.json.write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
+        from gyrobias.exports import atomic_write
+
+        atomic_write(args.json, json.dumps(doc, indent=2) + "\n")
         print(f"\nwrote {args.json}")
     if args.plot is not None:
         from gyrobias.plotting import save_allan_plot

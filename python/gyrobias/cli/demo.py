@@ -89,10 +89,10 @@ def _simulate(n: int, fs: float, seed: int) -> np.ndarray:
 def run(args: argparse.Namespace) -> int:
     """Execute ``gyrobias demo``."""
     from gyrobias import allan
-    from gyrobias._validation import positive_float
+    from gyrobias._validation import positive_float, sample_rate
 
     hours = positive_float("--hours", args.hours)
-    fs = positive_float("--fs", args.fs)
+    fs = sample_rate(args.fs)  # the core's check of fs, before n = hours·3600·fs
     n = int(round(hours * 3600.0 * fs))
     if n < 1000:
         raise ValueError(
@@ -131,7 +131,10 @@ def run(args: argparse.Namespace) -> int:
         print(r.table())
 
     log_path = outdir / "demo_log.npy"
-    np.save(log_path, rate)
+    from gyrobias.exports import atomic_binary
+
+    with atomic_binary(log_path) as fh:
+        np.save(fh, rate)
     print(
         f"\nwrote {log_path} (rate in deg/s, columns x, y, z); try:\n"
         f"  gyrobias allan {log_path} --fs {fs:g} --units deg/s --plot {outdir / 'my_adev.png'}"

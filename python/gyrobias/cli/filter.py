@@ -86,14 +86,19 @@ def run(args: argparse.Namespace) -> int:
             f"(expected after filtering), final bias estimate {bias[-1, a] + 0.0:.6g}"
         )
     if args.output is not None:
+        from gyrobias.exports import atomic_binary
+
         out = np.empty((z.shape[0], 2 * z.shape[1]))
         out[:, 0::2] = rate
         out[:, 1::2] = bias
-        if args.output.suffix == ".npy":
-            np.save(args.output, out)
-        else:
-            header = ",".join(f"rate_{n},bias_{n}" for n in names)
-            np.savetxt(args.output, out, delimiter=",", header=header, comments="", fmt="%.10g")
+        # Atomically (temporary file beside it, then rename): an interrupted or failed run
+        # never leaves a truncated output file.
+        with atomic_binary(args.output) as fh:
+            if args.output.suffix == ".npy":
+                np.save(fh, out)
+            else:
+                header = ",".join(f"rate_{n},bias_{n}" for n in names)
+                np.savetxt(fh, out, delimiter=",", header=header, comments="", fmt="%.10g")
         print(f"wrote {args.output}")
     return 0
 

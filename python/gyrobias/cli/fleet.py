@@ -152,8 +152,6 @@ def _print_summary(summ: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Execute ``gyrobias fleet``."""
-    if args.workers is not None and args.workers < 1:
-        raise ValueError(f"--workers must be >= 1, got {args.workers}")
     if args.out is not None and args.out.suffix.lower() not in (".parquet", ".csv"):
         raise ValueError(f"--out must end in .parquet or .csv, got '{args.out}'")
     options = load_options(args)
@@ -216,9 +214,9 @@ def run(args: argparse.Namespace) -> int:
         print(f"gyrobias: warning: {row['source']}: {row['error']}", file=sys.stderr)
     if args.out is not None:
         if args.out.suffix.lower() == ".csv":
-            tmp = args.out.with_name(f".{args.out.name}.tmp{os.getpid()}")
-            table.drop(columns=["adev_tau", "adev"]).to_csv(tmp, index=False)
-            os.replace(tmp, args.out)
+            from gyrobias.exports import atomic_write
+
+            atomic_write(args.out, table.drop(columns=["adev_tau", "adev"]).to_csv(index=False))
         else:
             fleet.write_table(table, args.out)
         print(f"wrote {args.out}")

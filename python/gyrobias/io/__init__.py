@@ -59,7 +59,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from gyrobias._validation import choice, positive_float
+from gyrobias._validation import choice, sample_rate
 from gyrobias.io import _bag
 from gyrobias.io._store import Sink, Store, blocks
 
@@ -441,7 +441,7 @@ def load(
     choice("time_unit", time_unit, _TIME_UNITS)
     choice("stamp", stamp, _STAMPS)
     if fs is not None:
-        fs = positive_float("fs", fs)
+        fs = sample_rate(fs)
     if isinstance(skip_rows, bool) or not isinstance(skip_rows, (int, np.integer)) or skip_rows < 0:
         raise ValueError(f"skip_rows must be an integer >= 0, got {skip_rows!r}")
     repairs = _repair_options(repair)

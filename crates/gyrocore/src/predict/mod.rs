@@ -119,6 +119,39 @@ impl Model {
     }
 }
 
+/// The per-sample variances `(q, r)` of a [`Model`] from Allan noise coefficients: the bias
+/// instability `B` and angle random walk `N` (base units: rate unit and rate unit·√s) at the
+/// sample rate `fs` (Hz).
+///
+/// White rate noise of per-sample variance σ² at period `t0` has the two-sided PSD `N² = σ²·t0`
+/// (IEEE 952), so `r = N²·fs`; the flicker PSD `B²/(2π f)` equals that of ARFIMA(0, ½, 0) driven
+/// by variance `q` for `f ≪ fs`, so `q = B²` (\[BP\] §IV, IEEE 952 Annex C).
+///
+/// Errors name the argument: `arw` negative or not finite, `bias_instability` not finite and
+/// > 0, `fs` as [`validate::sample_period`], and a `B²` or `N²·fs` beyond float64.
+pub fn noise_parameters(arw: f64, bias_instability: f64, fs: f64) -> Result<(f64, f64)> {
+    validate::non_negative("arw", arw)?;
+    validate::positive("bias_instability", bias_instability)?;
+    validate::sample_period(fs)?;
+    let q = bias_instability * bias_instability;
+    if !(q.is_finite() && q > 0.0) {
+        return Err(Error::invalid(
+            "bias_instability",
+            format!(
+                "its square q = B² must be a positive finite float64, got B = {bias_instability:e}"
+            ),
+        ));
+    }
+    let r = arw * arw * fs;
+    if !r.is_finite() {
+        return Err(Error::invalid(
+            "arw",
+            format!("r = N²·fs overflows float64 (N = {arw:e}, fs = {fs:e})"),
+        ));
+    }
+    Ok((q, r))
+}
+
 /// Which exact algorithm computes the Kalman prediction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Algorithm {
@@ -345,6 +378,33 @@ pub fn moving_average(data: &[f64], k: usize, horizon: usize) -> Result<Vec<f64>
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn noise_parameters_map_and_name_their_arguments() {
+        assert_eq!(
+            super::noise_parameters(0.1, 0.01, 100.0),
+            Ok((0.01 * 0.01, 0.1 * 0.1 * 100.0))
+        );
+        assert_eq!(
+            super::noise_parameters(0.0, 0.01, 100.0),
+            Ok((0.01 * 0.01, 0.0))
+        );
+        for (args, name) in [
+            ((-0.1, 0.01, 100.0), "arw"),
+            ((f64::NAN, 0.01, 100.0), "arw"),
+            ((1e200, 0.01, 100.0), "arw"),
+            ((0.1, 0.0, 100.0), "bias_instability"),
+            ((0.1, 1e-200, 100.0), "bias_instability"),
+            ((0.1, 1e200, 100.0), "bias_instability"),
+            ((0.1, 0.01, 0.0), "fs"),
+            ((0.1, 0.01, 1e-320), "fs"),
+        ] {
+            match super::noise_parameters(args.0, args.1, args.2) {
+                Err(Error::InvalidParameter { name: got, .. }) => assert_eq!(got, name, "{args:?}"),
+                other => panic!("{args:?}: expected an error naming {name}, got {other:?}"),
+            }
+        }
+    }
+
     use super::*;
 
     #[test]

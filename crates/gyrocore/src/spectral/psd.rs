@@ -47,7 +47,8 @@ impl Window {
 
 /// Welch PSD of `x` sampled at `fs` Hz; returns `(freqs, psd)` (see the module docs).
 ///
-/// Errors: non-finite `x`; `fs` ≤ 0; `nperseg < 2` or larger than the series;
+/// Errors: non-finite `x`; `fs` ≤ 0 or subnormal (no finite period, so the density would
+/// overflow); `nperseg < 2` or larger than the series;
 /// `noverlap ≥ nperseg`.
 pub fn welch(
     x: &[f64],
@@ -56,7 +57,7 @@ pub fn welch(
     noverlap: usize,
     window: Window,
 ) -> Result<(Vec<f64>, Vec<f64>)> {
-    validate::positive("fs", fs)?;
+    validate::sample_period(fs)?;
     validate::finite("x", x)?;
     if nperseg < 2 {
         return Err(Error::invalid(
