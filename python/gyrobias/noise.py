@@ -968,7 +968,7 @@ def fit(
     m = result.m
     n_terms = result.n_terms
     edf = None if result.edf is None else np.ascontiguousarray(result.edf, dtype=np.float64)
-    gm_raw: list[dict[str, Any]] = []
+    gm_raw: list[_core.noise.GaussMarkovTerm] = []
     raw: Mapping[str, Any]
     if method == "joint":
         if regions is not None:

@@ -1,6 +1,6 @@
 """Bindings of ``gyrocore::noise``."""
 
-from typing import Any, TypedDict, type_check_only
+from typing import TypedDict, type_check_only
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -40,6 +40,61 @@ class ReadOff(TypedDict):
 
     terms: list[TermEstimate]
     local_slopes: NDArray[np.float64]
+
+@type_check_only
+class GaussMarkovTerm(TypedDict):
+    """One fitted first-order Gauss–Markov component (σ and correlation time in seconds)."""
+
+    sigma: float | None
+    sigma_uncertainty: float | None
+    correlation_time: float | None
+    correlation_time_uncertainty: float | None
+    tau_range: tuple[float, float] | None
+    missing: str | None
+
+@type_check_only
+class Diagnostics(TypedDict):
+    """Goodness of fit of an identification (generalised χ², residuals, warnings)."""
+
+    chi2: float
+    dof: int
+    p_value: float
+    residuals: NDArray[np.float64]
+    tau_range: tuple[float, float]
+    excluded: list[tuple[float, float, str]]
+    warnings: list[str]
+
+@type_check_only
+class JointFit(TypedDict):
+    """Weighted joint fit of the noise model to an Allan curve."""
+
+    terms: list[TermEstimate]
+    squared: list[float]
+    gauss_markov: list[GaussMarkovTerm]
+    gauss_markov_squared: list[tuple[float, float]]
+    chi2: float
+    dof: int
+    tau_range: tuple[float, float]
+    diagnostics: Diagnostics
+
+@type_check_only
+class WaveletVariance(TypedDict):
+    """Haar wavelet variance per dyadic scale (GMWM's moments)."""
+
+    m: NDArray[np.uint64]
+    scales: NDArray[np.float64]
+    variance: NDArray[np.float64]
+    n_coefficients: NDArray[np.uint64]
+
+@type_check_only
+class Gmwm(JointFit):
+    """GMWM fit: the joint-fit fields plus the wavelet moments and the model selection."""
+
+    wavelet: WaveletVariance
+    selected: list[str]
+    criterion: float
+    candidates: list[tuple[list[str], float]]
+    bootstrap: int
 
 def simulate(
     n: int,
@@ -120,7 +175,7 @@ def fit(
     tau_range: tuple[float, float] | None,
     correlation_time: tuple[float, float] | None,
     automatic_range: bool,
-) -> dict[str, Any]: ...
+) -> JointFit: ...
 def diagnose(
     taus: NDArray[np.float64],
     variance: NDArray[np.float64],
@@ -131,7 +186,7 @@ def diagnose(
     squared: list[float] | tuple[float, float, float, float, float],
     gauss_markov: list[tuple[float, float]],
     n_params: int,
-) -> dict[str, Any]: ...
+) -> Diagnostics: ...
 def gauss_markov_avar(
     sigma: float, correlation_time: float, taus: NDArray[np.float64]
 ) -> NDArray[np.float64]: ...
@@ -146,4 +201,4 @@ def gmwm(
     bootstrap: int,
     seed: int,
     min_blocks: int,
-) -> dict[str, Any]: ...
+) -> Gmwm: ...
