@@ -56,7 +56,8 @@ def main() -> None:
     # A dense τ grid: every τ of a 2050-sample record (1025 points; the fit's cost is the
     # n × n correlation of the estimates, O(n²) spectral integrals) against the octave grid of
     # the same record as the same-run baseline. Before the blocked kernel and the shared
-    # correlation matrix (commit 8d06cac) the dense fit took ≈ 20 s (load ≈ 6, 2 cores).
+    # correlation matrix (commit 8d06cac) the dense fit took 3.3–4.1 s, 8.4–9.8 s with
+    # auto_range=False (0.24 s and 0.8 s after; alternating runs, 2 cores at load ≈ 3.5).
     short = np.ascontiguousarray(rate[:2050, 0])
     dense = gyrobias.allan.adev(short, FS, taus="all", confidence=None, units="deg/s")
     octave = gyrobias.allan.adev(short, FS, confidence=None, units="deg/s")
