@@ -116,6 +116,42 @@ def test_p_values_are_not_extreme_under_the_model() -> None:
     assert small <= 1
 
 
+def test_dense_tau_grid_fit_is_unchanged() -> None:
+    # Every τ of a 2050-sample record (1025 points, where the n × n correlation of the
+    # estimates dominates the cost): the fit must give what the pair-by-pair correlation
+    # integrals gave before they were blocked and shared (values printed by commit 8d06cac,
+    # whose fit code is that of the old path). The kernel reproduces every integral bit for bit
+    # (gyrocore's covariance_equals_the_pair_by_pair_integrals_bit_for_bit), so here the values
+    # agree exactly; rel 1e-10 only leaves room for a libm whose sin differs in the last bit,
+    # amplified by the near-singular correlation of neighbouring τ (ridge 1e-9).
+    rate = noise.simulate(2050, FS, arw=0.2 / 60, bias_instability=3 / 3600, seed=1)
+    r = adev(rate, FS, taus="all", confidence=None, units="deg/s")
+    assert isinstance(r, AllanResult) and len(r.taus) == 1025
+    pinned = {
+        # auto_range: the range selection tests the model, then the report and the sandwich
+        # covariance reuse its correlation matrix.
+        True: (
+            "0x1.ada16dc38c76ap+4",  # diagnostics.chi2
+            "0x1.603841c702d14p+6",  # weighted least-squares chi2
+            ("0x1.685ff123995c4p-17", "0x1.0a16e50699afcp-17"),  # N², B²
+            ("0x1.185358c5c728cp-13", "0x1.521ef2d2342e4p-10"),  # u(N), u(B)
+        ),
+        False: (
+            "0x1.2130a09a0aa95p+5",
+            "0x1.7324f723e77bcp+8",
+            ("0x1.7e2c827826969p-17", "0x1.265aa364d0adap-18"),
+            ("0x1.37dfe48f2a324p-13", "0x1.4d5b999086d40p-10"),
+        ),
+    }
+    for auto, (gof, chi2, squared, uncertainty) in pinned.items():
+        c = noise.fit(r, auto_range=auto)
+        assert c.diagnostics is not None
+        got = [c.diagnostics.chi2, c.chi2, c.squared[1], c.squared[2], c.N.uncertainty]
+        got.append(c.B.uncertainty)
+        want = [float.fromhex(v) for v in (gof, chi2, *squared, *uncertainty)]
+        assert got == pytest.approx(want, rel=1e-10), auto
+
+
 # --- Gauss–Markov fit -------------------------------------------------------------------------------
 
 

@@ -603,6 +603,47 @@ pub(crate) fn irls(
     })
 }
 
+/// The model correlation of the estimates at the points `used` ([`correlation_with`]),
+/// remembered for the last points and model: within one fit, the goodness-of-fit test that
+/// ends the range selection, the reported test and the sandwich covariance all need it for the
+/// same fitted model (an O(n²) matrix of spectral integrals, the dominant cost on dense τ
+/// grids), and it is computed once. The key is exact (indices and the bits of `c` and `gm`),
+/// so a remembered matrix is the one a fresh call returns.
+#[derive(Default)]
+pub(crate) struct CorrelationMemo {
+    key: Option<MemoKey>,
+    rho: Vec<f64>,
+}
+
+impl CorrelationMemo {
+    fn get(
+        &mut self,
+        curve: &Curve<'_>,
+        used: &[usize],
+        c: &[f64; 5],
+        gm: &[(f64, f64)],
+    ) -> &[f64] {
+        let key = (
+            used.to_vec(),
+            c.map(f64::to_bits),
+            gm.iter()
+                .map(|&(q, t)| (q.to_bits(), t.to_bits()))
+                .collect(),
+        );
+        if self.key.as_ref() != Some(&key) {
+            let m: Vec<usize> = used.iter().map(|&i| curve.m[i]).collect();
+            let terms: Vec<usize> = used.iter().map(|&i| curve.n_terms[i]).collect();
+            let t0 = curve.taus[used[0]] / m[0] as f64;
+            self.rho = correlation_with(&m, &terms, t0, c, gm);
+            self.key = Some(key);
+        }
+        &self.rho
+    }
+}
+
+/// What a [`CorrelationMemo`] was computed for: the points and the bits of `c` and `gm`.
+type MemoKey = (Vec<usize>, [u64; 5], Vec<(u64, u64)>);
+
 /// Goodness of fit on the points `used` (module docs): (χ², ν, p, z per used point).
 pub(crate) fn goodness(
     curve: &Curve<'_>,
@@ -611,6 +652,7 @@ pub(crate) fn goodness(
     gm: &[(f64, f64)],
     edf: &[f64],
     n_params: usize,
+    memo: &mut CorrelationMemo,
 ) -> (f64, usize, f64, Vec<f64>) {
     let n = used.len();
     let z: Vec<f64> = used
@@ -623,11 +665,7 @@ pub(crate) fn goodness(
             r / trigamma(half).sqrt()
         })
         .collect();
-    let m: Vec<usize> = used.iter().map(|&i| curve.m[i]).collect();
-    let terms: Vec<usize> = used.iter().map(|&i| curve.n_terms[i]).collect();
-    let t0 = curve.taus[used[0]] / m[0] as f64;
-    let rho = correlation_with(&m, &terms, t0, c, gm);
-    let mut r = DMatrix::from_row_slice(n, n, &rho);
+    let mut r = DMatrix::from_row_slice(n, n, memo.get(curve, used, c, gm));
     // A little ridge keeps the factorisation stable when neighbouring τ are almost collinear.
     for i in 0..n {
         r[(i, i)] += 1e-9;
@@ -697,6 +735,7 @@ fn parameter_covariance(
     used: &[usize],
     inner: &Inner,
     params: &[Param],
+    memo: &mut CorrelationMemo,
 ) -> Option<DMatrix<f64>> {
     let n = used.len();
     let p = params.len();
@@ -727,10 +766,7 @@ fn parameter_covariance(
     }
     let ata = a.transpose() * &a;
     let bread = ata.cholesky()?.inverse();
-    let m: Vec<usize> = used.iter().map(|&i| curve.m[i]).collect();
-    let terms: Vec<usize> = used.iter().map(|&i| curve.n_terms[i]).collect();
-    let t0 = taus[0] / m[0] as f64;
-    let rho = correlation_with(&m, &terms, t0, &inner.c, &inner.gm);
+    let rho = memo.get(curve, used, &inner.c, &inner.gm);
     let s: Vec<f64> = taus
         .iter()
         .zip(&y)
@@ -895,6 +931,7 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
     let automatic = options.automatic_range && options.tau_range.is_none();
     let mut excluded: Vec<(f64, f64, String)> = Vec::new();
     let mut inner = irls(curve, &used, &requested, n_gm, options.correlation_time)?;
+    let mut memo = CorrelationMemo::default();
     let count_params = |inner: &Inner| {
         inner.c.iter().filter(|v| **v > 0.0).count()
             + 2 * inner.gm.iter().filter(|g| g.0 > 0.0).count()
@@ -924,6 +961,7 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
                 &inner.gm,
                 &inner.edf,
                 count_params(&inner),
+                &mut memo,
             );
             if p >= REFIT_P || p.is_nan() {
                 break;
@@ -962,6 +1000,7 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
         inner,
         excluded,
         CovarianceSource::Sandwich,
+        &mut memo,
     ))
 }
 
@@ -983,12 +1022,14 @@ pub(crate) fn finish(
     inner: Inner,
     excluded: Vec<(f64, f64, String)>,
     covariance: CovarianceSource,
+    memo: &mut CorrelationMemo,
 ) -> JointFit {
     let taus: Vec<f64> = used.iter().map(|&i| curve.taus[i]).collect();
     let c = inner.c;
     let params = active_params(requested, &c, &inner.gm);
     let n_params = params.len();
-    let (gof_chi2, dof, p_value, z) = goodness(curve, used, &c, &inner.gm, &inner.edf, n_params);
+    let (gof_chi2, dof, p_value, z) =
+        goodness(curve, used, &c, &inner.gm, &inner.edf, n_params, memo);
     let mut warnings = Vec::new();
     if let Some((a, b, _)) = excluded.iter().find(|e| e.2 == LONG_REASON) {
         warnings.push(format!(
@@ -1022,7 +1063,7 @@ pub(crate) fn finish(
     }
     let cov = match covariance {
         CovarianceSource::Given(given) => given,
-        CovarianceSource::Sandwich => parameter_covariance(curve, used, &inner, &params),
+        CovarianceSource::Sandwich => parameter_covariance(curve, used, &inner, &params, memo),
     };
     if cov.is_none() {
         warnings.push(
@@ -1195,7 +1236,15 @@ pub fn diagnose(
         .filter(|&i| curve.variance[i] > 0.0)
         .collect();
     let edf: Vec<f64> = used.iter().map(|&i| edf_model(curve, i, c, gm)).collect();
-    let (chi2, dof, p_value, z) = goodness(curve, &used, c, gm, &edf, n_params);
+    let (chi2, dof, p_value, z) = goodness(
+        curve,
+        &used,
+        c,
+        gm,
+        &edf,
+        n_params,
+        &mut CorrelationMemo::default(),
+    );
     let mut warnings = Vec::new();
     if dof > 0 && p_value < REJECT_P {
         warnings.push(format!(

@@ -54,8 +54,8 @@ use rayon::prelude::*;
 use super::covariance::correlation_with;
 use super::curve::{Curve, TermEstimate};
 use super::fit::{
-    CovarianceSource, Inner, JointFit, Whitener, active_params, edf_model, finish, full_model,
-    irls, jacobian, profile_times,
+    CorrelationMemo, CovarianceSource, Inner, JointFit, Whitener, active_params, edf_model, finish,
+    full_model, irls, jacobian, profile_times,
 };
 use super::gauss_markov;
 use super::model::Term;
@@ -474,6 +474,7 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
         pad_gm(inner, options.gauss_markov),
         Vec::new(),
         CovarianceSource::Given(cov),
+        &mut CorrelationMemo::default(),
     );
     label_dropped(&mut fit, options.enabled, enabled, n_gm, criterion);
     Ok(GmwmFit {
