@@ -240,9 +240,10 @@ const SF_LAGS: usize = 64;
 /// once per lag. The per-lag block sums and their order are those of one pass per lag
 /// (`structure_function_per_lag` in the tests gives identical bits), so the result depends
 /// neither on the grouping nor on the thread count. With the other `O(M²)` parts of the sweep,
-/// measured on white FM (ThéoBR, octave τ; 2 shared cores, load ≈ 1.5, alternating runs):
-/// N = 2e5 2.5 s → 1.65 s, N = 5e5 12.1–13.6 s → 6.9–7.8 s, N = 1e6 46 s → 26 s. The kernel is now compute-bound
-/// (AVX2); about half of the remaining time is the `O(M²)` edge and combination sums.
+/// measured on white FM (ThéoBR, octave τ; 2 shared cores, load ≈ 1.5–2, alternating runs):
+/// N = 2e5 2.5 s → 1.65 s, N = 5e5 12.1–13.6 s → 6.9–7.8 s, N = 1e6 46 s → 26 s. The kernel
+/// is now compute-bound (AVX2); about half of the remaining time is the `O(M²)` edge and
+/// combination sums.
 fn structure_function(r: &[f64], max_lag: usize) -> Vec<f64> {
     let n = r.len();
     let groups: Vec<Vec<f64>> = (0..max_lag.div_ceil(SF_LAGS))
