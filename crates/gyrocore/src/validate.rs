@@ -112,15 +112,22 @@ pub fn neumaier_sum(values: impl IntoIterator<Item = f64>) -> f64 {
     let mut sum = 0.0_f64;
     let mut comp = 0.0_f64;
     for v in values {
-        let t = sum + v;
-        if sum.abs() >= v.abs() {
-            comp += (sum - t) + v;
-        } else {
-            comp += (v - t) + sum;
-        }
-        sum = t;
+        neumaier_add(&mut sum, &mut comp, v);
     }
     sum + comp
+}
+
+/// One step of [`neumaier_sum`]: adds `v` to the running `sum` and its compensation `comp`
+/// (the total is `sum + comp`), for callers that keep several running sums.
+#[inline]
+pub fn neumaier_add(sum: &mut f64, comp: &mut f64, v: f64) {
+    let t = *sum + v;
+    if sum.abs() >= v.abs() {
+        *comp += (*sum - t) + v;
+    } else {
+        *comp += (v - t) + *sum;
+    }
+    *sum = t;
 }
 
 #[cfg(test)]

@@ -291,24 +291,12 @@ impl pulp::WithSimd for LagGroup<'_> {
                 let len = SF_BLOCK.min(count - t);
                 let block = squared_increments(&r[t..t + len], &r[t + lag..t + lag + len]);
                 let (sum, comp) = &mut acc[lag - lo];
-                neumaier_add(sum, comp, block);
+                validate::neumaier_add(sum, comp, block);
             }
             t += SF_BLOCK;
         }
         acc[..=hi - lo].iter().map(|&(s, c)| s + c).collect()
     }
-}
-
-/// One step of [`validate::neumaier_sum`]: adds `v` to the running `sum` and compensation.
-#[inline]
-fn neumaier_add(sum: &mut f64, comp: &mut f64, v: f64) {
-    let t = *sum + v;
-    if sum.abs() >= v.abs() {
-        *comp += (*sum - t) + v;
-    } else {
-        *comp += (v - t) + *sum;
-    }
-    *sum = t;
 }
 
 /// `Σ_i (b_i − a_i)²` over equal-length slices, in eight lanes (lanes summed in order, then
@@ -333,11 +321,11 @@ fn squared_increments(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// Neumaier prefix sums `[0, v_0, v_0 + v_1, …]` of the first `len` values of `v`.
-fn prefix_sums<'a>(v: impl Iterator<Item = &'a f64>, len: usize) -> Vec<f64> {
+fn prefix_sums(v: impl Iterator<Item = f64>, len: usize) -> Vec<f64> {
     let mut out = Vec::with_capacity(len + 1);
     let (mut s, mut c) = (0.0_f64, 0.0_f64);
     out.push(0.0);
-    for &a in v.take(len) {
+    for a in v.take(len) {
         let (t, e) = two_sum(s, a);
         s = t;
         c += e;
@@ -382,11 +370,11 @@ fn neumaier_lanes(values: &[f64]) -> f64 {
     let whole = values.len() - values.len() % 4;
     for c in values[..whole].chunks_exact(4) {
         for l in 0..4 {
-            neumaier_add(&mut sum[l], &mut comp[l], c[l]);
+            validate::neumaier_add(&mut sum[l], &mut comp[l], c[l]);
         }
     }
     for (l, &v) in values[whole..].iter().enumerate() {
-        neumaier_add(&mut sum[l], &mut comp[l], v);
+        validate::neumaier_add(&mut sum[l], &mut comp[l], v);
     }
     validate::neumaier_sum(sum.into_iter().chain(comp))
 }
@@ -411,8 +399,8 @@ fn prefer_blocks(n: usize, m: usize) -> bool {
 fn theo1_sum_single(d: &Detrended, m: usize) -> f64 {
     if prefer_blocks(d.r.len(), m) {
         let n = d.r.len();
-        let z = d.r.iter().rev();
-        let (rp, zp) = (prefix_sums(d.r.iter(), m), prefix_sums(z, m));
+        let z = d.r.iter().rev().copied();
+        let (rp, zp) = (prefix_sums(d.r.iter().copied(), m), prefix_sums(z, m));
         blocks::bracket_sum(&d.r, m) + quadratic_part(d.p2, n, m, &rp, &zp)
     } else {
         theo1_sum_direct(d, m)
@@ -536,7 +524,10 @@ fn theo1_sums_sweep(d: &Detrended, ms: &[usize]) -> Vec<f64> {
         || structure_function(r, max_m),
         || rayon::join(|| edge_series(r, ms), || edge_series(&z, ms)),
     );
-    let (rp, zp) = (prefix_sums(r.iter(), max_m), prefix_sums(z.iter(), max_m));
+    let (rp, zp) = (
+        prefix_sums(r.iter().copied(), max_m),
+        prefix_sums(z.iter().copied(), max_m),
+    );
     let inverse: Vec<f64> = (0..=max_m / 2).map(|k| 1.0 / k as f64).collect();
     ms.par_iter()
         .zip(head.par_iter().zip(&tail))

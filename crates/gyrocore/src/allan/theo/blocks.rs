@@ -164,16 +164,7 @@ fn block_sum_expanded(seg: &[f64], m: usize) -> (f64, f64) {
     let h = m / 2;
     let nv = len - m;
     let y = line_residual(seg);
-    // Prefix sums of y², compensated.
-    let mut pre = Vec::with_capacity(len + 1);
-    let (mut s, mut c) = (0.0_f64, 0.0_f64);
-    pre.push(0.0);
-    for &v in &y {
-        let (t, e) = super::two_sum(s, v * v);
-        s = t;
-        c += e;
-        pre.push(s + c);
-    }
+    let pre = super::prefix_sums(y.iter().map(|v| v * v), len);
     let norm2 = pre[len];
     let p = fast_even_len(len + m);
     let yf = spectrum(&y, 0, len, p);
