@@ -247,8 +247,9 @@ def test_fast_kernels_equal_literal_definitions(x: np.ndarray, fs: float) -> Non
 
 
 def _long_record(kind: str, n: int, seed: int) -> np.ndarray:
-    """Angle records on which products of samples cancel (random-walk FM, drift) or that are
-    far from any noise model (sparse steps and spikes)."""
+    """Angle records on which products of samples cancel (random-walk FM, drift), a realistic
+    MEMS rate (filtered, Gauss-Markov, quantised) or one far from any noise model (sparse steps
+    and spikes)."""
     rng = np.random.default_rng(seed)
     w = rng.normal(size=n)
     t = np.arange(n, dtype=float)
@@ -258,6 +259,14 @@ def _long_record(kind: str, n: int, seed: int) -> np.ndarray:
         return np.cumsum(np.cumsum(w))
     if kind == "drifting":
         return np.cumsum(w) + 3e6 * t + 1e-3 * t**2 + 2.5e9
+    if kind == "MEMS":
+        # A sensor, not the textbook model: white rate through a 4-tap moving-average
+        # anti-alias filter, a Gauss-Markov bias (T = 500 samples), a bias and quantisation.
+        gm = np.zeros(n)
+        for i in range(1, n):
+            gm[i] = gm[i - 1] * (1 - 1 / 500) + 0.02 * w[i - 1]
+        rate = np.convolve(rng.normal(size=n), np.full(4, 0.25), mode="same") + gm + 0.3
+        return np.cumsum(np.round(rate / 0.05) * 0.05)
     steps = np.zeros(n)
     steps[rng.integers(0, n, size=5)] = rng.normal(size=5) * 1e3
     return np.cumsum(steps) + 1e-3 * w
@@ -265,7 +274,7 @@ def _long_record(kind: str, n: int, seed: int) -> np.ndarray:
 
 @settings(max_examples=8, deadline=None)
 @given(
-    kind=st.sampled_from(["white FM", "random-walk FM", "drifting", "steps"]),
+    kind=st.sampled_from(["white FM", "random-walk FM", "drifting", "MEMS", "steps"]),
     n=st.integers(5000, 9000),
     seed=st.integers(0, 2**32 - 1),
 )
