@@ -46,11 +46,34 @@ fn bracket(x: f64) -> f64 {
     }
 }
 
-/// Allan variance per unit `q²` of a Gauss–Markov process with correlation time `t` (s).
+/// `f(x)/x²` without cancellation, over- or underflow: `Σ_{n≥3} (−1)ⁿ (4 − 2ⁿ) x^{n−2}/n!`
+/// (`≈ 2x/3`) below `x = 0.5`, else `(f(x)/x)/x` (`≈ 2/x` for large `x`).
+fn bracket_over_x2(x: f64) -> f64 {
+    if x < 0.5 {
+        let mut term = x / 6.0; // x^{n−2}/n! at n = 3
+        let mut pow2 = 8.0;
+        let mut sum = 0.0;
+        for n in 3..40 {
+            let sign = if n % 2 == 0 { 1.0 } else { -1.0 };
+            let add = sign * (4.0 - pow2) * term;
+            sum += add;
+            if add.abs() <= 1e-17 * sum.abs() {
+                break;
+            }
+            pow2 *= 2.0;
+            term *= x / f64::from(n + 1);
+        }
+        sum
+    } else {
+        bracket(x) / x / x
+    }
+}
+
+/// Allan variance per unit `q²` of a Gauss–Markov process with correlation time `t` (s):
+/// `(T²/τ²)·f(τ/T) = f(x)/x²`, evaluated without forming `T²/τ²` (which overflows for
+/// `τ ≪ T`, e.g. τ = 1e-300 s, where the product was ∞·0 = NaN).
 pub fn basis(correlation_time: f64, tau: f64) -> f64 {
-    let x = tau / correlation_time;
-    let t = correlation_time;
-    t * t / (tau * tau) * bracket(x)
+    bracket_over_x2(tau / correlation_time)
 }
 
 /// Allan variance of a Gauss–Markov process of variance `q2` and correlation time `t`.
