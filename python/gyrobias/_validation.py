@@ -141,6 +141,42 @@ def positive_float(name: str, value: Any) -> float:
     return v
 
 
+def non_negative_float(name: str, value: Any) -> float:
+    """``value`` as a finite float ≥ 0, else ``ValueError``/``TypeError`` naming ``name``.
+
+    For the magnitudes the Python layer computes with itself (unit conversions of densities and
+    variances): the range is the core's check (``gyrocore::validate::non_negative``), called
+    before Python computes; only the type is checked here.
+    """
+    return _core.validate.non_negative(name, real(name, value))
+
+
+def finite_result(name: str, value: Any, result: float) -> float:
+    """``result`` (computed from the argument ``name`` = ``value``) if it is finite, else
+    ``ValueError``: the argument is too large (or small) for the computation in float64."""
+    if not np.isfinite(result):
+        raise ValueError(f"{name} must give a finite result in float64, got {value!r}")
+    return result
+
+
+def callback(name: str, value: Any) -> Any:
+    """``value`` if it is ``None`` or callable, else ``TypeError`` naming ``name`` (checked
+    before any work starts, not when the callback is first called)."""
+    if value is not None and not callable(value):
+        raise TypeError(f"{name} must be callable or None, got {type(value).__name__}")
+    return value
+
+
+def pair(name: str, value: Any) -> tuple[float, float]:
+    """``value`` as two real numbers ``(low, high)``; ``TypeError``/``ValueError`` naming ``name``
+    for anything else (a scalar, a string, three numbers: never silently the first two)."""
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__"):
+        raise TypeError(f"{name} must be a pair (low, high) of numbers, got {type(value).__name__}")
+    if len(value) != 2:
+        raise ValueError(f"{name} must be a pair (low, high) of numbers, got {len(value)} values")
+    return real(name, value[0]), real(name, value[1])
+
+
 def choice(name: str, value: Any, options: tuple[str, ...]) -> str:
     """``value`` if it is one of ``options``, else ``ValueError`` listing them."""
     if not isinstance(value, str) or value not in options:
