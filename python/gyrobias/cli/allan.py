@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from gyrobias import allan
+from gyrobias.cli import _types
 from gyrobias.cli import noise as noise_cli
 from gyrobias.cli._common import (
     ProgressBar,
@@ -93,7 +94,7 @@ def register(subparsers: Any) -> None:
         "all (every m: slow on long logs)",
     )
     ana.add_argument(
-        "--per-decade", type=int, default=10, metavar="N", help="points per decade for --taus log"
+        "--per-decade", type=_types.positive_int, default=10, metavar="N", help="points per decade for --taus log"
     )
     ana.add_argument(
         "--non-overlapping",
@@ -102,7 +103,7 @@ def register(subparsers: Any) -> None:
     )
     ana.add_argument(
         "--confidence",
-        type=float,
+        type=_types.probability,
         default=0.683,
         metavar="P",
         help="confidence level of the intervals (default 0.683 ≈ 1σ)",

@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from gyrobias import fleet
+from gyrobias.cli import _types
 from gyrobias.cli._common import add_read_arguments, load_options, progress_bar
 
 __all__ = ["register", "run"]
@@ -48,6 +49,7 @@ def register(subparsers: Any) -> None:
     src = add_read_arguments(p)
     src.add_argument(
         "--axis-names",
+        type=_types.column_list,
         metavar="X,Y,…",
         help="names for the channels of every log (compares logs whose headers differ, e.g. CSV and NPY)",
     )
@@ -60,6 +62,7 @@ def register(subparsers: Any) -> None:
     )
     ana.add_argument(
         "--terms",
+        type=_types.term_list,
         metavar="N,B,K,GM",
         help="noise terms to fit (Q, N, B, K, R, GM, GM2; default the five IEEE terms); GM adds a "
         "Gauss–Markov term (σ and correlation time columns), GM2 two (joint fit only)",
@@ -72,7 +75,7 @@ def register(subparsers: Any) -> None:
     )
     ana.add_argument(
         "--threshold",
-        type=float,
+        type=_types.positive,
         default=fleet.OUT_OF_FAMILY_THRESHOLD,
         metavar="Z",
         help=f"robust |z| above which a term is out of family (default {fleet.OUT_OF_FAMILY_THRESHOLD})",
@@ -80,12 +83,13 @@ def register(subparsers: Any) -> None:
     run_group = p.add_argument_group("where it runs")
     run_group.add_argument(
         "--scheduler",
+        type=_types.text,
         metavar="ADDRESS",
         help="Dask scheduler address (tcp://host:8786); default: local threads",
     )
     run_group.add_argument(
         "--workers",
-        type=int,
+        type=_types.positive_int,
         metavar="N",
         help="threads of the local scheduler (default: one per core)",
     )
