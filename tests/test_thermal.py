@@ -159,7 +159,7 @@ def test_extrapolation_refused_unless_asked() -> None:
     assert np.isfinite(m("arw", 80.0, extrapolate=True))
     assert set(m.evaluate(20.0)) == {"arw", "c_ar"}
     assert m("arw", np.array([[0.0, 30.0]])).shape == (1, 2)
-    with pytest.raises(KeyError, match="unknown parameter"):
+    with pytest.raises(ValueError, match="unknown parameter"):
         m("vrw", 0.0)
 
 

@@ -312,7 +312,16 @@ def apply(
     rows = np.ascontiguousarray(moved.reshape(-1, shape[-1]))
     # padlen is converted by the binding (which refuses a negative one) and ignored by the core
     # unless zero_phase.
-    out = _core.fir.filter_rows(h, rows, bool(zero_phase), padtype, padlen)
+    try:
+        out = _core.fir.filter_rows(h, rows, bool(zero_phase), padtype, padlen)
+    except ValueError as exc:
+        if str(exc).startswith("x is too short") and arr.ndim > 1:
+            # the core sees rows: say which axis of the caller's array was too short
+            raise ValueError(
+                f"{exc} along axis={axis} of x (shape {arr.shape}): filter along the axis of "
+                "time (axis=-1 by default)"
+            ) from None
+        raise
     return np.moveaxis(out.reshape(shape), -1, axis)
 
 

@@ -40,7 +40,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, integer, real, string
+from gyrobias._validation import (
+    as_float_array,
+    finite_result,
+    integer,
+    non_negative_float,
+    real,
+    string,
+)
 
 __all__ = [
     "FilterResult",
@@ -62,24 +69,34 @@ Form = Literal["standard", "paper"]
 # --- unit helpers ---------------------------------------------------------------------------
 
 
+def _converted(name: str, value: float, factor: float) -> float:
+    # A variance or density: finite and >= 0 (the core's check; bools are refused as types),
+    # and the converted value must be finite too.
+    v = non_negative_float(name, value)
+    return finite_result(name, value, v * factor)
+
+
 def q_omega_from_deg_per_hour(q_omega: float) -> float:
-    """[NR]'s per-step ``q_ω`` in (°/h)² → (°/s)² (divide by 3600²)."""
-    return float(q_omega) / 3600.0**2
+    """[NR]'s per-step ``q_ω`` in (°/h)² → (°/s)² (divide by 3600²).
+
+    ``q_omega`` must be finite and ≥ 0 (a variance): ``ValueError`` naming it otherwise.
+    """
+    return _converted("q_omega", q_omega, 1.0 / 3600.0**2)
 
 
 def q_omega_to_deg_per_hour(q_omega: float) -> float:
-    """Per-step ``q_ω`` in (°/s)² → (°/h)², the unit [NR] quotes."""
-    return float(q_omega) * 3600.0**2
+    """Per-step ``q_ω`` in (°/s)² → (°/h)², the unit [NR] quotes (``q_omega`` finite, ≥ 0)."""
+    return _converted("q_omega", q_omega, 3600.0**2)
 
 
 def arw_from_deg_per_sqrt_hour(arw: float) -> float:
-    """ARW in °/√h → °/√s (divide by 60)."""
-    return float(arw) / 60.0
+    """ARW in °/√h → °/√s (divide by 60; ``arw`` finite and ≥ 0)."""
+    return _converted("arw", arw, 1.0 / 60.0)
 
 
 def rrw_from_deg_per_hour_1p5(rrw: float) -> float:
-    """RRW in °/h^1.5 → °/s^1.5 (divide by 216000)."""
-    return float(rrw) / 216000.0
+    """RRW in °/h^1.5 → °/s^1.5 (divide by 216000; ``rrw`` finite and ≥ 0)."""
+    return _converted("rrw", rrw, 1.0 / 216000.0)
 
 
 # --- design functions -----------------------------------------------------------------------

@@ -253,8 +253,11 @@ class TemperatureModel:
         Raises ``ValueError`` for a temperature outside the calibrated range unless
         ``extrapolate=True`` (then the end segment / end cubic / polynomial is continued).
         """
-        if name not in self.parameters:
-            raise KeyError(f"unknown parameter {name!r}; known: {', '.join(self.names)}")
+        if not isinstance(name, str) or name not in self.parameters:
+            raise ValueError(
+                f"name must be one of {', '.join(map(repr, self.names))}; got {name!r} "
+                "(unknown parameter)"
+            )
         at = np.asarray(temperature, dtype=np.float64)
         flat = np.ascontiguousarray(at.reshape(-1))
         if flat.size == 0:
@@ -304,11 +307,35 @@ class TemperatureModel:
             )
         except KeyError as exc:
             raise ValueError(f"temperature model data lacks the key {exc.args[0]!r}") from exc
+        except (AttributeError, TypeError) as exc:
+            # e.g. "parameters" not a mapping, or "temperatures" of strings
+            raise ValueError(
+                "data must be a temperature model (keys temperatures, parameters: name → values, "
+                f"units, method, degree), got an invalid structure: {exc}"
+            ) from None
 
     @classmethod
     def from_json(cls, text: str) -> TemperatureModel:
-        """Inverse of :meth:`to_json`."""
-        return cls.from_dict(json.loads(text))
+        """Inverse of :meth:`to_json`.
+
+        Raises ``ValueError`` naming the line and column for text that is not JSON, and for
+        JSON that is not a temperature model; ``TypeError`` if ``text`` is not a string.
+        """
+        if not isinstance(text, (str, bytes, bytearray)):
+            raise TypeError(f"text must be a JSON string, got {type(text).__name__}")
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise ValueError(
+                f"text is not valid JSON: {exc.msg} at line {exc.lineno}, column {exc.colno}"
+            ) from None
+        except UnicodeDecodeError as exc:
+            raise ValueError(f"text is not valid JSON: {exc}") from None
+        if not isinstance(data, Mapping):
+            raise ValueError(
+                f"text must hold a JSON object (a temperature model), got {type(data).__name__}"
+            )
+        return cls.from_dict(data)
 
     @classmethod
     def from_analyses(
