@@ -569,7 +569,7 @@ def analyse(
         n_axes = 1 if expanded.ndim == 2 else int(expanded.shape[2])
         check_axis_names(names, n_axes)  # before any unit runs (an error, not a row per unit)
         names = names or tuple(f"col{i}" for i in range(n_axes))
-        array_units = io._resolve_units(
+        array_units = io.columns._resolve_units(
             units, names, None, "sources"
         )  # the reader's rules for units=
     opts = _Options(
