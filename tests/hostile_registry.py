@@ -32,6 +32,8 @@ KINDS: dict[str, str] = {
     "real": "finite real number (bias, temperature, memory parameter d): NaN, ±inf → ValueError",
     "level": "probability / confidence level in (0, 1): 0, 1, 1.5, NaN → ValueError naming it",
     "count": "integer count, size, seed or index: -1 → ValueError, 2.5 → TypeError naming it",
+    "axis": "an axis of an array (negative counts from the end): 2.5 → TypeError, 99 → "
+    "ValueError naming it",
     "option": "a name from a fixed set: an unknown name → ValueError naming it and the valid names",
     "unit": "a unit string of gyrobias.units: 'furlong' → ValueError naming it",
     "array": "numeric array: a ragged list → ValueError naming it (never NumPy's own message)",
@@ -120,12 +122,12 @@ REGISTRY: dict[str, str] = {
     "fir.KaiserLowpass.__init__": "fs:field fpass:field fstop:field apass_db:field "
     "astop_db:field cutoff:field delta_pass:field delta_stop:field attenuation_db:field "
     "alpha:field taps:field",
-    "fir.KaiserLowpass.apply": "x:array zero_phase:flag axis:count padtype:option padlen:count?",
+    "fir.KaiserLowpass.apply": "x:array zero_phase:flag axis:axis padtype:option padlen:count?",
     "fir.KaiserLowpass.frequency_response": "frequencies:array? n:count zero_phase:flag",
     "fir.KaiserLowpass.to_dict": "",
-    "fir.apply": "taps:array x:array zero_phase:flag axis:count padtype:option padlen:count?",
+    "fir.apply": "taps:array x:array zero_phase:flag axis:axis padtype:option padlen:count?",
     "fir.kaiser_lowpass": "fs:pos fpass:pos fstop:pos apass_db:pos astop_db:pos",
-    "fir.stream": "taps:array x:array state:array? axis:count",
+    "fir.stream": "taps:array x:array state:array? axis:axis",
     # --- fleet ------------------------------------------------------------------------------------
     "fleet.analyse": "sources:spec fs:pos? units:spec? fit:option terms:spec? client:object? "
     "columns:spec? time_column:spec? load_options:spec? axis_names:text? taus:spec "
@@ -139,10 +141,10 @@ REGISTRY: dict[str, str] = {
     "fractional.ElwResult.confidence_interval": "confidence:level",
     "fractional.ElwResult.to_dict": "",
     "fractional.arfima": "n:count d:real sigma:nonneg size:spec? seed:count? kind:option",
-    "fractional.diff": "x:array d:real axis:count method:option",
-    "fractional.elw": "x:array m:count? bounds:pair level:option axis:count",
+    "fractional.diff": "x:array d:real axis:axis method:option",
+    "fractional.elw": "x:array m:count? bounds:pair level:option axis:axis",
     "fractional.elw_objective": "x:array d:array m:count? level:option",
-    "fractional.integrate": "w:array d:real axis:count method:option",
+    "fractional.integrate": "w:array d:real axis:axis method:option",
     "fractional.weights": "d:real n:count",
     # --- io ---------------------------------------------------------------------------------------
     "io.GyroLog.__getitem__": "name:key",
@@ -208,7 +210,7 @@ REGISTRY: dict[str, str] = {
     "noise.gmwm": "data:array fs:pos terms:spec units:unit? axis_names:text? select:flag "
     "bootstrap:count seed:count?",
     "noise.simulate": "n:count fs:pos quantization:nonneg arw:nonneg bias_instability:nonneg "
-    "rrw:nonneg rate_ramp:nonneg ar1:spec? bias:real axes:count seed:count?",
+    "rrw:nonneg rate_ramp:real ar1:spec? bias:real axes:count seed:count?",
     "noise.write_kalibr": "path:path_out gyro:spec accel:spec update_rate:pos? rostopic:text",
     # --- plotting ---------------------------------------------------------------------------------
     "plotting.allan_report_svg": "result:object fit:object? conservative:object? title:text? "

@@ -374,6 +374,7 @@ def test_unrepresentable_counts_are_the_binding_check(value: int) -> None:
             else rf"^{name} must be an integer from 0 to 2\*\*64 - 1"
         )
         if name == "n_threads" and value == -1:
-            pattern = r"^n_threads must be an integer from 0"
+            # refused before any work (options rule: even where no method uses threads)
+            pattern = r"^n_threads must be a positive integer or None, got -1"
         with pytest.raises(ValueError, match=pattern):
             call(value)

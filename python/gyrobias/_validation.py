@@ -8,12 +8,25 @@ lengths, parameter ranges) are checked by the core itself.
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _core
+
+
+def asarray(name: str, value: Any) -> NDArray[Any]:
+    """``np.asarray(value)``, with NumPy's error for ragged input ("setting an array element with
+    a sequence") turned into a ``ValueError`` naming ``name``."""
+    try:
+        return np.asarray(value)
+    except (ValueError, TypeError) as exc:
+        raise ValueError(
+            f"{name} must be a rectangular array of numbers, got a ragged or mixed sequence "
+            f"({type(value).__name__})"
+        ) from exc
 
 
 def as_float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> NDArray[np.float64]:
@@ -29,7 +42,7 @@ def as_float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> NDAr
     ValueError
         If the number of dimensions is not in ``ndims`` or the array is empty.
     """
-    arr = np.asarray(value)
+    arr = asarray(name, value)
     if arr.dtype.kind not in "iuf":
         raise TypeError(
             f"{name} must be a real numeric array (int or float), got dtype {arr.dtype}"
@@ -175,6 +188,26 @@ def pair(name: str, value: Any) -> tuple[float, float]:
     if len(value) != 2:
         raise ValueError(f"{name} must be a pair (low, high) of numbers, got {len(value)} values")
     return real(name, value[0]), real(name, value[1])
+
+
+_ROS_NAME = re.compile(r"[~/A-Za-z][A-Za-z0-9_/]*")
+
+
+def ros_topic(name: str, value: Any) -> str:
+    """``value`` if it is a ROS graph name (``/imu0``, ``~raw``, ``imu/data``), else an error.
+
+    A topic is written verbatim into YAML files (Kalibr, OpenVINS, …): restricting it to the
+    characters ROS allows in names (letters, digits, ``_`` and ``/``, starting with a letter,
+    ``/`` or ``~``) is what keeps ``"a\nb: c"`` from adding a key ``b`` to the file.
+    """
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be a ROS topic name (a string), got {type(value).__name__}")
+    if not _ROS_NAME.fullmatch(value):
+        raise ValueError(
+            f"{name} must be a ROS topic name (letters, digits, '_' and '/', starting with a "
+            f"letter, '/' or '~'), got {value!r}"
+        )
+    return value
 
 
 def choice(name: str, value: Any, options: tuple[str, ...]) -> str:

@@ -30,6 +30,7 @@ from gyrobias._validation import (
     count,
     integer,
     real,
+    string,
 )
 
 __all__ = [
@@ -54,8 +55,8 @@ def _n_threads(n_threads: int | None) -> int:
     if n_threads is None:
         return 0
     n = integer("n_threads", n_threads)
-    if n == 0:
-        raise ValueError("n_threads must be a positive integer or None, got 0")
+    if n <= 0:
+        raise ValueError(f"n_threads must be a positive integer or None, got {n}")
     return n
 
 
@@ -341,6 +342,7 @@ class FractionalKalmanPredictor:
         for name in ("d", "q", "r"):
             object.__setattr__(self, name, real(name, getattr(self, name)))
         object.__setattr__(self, "_spec", _mean_spec(self.mean))
+        string("algorithm", self.algorithm)
         # The model's preconditions (−½ < d < 3/2, q > 0, r ≥ 0, the prior, the algorithm's
         # name) are the core's; checked now so that a bad predictor fails where it is made.
         _core.predict.validate_model(*self._args(), self.algorithm)
@@ -633,6 +635,7 @@ def evaluate(
     methods = list(methods)
     for m in methods:
         choice("methods", m, tuple(_METHOD_NAMES))
+    _n_threads(n_threads)  # refused even when no method uses threads (only "cm", "ma")
     cal = np.ascontiguousarray(arr[:, :k])
     fut = arr[:, k:]
     out: dict[str, MethodStats] = {}

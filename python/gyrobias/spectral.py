@@ -39,6 +39,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
 from gyrobias._validation import as_float_array, pair, real, string
+from gyrobias.units import checked_units
 
 __all__ = ["LSSAResult", "NoiseDensity", "PSDResult", "lssa", "noise_density", "psd"]
 
@@ -365,6 +366,7 @@ def psd(
     ``P = 2σ²/fs``.
     """
     arr = as_float_array("x", x)
+    units = checked_units("units", units)
     fs = real("fs", fs)  # fs > 0: the core's check (spectral::welch)
     string("window", window)  # parsed by the core (Window::parse)
     # Types here; nperseg >= 2, noverlap < nperseg are the core's checks, a negative count the

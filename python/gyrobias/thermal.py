@@ -34,7 +34,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, integer, sample_rate, string
+from gyrobias._validation import as_float_array, boolean, integer, real, sample_rate, string
+from gyrobias.units import checked_units
 
 __all__ = [
     "AR1Fit",
@@ -276,7 +277,8 @@ class TemperatureModel:
 
     def evaluate(self, temperature: float, *, extrapolate: bool = False) -> dict[str, float]:
         """All parameters at one temperature."""
-        return {n: float(self(n, float(temperature), extrapolate=extrapolate)) for n in self.names}
+        t = real("temperature", temperature)
+        return {n: float(self(n, t, extrapolate=extrapolate)) for n in self.names}
 
     def to_dict(self) -> dict[str, Any]:
         """Plain-Python representation (what :meth:`to_json` writes)."""
@@ -498,6 +500,17 @@ def analyse_log(
         raise TypeError(f"temperature must be a real number, got {type(temperature).__name__}")
     if not math.isfinite(float(temperature)):
         raise ValueError(f"temperature must be finite, got {temperature!r}")
+    units = checked_units("units", units)
+    boolean("prefilter", prefilter)
+    # The prefilter is designed (its options checked) even when prefilter=False ignores it:
+    # an out-of-range option is refused whether or not this call reads it.
+    design = fir.kaiser_lowpass(
+        fs,
+        0.14 * fs if fpass is None else fpass,
+        0.18 * fs if fstop is None else fstop,
+        apass_db=apass_db,
+        astop_db=astop_db,
+    )
     m = max(1, int(round(fs)))
     one = cast("allan.AllanResult", allan.adev(arr, fs, taus=[m / fs], confidence=None))
     oct_ = cast("allan.AllanResult", allan.adev(arr, fs, taus="octave", confidence=None))
@@ -510,13 +523,6 @@ def analyse_log(
     cutoff: float | None = None
     data = arr
     if prefilter:
-        design = fir.kaiser_lowpass(
-            fs,
-            0.14 * fs if fpass is None else fpass,
-            0.18 * fs if fstop is None else fstop,
-            apass_db=apass_db,
-            astop_db=astop_db,
-        )
         cutoff = design.cutoff
         data = design.apply(arr, zero_phase=bool(zero_phase))
         if not zero_phase:

@@ -74,30 +74,30 @@ def _float(value: str, what: str) -> float:
 
 def finite(value: str) -> float:
     """A finite number (``nan``, ``inf`` and text are refused)."""
-    return _float(value, "a finite number")
+    return _float(value, "finite")
 
 
 def positive(value: str) -> float:
     """A finite number > 0 (rates, durations, densities, bandwidths)."""
-    v = _float(value, "a finite number > 0")
+    v = _float(value, "finite and > 0")
     if v <= 0.0:
-        _fail("a finite number > 0", value)
+        _fail("finite and > 0", value)
     return v
 
 
 def non_negative(value: str) -> float:
     """A finite number ≥ 0 (a variance or a density that may be zero)."""
-    v = _float(value, "a finite number >= 0")
+    v = _float(value, "finite and >= 0")
     if v < 0.0:
-        _fail("a finite number >= 0", value)
+        _fail("finite and >= 0", value)
     return v
 
 
 def probability(value: str) -> float:
     """A level strictly between 0 and 1 (confidence levels)."""
-    v = _float(value, "a number in (0, 1)")
+    v = _float(value, "a number strictly between 0 and 1")
     if not 0.0 < v < 1.0:
-        _fail("a number in (0, 1)", value)
+        _fail("a number strictly between 0 and 1", value)
     return v
 
 
@@ -164,13 +164,13 @@ def column_list(value: str) -> str:
 
 def unit_spec(value: str) -> str:
     """A unit for all channels, one per channel, or ``name=unit`` pairs; each unit is parsed."""
-    from gyrobias.units import parse_unit
+    from gyrobias.units import _parse_unit
 
     items = _items(value, "a unit (deg/s), one per channel or name=unit pairs")
     for item in items:
         unit = item.partition("=")[2] if "=" in item else item
         try:
-            parse_unit(unit.strip())
+            _parse_unit(unit.strip())
         except ValueError as exc:
             raise argparse.ArgumentTypeError(
                 f"must be known units (one, one per channel or name=unit), got {value!r}: {exc}"

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import lzma
 import os
+import stat
 import zlib
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -12,7 +13,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from gyrobias._validation import choice, sample_rate
+from gyrobias._validation import callback, choice, sample_rate
 from gyrobias.io import _bag
 from gyrobias.io._store import Store
 from gyrobias.io._types import GyroLog, SamplingReport
@@ -158,6 +159,13 @@ def load(
     p = Path(os.fspath(path))
     if not p.exists():
         raise FileNotFoundError(f"no such file: '{p}'")
+    mode = p.stat().st_mode
+    if not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
+        # a FIFO would block the reader, /dev/zero never end: only files and bag directories
+        raise ValueError(
+            f"path must be a regular file or a ROS2 bag directory, got a special file: '{p}'"
+        )
+    callback("progress", progress)
     choice("time_unit", time_unit, _TIME_UNITS)
     choice("stamp", stamp, _STAMPS)
     if fs is not None:

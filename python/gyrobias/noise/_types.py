@@ -21,7 +21,7 @@ from gyrobias import _core, _files, _generics
 from gyrobias._validation import (
     choice,
 )
-from gyrobias.units import CUSTOMARY, base_unit, parse_unit
+from gyrobias.units import CUSTOMARY, _parse_unit, base_unit
 
 if TYPE_CHECKING:
     from gyrobias.allan._types import AllanResult
@@ -121,8 +121,8 @@ class Term:
                 f"term {self.symbol} has no unit (the data unit was not given): pass units= to the "
                 "Allan analysis or unit= to gyrobias.noise.fit"
             )
-        target = parse_unit(unit)
-        source = parse_unit(self.unit)
+        target = _parse_unit(unit)
+        source = _parse_unit(self.unit)
         if target.dims != source.dims:
             raise ValueError(
                 f"cannot express {self.symbol} ({self.name}, in {self.unit}) in {unit!r}: different "
@@ -422,6 +422,11 @@ class NoiseCoefficients:
             else:
                 mapping = CUSTOMARY[self.sensor][system]
         else:
+            if not isinstance(system, Mapping):
+                raise TypeError(
+                    "system must be 'ieee', 'si', 'kalibr', 'base' or a mapping symbol → unit, "
+                    f"got {type(system).__name__}"
+                )
             mapping = dict(system)
             for key in mapping:
                 choice("system key", key, _SYMBOLS)

@@ -974,7 +974,17 @@ pub enum Taus {
 impl Taus {
     /// The τ of a call: the `explicit` τ values (s) if given, else the specification `spec`:
     /// `"octave"`, `"decade"`, `"log"` (`per_decade` points per decade) or `"all"`.
+    ///
+    /// `per_decade` must be >= 1 whatever the specification: an out-of-range option is refused
+    /// even where it is ignored (NumPy/SciPy convention; octave τ with `per_decade = 0` is a
+    /// mistake the call that reads it must not be the first to notice).
     pub fn parse(spec: &str, per_decade: usize, explicit: Option<Vec<f64>>) -> Result<Self> {
+        if per_decade == 0 {
+            return Err(Error::invalid(
+                "per_decade",
+                "must be >= 1 (also where the τ grid does not use it), got 0",
+            ));
+        }
         if let Some(t) = explicit {
             return Ok(Taus::Explicit(t));
         }
