@@ -8,7 +8,7 @@ from typing import Any
 import apiref
 
 
-def _on_builder_inited(app: Any) -> None:
+def _on_config_inited(app: Any, config: Any) -> None:
     from sphinx.util import logging
 
     text, unplaced = apiref.render()
@@ -24,5 +24,6 @@ def _on_builder_inited(app: Any) -> None:
 
 
 def setup(app: Any) -> dict[str, Any]:
-    app.connect("builder-inited", _on_builder_inited)
+    # config-inited: before the environment lists the source files (and autosummary scans them)
+    app.connect("config-inited", _on_config_inited)
     return {"parallel_read_safe": True, "parallel_write_safe": True}

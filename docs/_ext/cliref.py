@@ -53,7 +53,7 @@ def render() -> str:
     return "\n".join(parts)
 
 
-def _on_builder_inited(app: Any) -> None:
+def _on_config_inited(app: Any, config: Any) -> None:
     target = Path(app.srcdir) / "cli.md"
     text = render()
     if not target.exists() or target.read_text(encoding="utf-8") != text:
@@ -61,5 +61,5 @@ def _on_builder_inited(app: Any) -> None:
 
 
 def setup(app: Any) -> dict[str, Any]:
-    app.connect("builder-inited", _on_builder_inited)
+    app.connect("config-inited", _on_config_inited)
     return {"parallel_read_safe": True, "parallel_write_safe": True}
