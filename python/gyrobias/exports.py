@@ -59,7 +59,7 @@ from typing import Any
 from gyrobias import _generics
 from gyrobias._files import atomic_binary as atomic_binary
 from gyrobias._files import atomic_write
-from gyrobias._validation import choice, positive_float
+from gyrobias._validation import choice, positive_float, ros_topic
 from gyrobias.conservative import ConservativeCoefficients
 from gyrobias.datasheet import Datasheet
 from gyrobias.noise._types import NoiseCoefficients
@@ -205,7 +205,8 @@ def _densities(
 def _header(
     fmt: str, g: list[NoiseCoefficients], a: list[NoiseCoefficients], comment: str = "#"
 ) -> list[str]:
-    sources = sorted({c.method for c in g + a})
+    # one comment line whatever a hand-made NoiseCoefficients' method holds
+    sources = sorted({" ".join(str(c.method).split()) for c in g + a})
     return [
         f"{comment} {fmt} IMU noise parameters written by gyrobias (from: {', '.join(sources)} coefficients)",
         f"{comment} N, K: IEEE-952 coefficients (two-sided densities); see the README's convention table.",
@@ -565,8 +566,7 @@ def export(
     ['IMU.NoiseGyro', 'IMU.NoiseAcc', 'IMU.GyroWalk', 'IMU.AccWalk', 'IMU.Frequency']
     """
     fmt = choice("fmt", fmt, FORMATS)
-    if not isinstance(rostopic, str) or not rostopic:
-        raise ValueError(f"rostopic must be a non-empty string, got {rostopic!r}")
+    ros_topic("rostopic", rostopic)  # written verbatim into YAML: a ROS name, nothing else
     g, a = _split(gyro, accel)
     text = _RENDER[fmt](g, a, rate, rostopic)
     if path is not None:

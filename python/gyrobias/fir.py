@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, count, integer, real, string
+from gyrobias._validation import as_float_array, asarray, count, integer, real, string
 
 __all__ = ["FrequencyResponse", "KaiserLowpass", "apply", "kaiser_lowpass", "stream"]
 
@@ -292,7 +292,7 @@ def apply(
     depends on this edge convention; in the interior it does not.
     """
     h = as_float_array("taps", taps)
-    arr = np.asarray(x)
+    arr = asarray("x", x)
     if arr.ndim == 0:
         raise ValueError("x must have at least one dimension")
     arr = as_float_array("x", arr, ndims=(arr.ndim,))
@@ -367,7 +367,7 @@ def stream(
     True
     """
     h = as_float_array("taps", taps)
-    arr = np.asarray(x)
+    arr = asarray("x", x)
     if arr.ndim == 0:
         raise ValueError("x must have at least one dimension")
     arr = as_float_array("x", arr, ndims=(arr.ndim,))
@@ -384,7 +384,7 @@ def stream(
     if state is None:
         st = np.zeros((rows.shape[0], width))
     else:
-        st = np.asarray(state, dtype=np.float64)
+        st = as_float_array("state", state, ndims=tuple(range(1, 33)))
         if st.shape != (*shape[:-1], width):
             raise ValueError(f"state must have shape {(*shape[:-1], width)}, got {st.shape}")
         st = np.ascontiguousarray(st.reshape(rows.shape[0], width))

@@ -71,7 +71,7 @@ from numpy.typing import ArrayLike, NDArray
 from gyrobias import _core, allan, io, noise
 from gyrobias._files import atomic_binary
 from gyrobias._fleet_table import GM_PARAMETERS, TERMS, _gm_columns, term_columns
-from gyrobias._validation import as_float_array, positive_float, real
+from gyrobias._validation import as_float_array, callback, positive_float, real
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.units import base_unit, sensor_kind
 
@@ -539,10 +539,15 @@ def analyse(
     if terms is not None:
         term_tuple = (terms,) if isinstance(terms, str) else tuple(terms)
     threshold = positive_float("threshold", threshold)
+    callback("progress", progress)
     if num_workers is not None and (
-        isinstance(num_workers, bool) or not isinstance(num_workers, int) or num_workers < 1
+        isinstance(num_workers, bool)
+        or not isinstance(num_workers, int)
+        or not 1 <= num_workers <= _MAX_WORKERS
     ):
-        raise ValueError(f"num_workers must be an integer >= 1, got {num_workers!r}")
+        raise ValueError(
+            f"num_workers must be an integer from 1 to {_MAX_WORKERS}, got {num_workers!r}"
+        )
     tau_spec: str | tuple[float, ...]
     if isinstance(taus, str):
         tau_spec = taus
@@ -814,7 +819,10 @@ def summary(
     unit-to-unit differences however many units there are.
     """
     pd = _require("pandas")
-    alpha = positive_float("alpha", alpha)
+    _check_table(table)
+    # A test level in (0, 1) and a Birge-ratio floor > 0: the core's checks, before any work.
+    alpha = _core.validate.probability("alpha", real("alpha", alpha))
+    min_ratio = _core.validate.positive("min_ratio", real("min_ratio", min_ratio))
     out = []
     ok = table[table["error"].isna()]
     for axis, group in ok.groupby("axis", dropna=False, sort=False):
@@ -867,12 +875,29 @@ def summary(
     return result
 
 
+#: Most threads of the local scheduler (a larger count is a mistake, not a machine).
+_MAX_WORKERS = 65536
+
+
+def _check_table(table: Any) -> None:
+    """``TypeError`` naming ``table`` unless it is a fleet table (a DataFrame from
+    :func:`analyse`), instead of an ``AttributeError`` from deep inside pandas."""
+    if not (hasattr(table, "to_parquet") and hasattr(table, "columns")):
+        raise TypeError(
+            f"table must be the pandas.DataFrame of gyrobias.fleet.analyse, got "
+            f"{type(table).__name__}"
+        )
+    if "error" not in table.columns or "axis" not in table.columns:
+        raise ValueError("table must be the table of gyrobias.fleet.analyse (columns axis, error, …)")
+
+
 def write_table(table: DataFrame, path: str | os.PathLike[str]) -> None:
     """Write the fleet table as Parquet (pyarrow), atomically (temp file beside it, then rename).
 
     The Allan curves ``adev_tau``/``adev`` become list columns; ``pandas.read_parquet`` reads
     the file back.
     """
+    _check_table(table)
     _require("pyarrow")
     with atomic_binary(path) as fh:
         table.to_parquet(fh, engine="pyarrow", index=False)

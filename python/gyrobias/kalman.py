@@ -42,6 +42,7 @@ from numpy.typing import ArrayLike, NDArray
 from gyrobias import _core
 from gyrobias._validation import (
     as_float_array,
+    asarray,
     finite_result,
     integer,
     non_negative_float,
@@ -387,7 +388,7 @@ class FixedGainKalman:
 
     def frequency_response(self, freqs: ArrayLike) -> NDArray[np.complex128]:
         """Complex response ``g1/(1 − p e^{−j2πf/fs})`` of ``z → ω̂`` at ``freqs`` (Hz)."""
-        f = np.asarray(freqs)
+        f = asarray("freqs", freqs)
         shape = f.shape
         flat = as_float_array("freqs", f.reshape(-1) if f.ndim != 1 else f)
         re, im = self._core.frequency_response(flat)

@@ -20,6 +20,7 @@ from numpy.typing import NDArray
 
 from gyrobias import _generics
 from gyrobias._files import atomic_binary
+from gyrobias._validation import as_float_array, integer, positive_float, sample_rate
 from gyrobias._fleet_table import term_columns
 from gyrobias.allan._types import AllanResult, DynamicAllanResult
 from gyrobias.noise._types import NoiseCoefficients
@@ -362,6 +363,26 @@ def save_prediction_plot(
     std : ndarray of shape (h,), optional
         Standard deviation of the first forecast.
     """
+    section = as_float_array("section", section)
+    fs = sample_rate(fs)
+    calibration = integer("calibration", calibration)
+    if not 1 <= calibration < section.size:
+        raise ValueError(
+            f"calibration must be an integer from 1 to len(section) - 1 = {section.size - 1}, "
+            f"got {calibration}"
+        )
+    h = section.size - calibration
+    if not isinstance(forecasts, Mapping):
+        raise TypeError(f"forecasts must be a mapping label → array, got {type(forecasts).__name__}")
+    curves = {str(k): as_float_array(f"forecasts[{k!r}]", v) for k, v in forecasts.items()}
+    for k, v in curves.items():
+        if v.size != h:
+            raise ValueError(f"forecasts[{k!r}] must have {h} values, got {v.size}")
+    if std is not None:
+        std = as_float_array("std", std)
+        if std.size != h:
+            raise ValueError(f"std must have {h} values, got {std.size}")
+    _check_dpi(dpi)
     _require_matplotlib()
     from matplotlib.figure import Figure
 
@@ -371,7 +392,7 @@ def save_prediction_plot(
     ax = fig.add_subplot()
     ax.plot(t, section, color="0.6", lw=0.6, label="data")
     ax.axvline(t[calibration], color="k", lw=0.8, ls=":")
-    for i, (label, forecast) in enumerate(forecasts.items()):
+    for i, (label, forecast) in enumerate(curves.items()):
         ax.plot(tf, forecast, color=f"C{i}", ls="--" if i == 2 else "-", label=label)
         if i == 0 and std is not None:
             ax.fill_between(
@@ -582,9 +603,30 @@ def save_fleet_plot(
     _save_atomically(fig, path, dpi)
 
 
+#: Largest figure side (inches) and resolution (dots per inch) drawn: beyond them matplotlib's
+#: font rasteriser fails (``invalid ppem value``) or the image cannot be allocated.
+_MAX_INCHES = 200.0
+_MAX_DPI = 10_000
+
+
+def _check_dpi(dpi: Any) -> int:
+    d = integer("dpi", dpi)
+    if not 1 <= d <= _MAX_DPI:
+        raise ValueError(f"dpi must be an integer from 1 to {_MAX_DPI}, got {d}")
+    return d
+
+
+def _check_inches(name: str, value: Any) -> float:
+    v = positive_float(name, value)
+    if v > _MAX_INCHES:
+        raise ValueError(f"{name} must be finite, > 0 and at most {_MAX_INCHES:g} inches, got {v}")
+    return v
+
+
 def _save_atomically(fig: Any, path: str | os.PathLike[str], dpi: int) -> None:
     """``fig.savefig`` through :func:`gyrobias.exports.atomic_binary` (a temporary file beside
     ``path``, renamed over it); the image format comes from the suffix, as ``savefig(path)``."""
+    _check_dpi(dpi)
     suffix = os.path.splitext(os.fspath(path))[1][1:].lower()
     with atomic_binary(path) as fh:
         fig.savefig(fh, dpi=dpi, format=suffix or None)
@@ -809,6 +851,8 @@ def allan_report_svg(
         are deterministic.
     """
     items = _as_list(result)
+    width = _check_inches("width", width)
+    height = _check_inches("height", height)
     matplotlib = _require_matplotlib()
     import io
 

@@ -7,7 +7,7 @@ units, spilling to disk) works the same way everywhere::
 
     def register(subparsers):
         p = subparsers.add_parser("mycommand")
-        p.add_argument("log", type=Path)
+        p.add_argument("log", type=_types.path)
         add_read_arguments(p)
         p.set_defaults(func=run)
 

@@ -15,6 +15,7 @@ import argparse
 import math
 import re
 import sys
+from pathlib import Path
 from typing import NoReturn
 
 __all__ = [
@@ -27,6 +28,7 @@ __all__ = [
     "finite",
     "non_negative",
     "non_negative_int",
+    "path",
     "positive",
     "positive_int",
     "probability",
@@ -186,6 +188,13 @@ def repair_spec(value: str) -> str:
     if any(item not in ("sort", "dedup") for item in items):
         _fail("a comma-separated subset of sort, dedup", value)
     return value
+
+
+def path(value: str) -> Path:
+    """A file or directory name: not empty, no line breaks or NUL (the OS refuses those)."""
+    if not value or any(c in value for c in "\n\r\x00"):
+        _fail("a file name (not empty, on one line)", value)
+    return Path(value)
 
 
 def text(value: str) -> str:

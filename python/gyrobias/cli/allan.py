@@ -18,7 +18,6 @@ import argparse
 import json
 import sys
 import time
-from pathlib import Path
 from typing import Any
 
 from gyrobias import allan
@@ -66,7 +65,7 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument(
         "log",
-        type=Path,
+        type=_types.path,
         metavar="LOG",
         help="log: .csv/.tsv/.txt (delimited text), .npy, .bag, .mcap, .db3 or a ROS2 bag directory",
     )
@@ -117,13 +116,13 @@ def register(subparsers: Any) -> None:
     noise_cli.add_fit_arguments(p)
     out.add_argument(
         "--json",
-        type=Path,
+        type=_types.path,
         metavar="FILE",
         help="write all axes, units, fs and the sampling report as JSON",
     )
     out.add_argument(
         "--plot",
-        type=Path,
+        type=_types.path,
         metavar="FILE",
         help="save a log-log plot (png, pdf, svg) with confidence bars",
     )

@@ -54,7 +54,7 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument(
         "--outdir",
-        type=Path,
+        type=_types.path,
         default=Path("gyrobias-out"),
         help="where plots and the log go (default gyrobias-out/)",
     )

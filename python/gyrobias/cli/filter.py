@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import argparse
 import math
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -42,7 +41,7 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("log", type=Path, help="log of rates: text, .npy, a ROS bag or an MCAP file")
+    p.add_argument("log", type=_types.path, help="log of rates: text, .npy, a ROS bag or an MCAP file")
     p.add_argument("--arw", type=_types.positive, required=True, help="angle random walk N (see --arw-unit)")
     p.add_argument("--rrw", type=_types.non_negative, default=0.0, help="rate random walk K (see --rrw-unit)")
     p.add_argument("--arw-unit", choices=sorted(_ARW_UNITS), default="u/sqrt(s)")
@@ -52,7 +51,7 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
     design.add_argument("--q-omega", type=_types.positive, help="per-step rate process noise, (u/s)^2")
     p.add_argument("--form", choices=("standard", "paper"), default="standard")
     p.add_argument(
-        "-o", "--output", type=Path, help="output file (.csv or .npy); default: summary only"
+        "-o", "--output", type=_types.path, help="output file (.csv or .npy); default: summary only"
     )
     add_read_arguments(p)
     p.set_defaults(func=run)

@@ -15,7 +15,6 @@ import argparse
 import math
 import os
 import sys
-from pathlib import Path
 from typing import Any
 
 from gyrobias import fleet
@@ -96,12 +95,12 @@ def register(subparsers: Any) -> None:
     out = p.add_argument_group("output")
     out.add_argument(
         "--out",
-        type=Path,
+        type=_types.path,
         metavar="FILE",
         help="write the table: .parquet (pyarrow, with the Allan curves) or .csv (without them)",
     )
     out.add_argument(
-        "--plot", type=Path, metavar="FILE", help="save the fleet figure (png, pdf, svg)"
+        "--plot", type=_types.path, metavar="FILE", help="save the fleet figure (png, pdf, svg)"
     )
     p.set_defaults(func=run)
 

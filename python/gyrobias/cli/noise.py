@@ -48,7 +48,7 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> None:
     )
     group.add_argument(
         "--kalibr",
-        type=Path,
+        type=_types.path,
         metavar="PATH",
         default=None,
         help="write a Kalibr imu.yaml (continuous-time densities, SI units; implies --fit)",

@@ -37,7 +37,7 @@ def register(subparsers: Any) -> None:
         epilog="example: gyrobias predict log.csv --fs 100 --column gz --calibration 1000 --horizon 1000",
     )
     p.add_argument(
-        "log", type=Path, metavar="LOG", help="log: text, .npy, a ROS bag or an MCAP file"
+        "log", type=_types.path, metavar="LOG", help="log: text, .npy, a ROS bag or an MCAP file"
     )
     p.add_argument(
         "--calibration",
@@ -72,7 +72,7 @@ def register(subparsers: Any) -> None:
         help="mean-state prior (default sample)",
     )
     p.add_argument(
-        "--plot", type=Path, metavar="PNG", help="draw one example window with the ±2σ band"
+        "--plot", type=_types.path, metavar="PNG", help="draw one example window with the ±2σ band"
     )
     p.add_argument(
         "--window", type=_types.non_negative_int, default=0, metavar="I", help="section drawn by --plot (default 0)"

@@ -13,7 +13,6 @@ goodness of fit and warnings, and every estimator export as copyable text
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 from typing import Any
 
 from gyrobias.cli import _types
@@ -37,14 +36,14 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument(
         "log",
-        type=Path,
+        type=_types.path,
         metavar="LOG",
         help="log: text (.csv/.tsv/.txt, also compressed), .npy, ROS1/ROS2 bag or .mcap",
     )
     p.add_argument(
         "-o",
         "--output",
-        type=Path,
+        type=_types.path,
         default=None,
         metavar="HTML",
         help="output file (default: LOG with the suffix .html)",

@@ -13,7 +13,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from gyrobias._validation import callback, choice, sample_rate
+from gyrobias._validation import callback, choice, count, sample_rate
 from gyrobias.io import _bag
 from gyrobias.io._store import Store
 from gyrobias.io._types import GyroLog, SamplingReport
@@ -170,8 +170,7 @@ def load(
     choice("stamp", stamp, _STAMPS)
     if fs is not None:
         fs = sample_rate(fs)
-    if isinstance(skip_rows, bool) or not isinstance(skip_rows, (int, np.integer)) or skip_rows < 0:
-        raise ValueError(f"skip_rows must be an integer >= 0, got {skip_rows!r}")
+    skip_rows = count("skip_rows", skip_rows)  # checked even where ignored (.npy, bags)
     repairs = _repair_options(repair)
     if spill is not None and not isinstance(spill, (bool, np.bool_)):
         raise TypeError(f"spill must be True, False or None, got {spill!r}")

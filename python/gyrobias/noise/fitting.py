@@ -12,6 +12,7 @@ from numpy.typing import NDArray
 from gyrobias import _core
 from gyrobias._validation import (
     as_float_array,
+    asarray,
     boolean,
     choice,
     count,
@@ -65,7 +66,7 @@ def gauss_markov_avar(sigma: float, correlation_time: float, taus: Any) -> NDArr
     >>> round(float(v[0]) * 1e4 / (2 * 10.0), 4)  # 1 − 3T/(2τ) of the white noise 2σ²T/τ
     0.9985
     """
-    tau = as_float_array("taus", np.atleast_1d(np.asarray(taus, dtype=np.float64)), ndims=(1,))
+    tau = as_float_array("taus", np.atleast_1d(asarray("taus", taus)), ndims=(1,))
     return _core.noise.gauss_markov_avar(
         real("sigma", sigma), real("correlation_time", correlation_time), tau
     )

@@ -1794,4 +1794,53 @@ mod tests {
             }
         }
     }
+
+    #[test]
+    fn extreme_sample_periods_give_the_ordinary_result() {
+        // Issue 27: fs = 1e286 made every squared difference of t0·ΣΩ underflow (NaN σ). Rate
+        // deviations do not depend on t0; angle deviations scale with 1/t0.
+        let x = crate::random::normal_vec(4000, 9);
+        let base = |t0: f64, data_type: DataType, estimator: Estimator| {
+            let cfg = Config {
+                t0,
+                data_type,
+                estimator,
+                taus: Taus::Spec(TauSpec::Octave),
+                confidence: Some(0.683),
+                gaps: Gaps::Error,
+            };
+            analyse_column(
+                Column::contiguous(&x),
+                &cfg,
+                &mut Workspace::new(),
+                &Progress::none(),
+            )
+            .unwrap()
+        };
+        for estimator in [
+            Estimator::Overlapping,
+            Estimator::Modified,
+            Estimator::Hadamard,
+            Estimator::Total,
+        ] {
+            let rate = base(1.0, DataType::Rate, estimator);
+            let angle = base(1.0, DataType::Angle, estimator);
+            for t0 in [1e-286, 1e-300, 1e300, 2f64.powi(-1000), 1e-200] {
+                let r = base(t0, DataType::Rate, estimator);
+                for (&d, &p) in r.deviation.iter().zip(&rate.deviation) {
+                    assert!((d / p - 1.0).abs() < 1e-12, "{estimator:?} t0={t0}: {d} vs {p}");
+                }
+                let a = base(t0, DataType::Angle, estimator);
+                for (&d, &p) in a.deviation.iter().zip(&angle.deviation) {
+                    let want = p / t0;
+                    if want.is_finite() && want > f64::MIN_POSITIVE {
+                        assert!((d / want - 1.0).abs() < 1e-12, "{estimator:?} t0={t0}");
+                    }
+                }
+            }
+        }
+        assert_eq!(split_period(0.01), (0.01, 0));
+        let (t, e) = split_period(1e-286);
+        assert!((1.0..2.0).contains(&t) && ldexp(t, e) == 1e-286);
+    }
 }

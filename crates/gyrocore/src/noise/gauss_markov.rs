@@ -137,6 +137,20 @@ mod tests {
     use super::*;
 
     #[test]
+    fn basis_is_finite_at_extreme_ratios() {
+        // Issue 27: τ = 1e-300 with T = 10 was (T²/τ²)·f(x) = ∞·0 = NaN. Limits: 2x/3 (rate
+        // random walk, x = τ/T → 0) and 2/x (white rate, x → ∞).
+        for (tau, want) in [(1e-300, 2.0 / 3.0 * 1e-301), (1e300, 2.0 * 1e-299)] {
+            let b = basis(10.0, tau);
+            assert!((b / want - 1.0).abs() < 1e-12, "tau = {tau}: {b} vs {want}");
+        }
+        // continuous across the switch of evaluation at x = 0.5
+        let below = basis(1.0, 0.5 - 1e-12);
+        let above = basis(1.0, 0.5);
+        assert!((below / above - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
     fn curve_checks_its_arguments_and_matches_the_pointwise_formula() {
         let taus = [0.1, 1.0, 10.0];
         let got = allan_variance_curve(1.5, 2.0, &taus).unwrap();
