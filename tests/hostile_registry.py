@@ -115,8 +115,7 @@ REGISTRY: dict[str, str] = {
     "exports.discrete": "coefficients:object rate:pos",
     "exports.export": "gyro:object? fmt:option path:path_out? accel:object? rate:pos? "
     "rostopic:text",
-    "exports.export_all": "gyro:object? directory:path_out? accel:object? rate:pos? "
-    "rostopic:text",
+    "exports.export_all": "gyro:object? directory:path_out? accel:object? rate:pos? rostopic:text",
     # --- fir --------------------------------------------------------------------------------------
     "fir.FrequencyResponse.__init__": "frequencies:field response:field zero_phase:field",
     "fir.KaiserLowpass.__init__": "fs:field fpass:field fstop:field apass_db:field "
@@ -217,8 +216,7 @@ REGISTRY: dict[str, str] = {
     "width:pos height:pos",
     "plotting.plot_allan": "results:object ax:object? labels:text? title:text? "
     "confidence_bars:flag fits:spec? kwargs:forwarded",
-    "plotting.plot_dynamic_allan": "result:object ax:object? title:text? cmap:option "
-    "colorbar:flag",
+    "plotting.plot_dynamic_allan": "result:object ax:object? title:text? cmap:option colorbar:flag",
     "plotting.plot_fleet": "table:object fig:object? title:text?",
     "plotting.plot_noise_model": "coefficients:object ax:object? allan:object? show_data:flag",
     "plotting.save_allan_plot": "results:object path:path_out labels:text? title:text? "
@@ -322,8 +320,7 @@ REGISTRY: dict[str, str] = {
     "cli.fleet.register": "subparsers:cli",
     "cli.fleet.run": "args:cli",
     "cli.noise.add_fit_arguments": "parser:cli",
-    "cli.noise.demo_section": "rate:array fs:pos outdir:path_out true_coefficients:spec? "
-    "unit:unit",
+    "cli.noise.demo_section": "rate:array fs:pos outdir:path_out true_coefficients:spec? unit:unit",
     "cli.noise.run_fit": "args:cli results:object",
     "cli.predict.demo_section": "rate:array fs:pos outdir:path_out",
     "cli.predict.register": "subparsers:cli",

@@ -308,7 +308,7 @@ def test_input_conversions_and_no_mutation() -> None:
         ({"taus": "weekly"}, ValueError, "taus must be 'octave', 'decade', 'log', 'all'"),
         ({"data_type": "phase"}, ValueError, "data_type"),
         ({"data_type": 5}, TypeError, "data_type"),
-        ({"confidence": 1.5}, ValueError, "confidence: must lie strictly between 0 and 1"),
+        ({"confidence": 1.5}, ValueError, "confidence must lie strictly between 0 and 1"),
         ({"confidence": "0.9"}, TypeError, "confidence"),
         ({"per_decade": 0, "taus": "log"}, ValueError, "per_decade"),
         ({"per_decade": -1}, ValueError, "per_decade"),

@@ -142,11 +142,12 @@ def _bound(attr: str, factory: Callable[[], Any]) -> Callable[..., Any]:
 BASE: dict[str, Callable[[], tuple[Callable[..., Any], dict[str, Any]]]] = {
     **{
         f"allan.{k}": (lambda k=k: (getattr(allan, k), {"data": FX.rate[:1000], "fs": 100.0}))
-        for k in (
-            "adev avar hdev mdev totdev tdev mtotdev htotdev theo1 theobr theoh".split()
-        )
+        for k in ("adev avar hdev mdev totdev tdev mtotdev htotdev theo1 theobr theoh".split())
     },
-    "allan.adev_batch": lambda: (allan.adev_batch, {"data": FX.rate[:1000].reshape(2, 500), "fs": 100.0}),
+    "allan.adev_batch": lambda: (
+        allan.adev_batch,
+        {"data": FX.rate[:1000].reshape(2, 500), "fs": 100.0},
+    ),
     "allan.dynamic_adev": lambda: (
         allan.dynamic_adev,
         {"data": FX.rate, "fs": 100.0, "window": 1000, "step": 500},
@@ -234,7 +235,10 @@ BASE: dict[str, Callable[[], tuple[Callable[..., Any], dict[str, Any]]]] = {
         kalman.steady_state_gain,
         {"q_omega": 1.0, "q_b": 0.1, "r_d": 1.0},
     ),
-    "noise.NoiseCoefficients.__getitem__": lambda: (lambda symbol: FX.gyro[symbol], {"symbol": "N"}),
+    "noise.NoiseCoefficients.__getitem__": lambda: (
+        lambda symbol: FX.gyro[symbol],
+        {"symbol": "N"},
+    ),
     "noise.NoiseCoefficients.conservative": lambda: (FX.coefficients.conservative, {}),
     "noise.NoiseCoefficients.discrete": lambda: (FX.gyro.discrete, {"rate": 200.0}),
     "noise.NoiseCoefficients.export": lambda: (FX.gyro.export, {"fmt": "kalibr"}),
@@ -305,7 +309,10 @@ BASE: dict[str, Callable[[], tuple[Callable[..., Any], dict[str, Any]]]] = {
         FX.predictor.predict,
         {"calibration": FX.rate[:50], "horizon": 5},
     ),
-    "predict.calibration_mean": lambda: (predict.calibration_mean, {"y": FX.rate[:50], "horizon": 5}),
+    "predict.calibration_mean": lambda: (
+        predict.calibration_mean,
+        {"y": FX.rate[:50], "horizon": 5},
+    ),
     "predict.evaluate": lambda: (
         predict.evaluate,
         {"log": FX.rate[:600], "calibration": 100, "horizon": 50},
@@ -710,9 +717,7 @@ _X = np.random.default_rng(1).normal(size=2000)
 
 EXTREMES: dict[str, Callable[[], Any]] = {
     **{
-        f"{k} fs={fs:g}": (
-            lambda k=k, fs=fs: getattr(allan, k)(_X[:600], fs, confidence=None).adev
-        )
+        f"{k} fs={fs:g}": (lambda k=k, fs=fs: getattr(allan, k)(_X[:600], fs, confidence=None).adev)
         for k in "adev mdev hdev totdev tdev mtotdev htotdev theo1 theobr theoh".split()
         for fs in (1e286, 1e235, 1e-300, 1e300, 1e-200)
     },
@@ -883,7 +888,9 @@ def _option_cases() -> list[Any]:
             else:
                 values = _HOSTILE_BY_TYPE.get(kind, _HOSTILE_NUMBERS)
             for value in values:
-                cases.append(pytest.param(command, option, value, id=f"{command} {option}={value!r}"))
+                cases.append(
+                    pytest.param(command, option, value, id=f"{command} {option}={value!r}")
+                )
     return cases
 
 
@@ -914,7 +921,10 @@ def test_every_cli_option_value_has_a_converter() -> None:
         f"{command} {max(a.option_strings, key=len)}"
         for command, parser in _subcommands().items()
         for a in parser._actions
-        if a.option_strings and a.nargs != 0 and a.type is None and a.choices is None
+        if a.option_strings
+        and a.nargs != 0
+        and a.type is None
+        and a.choices is None
         and a.dest not in ("help", "version")
     ]
     assert not loose, loose
@@ -953,7 +963,9 @@ def test_cli_hostile_files_give_one_line(command: str, kind: str) -> None:
         if not path.exists():
             os.mkfifo(path)
     else:
-        path = Path({"directory": str(tmp / "emptydir"), "null": "/dev/null", "zero": "/dev/zero"}[kind])
+        path = Path(
+            {"directory": str(tmp / "emptydir"), "null": "/dev/null", "zero": "/dev/zero"}[kind]
+        )
         if kind == "directory":
             path.mkdir(exist_ok=True)
     argv = [command, str(path), "--fs", "100"]

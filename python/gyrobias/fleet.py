@@ -888,7 +888,9 @@ def _check_table(table: Any) -> None:
             f"{type(table).__name__}"
         )
     if "error" not in table.columns or "axis" not in table.columns:
-        raise ValueError("table must be the table of gyrobias.fleet.analyse (columns axis, error, …)")
+        raise ValueError(
+            "table must be the table of gyrobias.fleet.analyse (columns axis, error, …)"
+        )
 
 
 def write_table(table: DataFrame, path: str | os.PathLike[str]) -> None:

@@ -32,7 +32,7 @@ References
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -70,11 +70,11 @@ Form = Literal["standard", "paper"]
 # --- unit helpers ---------------------------------------------------------------------------
 
 
-def _converted(name: str, value: float, factor: float) -> float:
+def _converted(name: str, value: float, convert: Callable[[float], float]) -> float:
     # A variance or density: finite and >= 0 (the core's check; bools are refused as types),
     # and the converted value must be finite too.
     v = non_negative_float(name, value)
-    return finite_result(name, value, v * factor)
+    return finite_result(name, value, convert(v))
 
 
 def q_omega_from_deg_per_hour(q_omega: float) -> float:
@@ -82,22 +82,22 @@ def q_omega_from_deg_per_hour(q_omega: float) -> float:
 
     ``q_omega`` must be finite and ≥ 0 (a variance): ``ValueError`` naming it otherwise.
     """
-    return _converted("q_omega", q_omega, 1.0 / 3600.0**2)
+    return _converted("q_omega", q_omega, lambda v: v / 3600.0**2)
 
 
 def q_omega_to_deg_per_hour(q_omega: float) -> float:
     """Per-step ``q_ω`` in (°/s)² → (°/h)², the unit [NR] quotes (``q_omega`` finite, ≥ 0)."""
-    return _converted("q_omega", q_omega, 3600.0**2)
+    return _converted("q_omega", q_omega, lambda v: v * 3600.0**2)
 
 
 def arw_from_deg_per_sqrt_hour(arw: float) -> float:
     """ARW in °/√h → °/√s (divide by 60; ``arw`` finite and ≥ 0)."""
-    return _converted("arw", arw, 1.0 / 60.0)
+    return _converted("arw", arw, lambda v: v / 60.0)
 
 
 def rrw_from_deg_per_hour_1p5(rrw: float) -> float:
     """RRW in °/h^1.5 → °/s^1.5 (divide by 216000; ``rrw`` finite and ≥ 0)."""
-    return _converted("rrw", rrw, 1.0 / 216000.0)
+    return _converted("rrw", rrw, lambda v: v / 216000.0)
 
 
 # --- design functions -----------------------------------------------------------------------

@@ -20,8 +20,8 @@ from numpy.typing import NDArray
 
 from gyrobias import _generics
 from gyrobias._files import atomic_binary
-from gyrobias._validation import as_float_array, integer, positive_float, sample_rate
 from gyrobias._fleet_table import term_columns
+from gyrobias._validation import as_float_array, integer, positive_float, sample_rate
 from gyrobias.allan._types import AllanResult, DynamicAllanResult
 from gyrobias.noise._types import NoiseCoefficients
 from gyrobias.noise.fitting import fit as fit_noise
@@ -373,7 +373,9 @@ def save_prediction_plot(
         )
     h = section.size - calibration
     if not isinstance(forecasts, Mapping):
-        raise TypeError(f"forecasts must be a mapping label → array, got {type(forecasts).__name__}")
+        raise TypeError(
+            f"forecasts must be a mapping label → array, got {type(forecasts).__name__}"
+        )
     curves = {str(k): as_float_array(f"forecasts[{k!r}]", v) for k, v in forecasts.items()}
     for k, v in curves.items():
         if v.size != h:

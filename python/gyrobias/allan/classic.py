@@ -108,7 +108,9 @@ def _analyse(
     gaps: str = "error",
 ) -> AllanResult | tuple[AllanResult, ...]:
     if _stream._file_readers(data) is not None:
-        arr = asarray("data", data)  # validated below; not converted (that would read the whole file)
+        arr = asarray(
+            "data", data
+        )  # validated below; not converted (that would read the whole file)
         if arr.ndim not in (1, 2):
             raise ValueError(
                 f"data must be a 1-D or 2-D array, got a {arr.ndim}-D array of shape {arr.shape}"

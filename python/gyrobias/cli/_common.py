@@ -109,7 +109,11 @@ def add_read_arguments(
         help="field separator: , ; tab (or \\t) or whitespace (default: detected)",
     )
     src.add_argument(
-        "--skip-rows", type=_types.non_negative_int, default=0, metavar="N", help="lines to skip before the header"
+        "--skip-rows",
+        type=_types.non_negative_int,
+        default=0,
+        metavar="N",
+        help="lines to skip before the header",
     )
     if units:
         src.add_argument(
@@ -120,7 +124,10 @@ def add_read_arguments(
             "(deg/s,deg/s,deg/s,g,g,g) or per name (gx=deg/s,ax=m/s^2); bags are rad/s and m/s^2",
         )
     src.add_argument(
-        "--topic", type=_types.text, metavar="TOPIC", help="bag topic (default: the only sensor_msgs/Imu topic)"
+        "--topic",
+        type=_types.text,
+        metavar="TOPIC",
+        help="bag topic (default: the only sensor_msgs/Imu topic)",
     )
     src.add_argument(
         "--stamp",

@@ -93,7 +93,11 @@ def register(subparsers: Any) -> None:
         "all (every m: slow on long logs)",
     )
     ana.add_argument(
-        "--per-decade", type=_types.positive_int, default=10, metavar="N", help="points per decade for --taus log"
+        "--per-decade",
+        type=_types.positive_int,
+        default=10,
+        metavar="N",
+        help="points per decade for --taus log",
     )
     ana.add_argument(
         "--non-overlapping",

@@ -58,11 +58,18 @@ def register(subparsers: Any) -> None:
         default=Path("gyrobias-out"),
         help="where plots and the log go (default gyrobias-out/)",
     )
-    p.add_argument("--seed", type=_types.non_negative_int, default=2012, help="random seed (default 2012)")
     p.add_argument(
-        "--hours", type=_types.positive, default=2.0, help="length of the simulated log in hours (default 2)"
+        "--seed", type=_types.non_negative_int, default=2012, help="random seed (default 2012)"
     )
-    p.add_argument("--fs", type=_types.positive, default=100.0, help="sample rate in Hz (default 100)")
+    p.add_argument(
+        "--hours",
+        type=_types.positive,
+        default=2.0,
+        help="length of the simulated log in hours (default 2)",
+    )
+    p.add_argument(
+        "--fs", type=_types.positive, default=100.0, help="sample rate in Hz (default 100)"
+    )
     p.set_defaults(func=run)
 
 

@@ -54,7 +54,10 @@ def register(subparsers: Any) -> None:
         help="predicted samples per section (default 1000)",
     )
     p.add_argument(
-        "--d", type=_types.finite, default=0.5, help="memory parameter of the 1/f model (default 0.5)"
+        "--d",
+        type=_types.finite,
+        default=0.5,
+        help="memory parameter of the 1/f model (default 0.5)",
     )
     p.add_argument(
         "--q",
@@ -63,7 +66,10 @@ def register(subparsers: Any) -> None:
         help="driving-noise variance per sample (default 1; irrelevant for r = 0 and --mean sample)",
     )
     p.add_argument(
-        "--r", type=_types.non_negative, default=0.0, help="white-noise variance per sample (default 0, as [BP])"
+        "--r",
+        type=_types.non_negative,
+        default=0.0,
+        help="white-noise variance per sample (default 0, as [BP])",
     )
     p.add_argument(
         "--mean",
@@ -75,7 +81,11 @@ def register(subparsers: Any) -> None:
         "--plot", type=_types.path, metavar="PNG", help="draw one example window with the ±2σ band"
     )
     p.add_argument(
-        "--window", type=_types.non_negative_int, default=0, metavar="I", help="section drawn by --plot (default 0)"
+        "--window",
+        type=_types.non_negative_int,
+        default=0,
+        metavar="I",
+        help="section drawn by --plot (default 0)",
     )
     from gyrobias.cli._common import add_read_arguments
 

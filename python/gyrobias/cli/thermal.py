@@ -73,19 +73,41 @@ def register(subparsers: Any) -> None:
         metavar="LOG@T",
         help="log file and its temperature in °C",
     )
-    p.add_argument("--units", type=_types.unit_spec, default="deg/s", help="unit of the samples (default deg/s)")
     p.add_argument(
-        "--fpass", type=_types.positive, default=None, help="FIR pass-band edge, Hz (default 0.14·fs)"
+        "--units",
+        type=_types.unit_spec,
+        default="deg/s",
+        help="unit of the samples (default deg/s)",
     )
     p.add_argument(
-        "--fstop", type=_types.positive, default=None, help="FIR stop-band edge, Hz (default 0.18·fs)"
+        "--fpass",
+        type=_types.positive,
+        default=None,
+        help="FIR pass-band edge, Hz (default 0.14·fs)",
     )
-    p.add_argument("--apass-db", type=_types.positive, default=0.0001, help="pass-band attenuation, dB")
-    p.add_argument("--astop-db", type=_types.positive, default=100.0, help="stop-band attenuation, dB")
+    p.add_argument(
+        "--fstop",
+        type=_types.positive,
+        default=None,
+        help="FIR stop-band edge, Hz (default 0.18·fs)",
+    )
+    p.add_argument(
+        "--apass-db", type=_types.positive, default=0.0001, help="pass-band attenuation, dB"
+    )
+    p.add_argument(
+        "--astop-db", type=_types.positive, default=100.0, help="stop-band attenuation, dB"
+    )
     p.add_argument("--no-filter", action="store_true", help="fit AR(1) to the raw log")
     p.add_argument("--method", choices=("linear", "pchip", "polynomial"), default="pchip")
-    p.add_argument("--degree", type=_types.non_negative_int, default=2, help="polynomial degree (--method polynomial)")
-    p.add_argument("--json", type=_types.path, default=None, help="write the temperature model here")
+    p.add_argument(
+        "--degree",
+        type=_types.non_negative_int,
+        default=2,
+        help="polynomial degree (--method polynomial)",
+    )
+    p.add_argument(
+        "--json", type=_types.path, default=None, help="write the temperature model here"
+    )
     from gyrobias.cli._common import add_read_arguments
 
     add_read_arguments(

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import lzma
 import os
-import stat
 import zlib
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -159,12 +158,6 @@ def load(
     p = Path(os.fspath(path))
     if not p.exists():
         raise FileNotFoundError(f"no such file: '{p}'")
-    mode = p.stat().st_mode
-    if not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
-        # a FIFO would block the reader, /dev/zero never end: only files and bag directories
-        raise ValueError(
-            f"path must be a regular file or a ROS2 bag directory, got a special file: '{p}'"
-        )
     callback("progress", progress)
     choice("time_unit", time_unit, _TIME_UNITS)
     choice("stamp", stamp, _STAMPS)
