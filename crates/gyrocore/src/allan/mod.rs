@@ -1828,7 +1828,10 @@ mod tests {
             for t0 in [1e-286, 1e-300, 1e300, 2f64.powi(-1000), 1e-200] {
                 let r = base(t0, DataType::Rate, estimator);
                 for (&d, &p) in r.deviation.iter().zip(&rate.deviation) {
-                    assert!((d / p - 1.0).abs() < 1e-12, "{estimator:?} t0={t0}: {d} vs {p}");
+                    assert!(
+                        (d / p - 1.0).abs() < 1e-12,
+                        "{estimator:?} t0={t0}: {d} vs {p}"
+                    );
                 }
                 let a = base(t0, DataType::Angle, estimator);
                 for (&d, &p) in a.deviation.iter().zip(&angle.deviation) {
