@@ -83,7 +83,7 @@ class AllanResult:
     taus : ndarray
         Averaging times τ in seconds.
     avar : ndarray
-        Variance estimates σ²(τ) in ``unit``² (``inf`` or 0 where σ² is beyond float64, for
+        Variance estimates σ²(τ) in units of ``unit`` squared (``inf`` or 0 where σ² is beyond float64, for
         data of extreme magnitude: ``adev`` stays exact there).
     adev : ndarray
         Deviations σ(τ) in ``unit`` (for ``kind="mdev"`` etc. the respective deviation).
@@ -310,7 +310,7 @@ class DynamicAllanResult:
     taus : ndarray, shape (n_tau,)
         Averaging times τ in seconds (common to all windows).
     avar : ndarray, shape (windows, n_tau)
-        Overlapping Allan variance of each window in ``unit``².
+        Overlapping Allan variance of each window in units of ``unit`` squared.
     n_terms : ndarray, shape (n_tau,)
         Terms of each window's sum.
     window, step : int

@@ -21,7 +21,7 @@ from gyrobias.fleet.table import (
     term_columns,
 )
 
-#: |z| above which a term is out of family (Iglewicz & Hoaglin's modified-z cut-off).
+#: ``|z|`` above which a term is out of family (Iglewicz & Hoaglin's modified-z cut-off).
 OUT_OF_FAMILY_THRESHOLD: float = 3.5
 #: Fewest units with a term (per axis) for a median/MAD comparison.
 MIN_UNITS: int = 5
@@ -191,7 +191,9 @@ def summary(
                     "unit": None if units.empty else str(units.iloc[0]),
                     "n": int(have.sum()),
                     **stats,
-                    "n_out_of_family": int(flagged.sum()),
+                    # astype(bool): under pandas 3 an empty map result keeps the string
+                    # dtype, whose sum is "" (int("") fails)
+                    "n_out_of_family": int(flagged.astype(bool).sum()),
                 }
             )
     result = pd.DataFrame.from_records(
