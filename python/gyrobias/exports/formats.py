@@ -16,7 +16,7 @@ from gyrobias._validation import choice, positive_float
 from gyrobias.exports.discretisation import discrete
 from gyrobias.noise._types import NoiseCoefficients
 
-__all__ = ["DEFAULT_FILENAMES", "FORMATS", "export", "export_all"]
+__all__ = ["export", "export_all"]  # FORMATS, DEFAULT_FILENAMES: documented in gyrobias.exports
 
 #: Supported formats.
 FORMATS: tuple[str, ...] = ("kalibr", "openvins", "vins", "orbslam3", "liosam", "matlab", "json")

@@ -13,7 +13,7 @@ from typing import Any
 
 from gyrobias._files import atomic_binary
 
-__all__ = ["GM_PARAMETERS", "TERMS", "term_columns", "write_table"]
+__all__ = ["term_columns", "write_table"]  # TERMS, GM_PARAMETERS: documented in gyrobias.fleet
 
 #: A pandas DataFrame (pandas is imported lazily: it belongs to the ``fleet`` extra).
 DataFrame = Any
