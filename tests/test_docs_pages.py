@@ -94,3 +94,16 @@ def test_readme_command_lines_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatc
         if argv[:1] == ["demo"]:
             argv += ["--hours", "0.05", "--outdir", str(tmp_path / "demo")]
         assert main([*argv, "--no-progress"] if argv[0] == "allan" else argv) == 0, line
+
+
+def test_readme_test_command_is_the_one_ci_runs() -> None:
+    """The README's test command is, verbatim, the one ``.ci/run`` runs (no drift between them)."""
+    ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8").splitlines()
+    commands = [
+        ln.strip() for ln in ci if ln.strip().startswith("python -m pip install") and "pytest" in ln
+    ]
+    assert commands, ".ci/run has no pip install + pytest command"
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    blocks = re.findall(r"^```bash\n(.*?)^```", readme, flags=re.S | re.M)
+    lines = {ln.strip() for b in blocks for ln in b.splitlines()}
+    assert [c for c in commands if c not in lines] == []
