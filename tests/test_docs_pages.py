@@ -1,7 +1,8 @@
 """Every code example of the documentation pages and of the README runs and prints what it says.
 
 Each ```python block of ``docs/**/*.md`` is in doctest form (``>>>``) and runs here with the
-same runner the docs build uses (docs/_ext/mdexamples.py: one namespace per page, a fresh
+same runner the docs build uses (and each ``gyrobias …`` line of a ```bash run block runs through
+the CLI and must exit with 0) (docs/_ext/mdexamples.py: one namespace per page, a fresh
 temporary working directory). The README's Python example and its ``gyrobias`` command lines
 run on a small simulated ROS bag written beside them. The gallery scripts are executed by the
 docs build (sphinx-gallery), not here.
@@ -53,6 +54,21 @@ def test_the_runner_reports_a_wrong_output() -> None:
     result = mdexamples.run_text(text, "bad.md")
     assert [ln for ln, _ in result.failures] == [2, 4]
     assert result.attempted == 2
+
+
+def test_the_runner_runs_bash_run_blocks_and_reports_a_failing_command() -> None:
+    text = (
+        "```bash\ngyrobias allan shown-only.csv\n```\n"  # shown, not run
+        "```bash run\ngyrobias --version\ngyrobias allan missing.csv  # no such file\n```\n"
+    )
+    assert mdexamples.commands(text) == [
+        (5, "gyrobias --version"),
+        (6, "gyrobias allan missing.csv"),
+    ]
+    result = mdexamples.run_text(text, "cli.md")
+    assert result.attempted == 2
+    assert [ln for ln, _ in result.failures] == [6]
+    assert "exit code 2" in result.failures[0][1]
 
 
 def _write_bag(directory: Path) -> None:
