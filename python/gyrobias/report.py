@@ -424,7 +424,7 @@ def build_report(
         # Nothing to report: a page of error messages would pass for a report.
         reasons = "; ".join(f"{ch.name}: {', '.join(ch.errors)}" for ch in channels)
         raise ValueError(f"log: no channel could be analysed ({reasons})")
-    from gyrobias import __version__
+    from gyrobias._version import __version__
 
     name = title or Path(log.path).name
     now = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
