@@ -318,7 +318,7 @@ def _exports_section(channels: list[ChannelReport], rate: float | None) -> str:
         return "".join(parts)
     parts.append(
         "<p>Each value is the largest over the channels of its sensor. Keys, units and the continuous / "
-        "discrete convention of every format are listed in the README's convention table.</p>"
+        "discrete convention of every format are listed in the convention table of the gyrobias documentation (Estimator parameters).</p>"
     )
     n = 0
     for label, group in (("best fit", best), ("conservative set", cons)):

@@ -151,7 +151,7 @@ def _header(
     sources = sorted({c.method for c in g + a})
     return [
         f"{comment} {fmt} IMU noise parameters written by gyrobias (from: {', '.join(sources)} coefficients)",
-        f"{comment} N, K: IEEE-952 coefficients (two-sided densities); see the README's convention table.",
+        f"{comment} N, K: IEEE-952 coefficients (two-sided densities); see the convention table of the gyrobias docs (Estimator parameters).",
     ]
 
 

@@ -28,7 +28,7 @@ MIN_UNITS: int = 5
 #: Significance level of the "is the spread real?" chi-square test in :func:`summary`.
 SPREAD_ALPHA: float = 0.01
 #: The spread must also exceed the uncertainties by this factor (Birge ratio) to count as real:
-#: the joint fit's uncertainties are calibrated to about 15 % (README, noise coefficients).
+#: the joint fit's uncertainties are calibrated to about 15 % (docs/explanations/identification.md, joint fit).
 SPREAD_MIN_RATIO: float = 1.2
 
 _MAD_TO_SD = 1.482602218505602  # 1 / Φ⁻¹(3/4)
