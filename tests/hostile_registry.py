@@ -357,8 +357,8 @@ def public_api() -> dict[str, Callable[..., Any]]:
     """Every public function and method: ``{"module.name" or "module.Class.method": callable}``.
 
     A public name is one a public module (no ``_`` in its path) lists in ``__all__``; an object
-    exported by several modules is named after the one nearest its definition
-    (``gyrobias.allan.adev``, not ``gyrobias.adev``). Methods are those a public class defines
+    exported by several modules is named after its package's public module
+    (``gyrobias.allan.adev``, not ``gyrobias.adev`` or ``gyrobias.allan.classic.adev``). Methods are those a public class defines
     itself (properties excluded), plus ``__init__``, ``__call__`` and ``__getitem__``.
     """
     best: dict[int, tuple[int, str, str, Any]] = {}
@@ -370,7 +370,15 @@ def public_api() -> dict[str, Callable[..., Any]]:
             if inspect.isclass(obj) and issubclass(obj, BaseException):
                 continue
             home = getattr(obj, "__module__", "") or ""
-            score = len(modname) if home.startswith(modname) else -1
+            # the public module of the package (gyrobias.exports, not .exports.formats) if it
+            # exports the object, else the exporting module nearest the definition
+            depth = modname.count(".")
+            if not home.startswith(modname):
+                score = -1
+            elif depth == 1:
+                score = 1000
+            else:
+                score = len(modname)
             if id(obj) not in best or score > best[id(obj)][0]:
                 best[id(obj)] = (score, modname, attr, obj)
     api: dict[str, Callable[..., Any]] = {}

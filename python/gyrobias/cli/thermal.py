@@ -122,7 +122,7 @@ def register(subparsers: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run ``gyrobias thermal``; returns the exit status."""
     from gyrobias import thermal
-    from gyrobias.exports import atomic_write
+    from gyrobias._files import atomic_write
 
     try:
         tagged = list(args.logs)
