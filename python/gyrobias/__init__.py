@@ -24,10 +24,14 @@ unit-aware Python interfaces:
 - :mod:`gyrobias.codegen` — C99 (float64, float32, Q31) for the fixed-gain Kalman filter, the FIR
   and the compiled predictor, bit-exact or with a stated Q31 error bound.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
+- :mod:`gyrobias.fleet`, :mod:`gyrobias.plotting` — many logs at once on Dask; every plot.
 """
 
-from importlib.metadata import PackageNotFoundError, version
-
+# The package façade: it imports the science modules and every module that registers the
+# result objects' methods (plotting: ``.plot()``; exports, conservative, noise.kalibr:
+# ``.export()`` and kin; see gyrobias._generics), so these are loaded whatever the caller
+# imports first. plotting loads matplotlib only when a plot is drawn. The layers:
+# docs/architecture.md.
 from gyrobias import (
     allan,
     codegen,
@@ -39,11 +43,13 @@ from gyrobias import (
     io,
     kalman,
     noise,
+    plotting,
     predict,
     spectral,
     thermal,
 )
 from gyrobias._core import GyroLinAlgError
+from gyrobias._version import __version__
 from gyrobias.allan import AllanResult, adev, avar
 from gyrobias.fir import KaiserLowpass, kaiser_lowpass
 from gyrobias.kalman import FixedGainKalman
@@ -51,11 +57,6 @@ from gyrobias.noise import NoiseCoefficients
 from gyrobias.predict import FractionalKalmanPredictor, Prediction
 from gyrobias.spectral import LSSAResult, lssa
 from gyrobias.thermal import AR1Fit, TemperatureModel, fit_ar1
-
-try:
-    __version__ = version("gyrobias")
-except PackageNotFoundError:  # running from a source tree without installation
-    __version__ = "0.0.0+unknown"
 
 __all__ = [
     "AR1Fit",
@@ -84,6 +85,7 @@ __all__ = [
     "kaiser_lowpass",
     "lssa",
     "noise",
+    "plotting",
     "predict",
     "spectral",
     "thermal",
