@@ -358,7 +358,8 @@ def test_bad_paths_dtypes_and_designs_raise_before_writing(tmp_path: Path) -> No
 
 def test_emitters_are_registered_by_the_package() -> None:
     assert codegen.emit_kalman is codegen.kalman_c.emit
-    from gyrobias import _emitters
+    from gyrobias import _generics
 
-    with pytest.raises(RuntimeError, match="no C emitter"):
-        _emitters.emit("nothing", None, ".")
+    assert _generics.to_c.dispatch(FixedGainKalman) is codegen.kalman_c.emit
+    with pytest.raises(TypeError, match="to_c: no method"):
+        _generics.to_c(object(), ".")

@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gyrobias import _core, _emitters
+from gyrobias import _core, _generics
 from gyrobias._validation import as_float_array, count, integer, real, string
 
 __all__ = ["FrequencyResponse", "KaiserLowpass", "apply", "kaiser_lowpass", "stream"]
@@ -157,7 +157,7 @@ class KaiserLowpass:
         ``dtype`` is ``"float64"``, ``"float32"`` or ``"q31"``; CMSIS-DSP coefficient arrays are
         included. See :mod:`gyrobias.codegen`; returns its :class:`~gyrobias.codegen.GeneratedC`.
         """
-        return _emitters.emit("fir", self, path, name=name, dtype=dtype, **options)
+        return _generics.to_c(self, path, name=name, dtype=dtype, **options)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain-Python representation (taps as a list)."""

@@ -39,7 +39,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gyrobias import _core, _emitters
+from gyrobias import _core, _generics
 from gyrobias._validation import as_float_array, integer, real, string
 
 __all__ = [
@@ -497,7 +497,7 @@ class FixedGainKalman:
         states the Q31 error in the rate's unit). See :mod:`gyrobias.codegen`; returns its
         :class:`~gyrobias.codegen.GeneratedC`.
         """
-        return _emitters.emit("kalman", self, path, name=name, dtype=dtype, **options)
+        return _generics.to_c(self, path, name=name, dtype=dtype, **options)
 
     @staticmethod
     def _check_state_type(state: object) -> None:

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gyrobias import _core, _emitters
+from gyrobias import _core, _generics
 from gyrobias._validation import (
     as_float_array,
     choice,
@@ -242,7 +242,7 @@ class CompiledPredictor:
         ``dtype`` is ``"float64"``, ``"float32"`` or ``"q31"``. See :mod:`gyrobias.codegen`;
         returns its :class:`~gyrobias.codegen.GeneratedC`.
         """
-        return _emitters.emit("predictor", self, path, name=name, dtype=dtype, **options)
+        return _generics.to_c(self, path, name=name, dtype=dtype, **options)
 
     def predict(self, batch: Any, *, n_threads: int | None = None) -> Prediction:
         """Forecast every window of ``batch`` (shape (windows, k) or (k,))."""

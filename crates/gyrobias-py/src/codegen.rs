@@ -28,13 +28,7 @@ fn kalman_q31(
     g2: f64,
     amplitude: f64,
 ) -> PyResult<Bound<'_, PyDict>> {
-    let k = core(codegen::kalman_q31(
-        pole,
-        one_minus_pole,
-        g1,
-        g2,
-        amplitude,
-    ))?;
+    let k = core(codegen::kalman_q31(pole, one_minus_pole, g1, g2, amplitude))?;
     let d = PyDict::new(py);
     d.set_item("a", scaled(py, &k.a)?)?;
     d.set_item("rate_gain", scaled(py, &k.rate_gain)?)?;

@@ -144,7 +144,9 @@ impl FixedGainKalman {
     /// (`gyrocore::kalman::FixedGainKalman::initial_state_in::<f32>`).
     #[allow(clippy::needless_pass_by_value)]
     fn initial_state_f32(&self, rate0: Vec<f32>, bias0: Vec<f32>) -> PyResult<KalmanState> {
-        Ok(KalmanState(core(self.inner.initial_state_in(&rate0, &bias0))?))
+        Ok(KalmanState(core(
+            self.inner.initial_state_in(&rate0, &bias0),
+        )?))
     }
 
     /// Float32 filtering of a (samples,) or (samples × axes) float32 array `z` from `state`

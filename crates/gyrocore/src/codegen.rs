@@ -157,7 +157,7 @@ pub fn kalman_q31(
             return Err(Error::invalid(name, format!("must be finite, got {v}")));
         }
     }
-    if !(pole.abs() < 1.0) {
+    if pole.abs() >= 1.0 {
         return Err(Error::invalid(
             "pole",
             format!("the filter is unstable: its pole p = {pole} must satisfy |p| < 1"),
@@ -172,8 +172,7 @@ pub fn kalman_q31(
             ),
         ));
     }
-    if !(g1 > 0.0 && g2 >= 0.0 && ((g1 + g2) - one_minus_pole).abs() <= 1e-12 * one_minus_pole)
-    {
+    if !(g1 > 0.0 && g2 >= 0.0 && ((g1 + g2) - one_minus_pole).abs() <= 1e-12 * one_minus_pole) {
         return Err(Error::invalid(
             "g1",
             format!(
@@ -362,8 +361,8 @@ pub fn dot_q31(w: &[f64], rows: usize, offsets: &[f64], amplitude: f64) -> Resul
         .collect();
     let offset_err = if offsets.is_empty() { 0.0 } else { HALF_LSB };
     let reference = 2.0 * cols as f64 * pow2(-53) * amplitude * l1_max;
-    let error_bound = (amplitude * coefficient_error + HALF_LSB + offset_err + reference)
-        * (1.0 + 1e-9);
+    let error_bound =
+        (amplitude * coefficient_error + HALF_LSB + offset_err + reference) * (1.0 + 1e-9);
     #[allow(clippy::cast_possible_truncation)] // |v| ≤ 2³¹ − 1 by the choice of n
     let values = q.iter().map(|&v| v as i32).collect();
     Ok(DotQ31 {
@@ -400,7 +399,10 @@ mod tests {
         assert!(kalman_q31(1.5, -0.5, -0.4, -0.1, 1.0).is_err());
         assert!(kalman_q31(0.98, 0.02, 0.01, 0.001, 1.0).is_err()); // inconsistent
         let e = kalman_q31(1.0 - 1e-12, 1e-12, 1e-12, 0.0, 1.0).unwrap_err();
-        assert!(e.to_string().contains("cannot be represented in Q31"), "{e}");
+        assert!(
+            e.to_string().contains("cannot be represented in Q31"),
+            "{e}"
+        );
         assert!(kalman_q31(0.9, 0.1, 0.1, 0.0, 0.0).is_err());
     }
 

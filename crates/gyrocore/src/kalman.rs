@@ -497,7 +497,11 @@ impl FixedGainKalman {
             });
         }
         let c = Coefficients::<T>::of(self);
-        let level: Vec<T> = rate.iter().zip(bias).map(|(&w, &b)| (w + b) / c.k).collect();
+        let level: Vec<T> = rate
+            .iter()
+            .zip(bias)
+            .map(|(&w, &b)| (w + b) / c.k)
+            .collect();
         let offset: Vec<T> = rate
             .iter()
             .zip(&level)

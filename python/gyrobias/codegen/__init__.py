@@ -11,15 +11,19 @@ or Q31 fixed point:
 - Q31 C stays within an analytic bound of float64 (designed in the Rust core,
   ``gyrocore::codegen``: shifts chosen from the design, saturating arithmetic, stated rounding).
 
-See ``docs/guides/embedded_c.md``. This module imports the classes and registers its emitters
-with :mod:`gyrobias._emitters`, which their ``to_c`` methods call (no import cycle).
+See ``docs/guides/embedded_c.md``. This package imports the classes and registers its emitters
+as methods of the generic :func:`gyrobias._generics.to_c`, to which the classes' ``to_c``
+methods delegate (the dependency points one way: codegen → classes).
 """
 
 from __future__ import annotations
 
-from gyrobias import _emitters
+from gyrobias import _generics
 from gyrobias.codegen import fir_c, kalman_c, predict_c
 from gyrobias.codegen._c import GeneratedC
+from gyrobias.fir import KaiserLowpass
+from gyrobias.kalman import FixedGainKalman
+from gyrobias.predict import CompiledPredictor
 
 __all__ = ["GeneratedC", "emit_fir", "emit_kalman", "emit_predictor"]
 
@@ -27,6 +31,6 @@ emit_kalman = kalman_c.emit
 emit_fir = fir_c.emit
 emit_predictor = predict_c.emit
 
-_emitters.register("kalman", kalman_c.emit)
-_emitters.register("fir", fir_c.emit)
-_emitters.register("predictor", predict_c.emit)
+_generics.to_c.register(FixedGainKalman, kalman_c.emit)
+_generics.to_c.register(KaiserLowpass, fir_c.emit)
+_generics.to_c.register(CompiledPredictor, predict_c.emit)

@@ -7,11 +7,13 @@ import os
 import re
 import tempfile
 from dataclasses import dataclass, field
-from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from gyrobias._validation import real
+from gyrobias._version import __version__
 
 #: C99 keywords (ISO/IEC 9899:1999 §6.4.1) and the C11/C23 ones a newer compiler may reserve.
 C_KEYWORDS = frozenset(
@@ -29,11 +31,8 @@ DTYPES = ("float64", "float32", "q31")
 
 
 def gyrobias_version() -> str:
-    """The installed gyrobias version (read without importing the package: no cycle)."""
-    try:
-        return version("gyrobias")
-    except PackageNotFoundError:  # pragma: no cover - source tree without installation
-        return "0.0.0+unknown"
+    """The installed gyrobias version."""
+    return __version__
 
 
 def check_name(name: object) -> str:
@@ -121,7 +120,8 @@ FP_NOTE = """\
  * FLT_EVAL_METHOD == 0: x86-64 SSE, AArch64, Cortex-M with FPU) and no contraction into fused
  * multiply-adds: compile with -ffp-contract=off (GCC in ISO mode -std=c99 does not contract;
  * Clang does by default, so the source also says #pragma STDC FP_CONTRACT OFF for it) and
- * never with -ffast-math. Then the outputs equal gyrobias' {ref} bit for bit."""
+ * never with -ffast-math. Then the outputs equal, bit for bit, gyrobias'
+ *   {ref}."""
 
 Q31_NOTE = """\
  * Fixed point (Q31): a sample X (int32_t) stands for X * 2^-31 of full scale FS, the value you
@@ -212,3 +212,13 @@ static int64_t {name}_rshift(int64_t v, unsigned int n)
     return (v >> n) + ((v >> (n - 1u)) & 1);
 }}
 """
+
+
+def check_full_scale(full_scale: float | None) -> float | None:
+    """``full_scale`` (> 0, the rate Q31 full scale stands for) or None."""
+    if full_scale is None:
+        return None
+    fs = real("full_scale", full_scale)
+    if not fs > 0.0:
+        raise ValueError(f"full_scale must be > 0, got {full_scale!r}")
+    return fs

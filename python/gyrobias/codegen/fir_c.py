@@ -17,6 +17,7 @@ from gyrobias.codegen._c import (
     array_body,
     check_directory,
     check_dtype,
+    check_full_scale,
     check_name,
     float_literal,
     int_literal,
@@ -53,9 +54,7 @@ def emit(
     name = check_name(name)
     dtype = check_dtype(dtype)
     directory = check_directory(path)
-    from gyrobias.codegen.kalman_c import _full_scale
-
-    fs_units = _full_scale(full_scale)
+    fs_units = check_full_scale(full_scale)
     taps = np.asarray(f.taps, dtype=np.float64)
     n = taps.size
     if not np.all(np.isfinite(taps)):
@@ -154,7 +153,7 @@ extern const int32_t {name}_cmsis_q31[{n}];
     else:
         zero = "0.0f" if dtype == "float32" else "0.0"
         groups = n // 8
-        terms = " + ".join(f"{name}_taps[k + {j}] * w[k + {j}]" for j in range(8))
+        terms = "\n             + ".join(f"{name}_taps[k + {j}] * w[k + {j}]" for j in range(8))
         group_loop = (
             f"""    for (; k < {8 * groups}u; k += 8u) {{
         acc += {terms};

@@ -13,6 +13,7 @@ from gyrobias.codegen._c import (
     GeneratedC,
     check_directory,
     check_dtype,
+    check_full_scale,
     check_name,
     float_literal,
     int_literal,
@@ -30,7 +31,8 @@ def _design_lines(kf: FixedGainKalman) -> list[str]:
         f"Design: fs = {kf.fs!r} Hz, ARW = {kf._arw!r} u/sqrt(s), RRW = {kf._rrw!r} u/s^1.5,",
         f"  q_omega = {kf.q_omega!r} (u/s)^2 per step, form = {kf.form!r},",
         f"  -3 dB bandwidth = {'above Nyquist' if bw is None else repr(bw) + ' Hz'},",
-        f"  gain G = [{g[0]!r}, {g[1]!r}], pole p = {kf.pole!r}, DC gain = {kf.dc_gain!r}.",
+        f"  gain G = [{float(g[0])!r}, {float(g[1])!r}], pole p = {kf.pole!r},",
+        f"  DC gain = {kf.dc_gain!r}.",
         "Recursion (scaled level u = (rate + bias)/(1 - p), constant offset c):",
         "  u <- p*u + z;  rate = g1*u + c;  bias = g2*u - c      (g2 = (1 - p) - g1)",
         "Start with init(&s, z0, 0) for gyrobias' default x0 = [z0, 0].",
@@ -51,7 +53,7 @@ def emit(
     name = check_name(name)
     dtype = check_dtype(dtype)
     directory = check_directory(path)
-    fs_units = _full_scale(full_scale)
+    fs_units = check_full_scale(full_scale)
     if dtype == "q31":
         header, source, info, size = _q31(kf, name, fs_units)
     else:
@@ -59,17 +61,6 @@ def emit(
         info = {}
     h, c = write_pair(directory, name, header, source)
     return GeneratedC(h, c, name, dtype, size, info)
-
-
-def _full_scale(full_scale: float | None) -> float | None:
-    if full_scale is None:
-        return None
-    from gyrobias._validation import real
-
-    fs = real("full_scale", full_scale)
-    if not fs > 0.0:
-        raise ValueError(f"full_scale must be > 0, got {full_scale!r}")
-    return fs
 
 
 def _coefficients(kf: FixedGainKalman) -> tuple[float, float, float, float]:

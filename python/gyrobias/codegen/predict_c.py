@@ -17,6 +17,7 @@ from gyrobias.codegen._c import (
     array_body,
     check_directory,
     check_dtype,
+    check_full_scale,
     check_name,
     float_literal,
     int_literal,
@@ -40,9 +41,7 @@ def emit(
     name = check_name(name)
     dtype = check_dtype(dtype)
     directory = check_directory(path)
-    from gyrobias.codegen.kalman_c import _full_scale
-
-    fs_units = _full_scale(full_scale)
+    fs_units = check_full_scale(full_scale)
     w = np.ascontiguousarray(cp.weights, dtype=np.float64)
     w0 = np.ascontiguousarray(cp.offset, dtype=np.float64)
     h, k = w.shape
