@@ -88,6 +88,12 @@ REGISTRY: dict[str, str] = {
     "allan.adev_batch": _ALLAN + " overlapping:flag gaps:option",
     "allan.dynamic_adev": "data:array fs:pos window:count step:count taus:spec per_decade:count "
     "data_type:option units:unit?",
+    # --- codegen ---------------------------------------------------------------------------------
+    "codegen.GeneratedC.__init__": "header:field source:field name:field dtype:field "
+    "state_bytes:field q31:field",
+    "codegen.emit_fir": "f:object path:path_out name:text dtype:option full_scale:pos?",
+    "codegen.emit_kalman": "kf:object path:path_out name:text dtype:option full_scale:pos?",
+    "codegen.emit_predictor": "cp:object path:path_out name:text dtype:option full_scale:pos?",
     # --- conservative, datasheet, exports -------------------------------------------------------
     "conservative.ConservativeCoefficients.__init__": "coefficients:field best:field "
     "inflation:field confidence:field taus:field upper_bound:field edf:field ratio:field",
@@ -123,10 +129,11 @@ REGISTRY: dict[str, str] = {
     "alpha:field taps:field",
     "fir.KaiserLowpass.apply": "x:array zero_phase:flag axis:axis padtype:option padlen:count?",
     "fir.KaiserLowpass.frequency_response": "frequencies:array? n:count zero_phase:flag",
+    "fir.KaiserLowpass.to_c": "path:path_out name:text dtype:option options:forwarded",
     "fir.KaiserLowpass.to_dict": "",
     "fir.apply": "taps:array x:array zero_phase:flag axis:axis padtype:option padlen:count?",
     "fir.kaiser_lowpass": "fs:pos fpass:pos fstop:pos apass_db:pos astop_db:pos",
-    "fir.stream": "taps:array x:array state:array? axis:axis",
+    "fir.stream": "taps:array x:array state:array? axis:axis dtype:option",
     # --- fleet ------------------------------------------------------------------------------------
     "fleet.analyse": "sources:spec fs:pos? units:spec? fit:option terms:spec? client:object? "
     "columns:spec? time_column:spec? load_options:spec? axis_names:text? taus:spec "
@@ -165,7 +172,8 @@ REGISTRY: dict[str, str] = {
     "kalman.FixedGainKalman.__init__": "fs:pos arw:pos rrw:nonneg q_omega:nonneg? "
     "bandwidth:pos? form:option x0:array?",
     "kalman.FixedGainKalman.estimates": "state:object",
-    "kalman.FixedGainKalman.filter": "z:array state:object? out:spec?",
+    "kalman.FixedGainKalman.filter": "z:array state:object? out:spec? dtype:option",
+    "kalman.FixedGainKalman.to_c": "path:path_out name:text dtype:option options:forwarded",
     "kalman.FixedGainKalman.frequency_response": "freqs:array",
     "kalman.FixedGainKalman.initial_state": "z:array",
     "kalman.arw_from_deg_per_sqrt_hour": "arw:nonneg",
@@ -230,6 +238,7 @@ REGISTRY: dict[str, str] = {
     # --- predict ----------------------------------------------------------------------------------
     "predict.CompiledPredictor.__init__": "inner:field predictor:field",
     "predict.CompiledPredictor.predict": "batch:array n_threads:count?",
+    "predict.CompiledPredictor.to_c": "path:path_out name:text dtype:option options:forwarded",
     "predict.Evaluation.__init__": "calibration:field horizon:field sections:field methods:field",
     "predict.Evaluation.ratio": "method:key reference:key statistic:option",
     "predict.Evaluation.table": "",

@@ -152,6 +152,24 @@ BASE: dict[str, Callable[[], tuple[Callable[..., Any], dict[str, Any]]]] = {
         allan.dynamic_adev,
         {"data": FX.rate, "fs": 100.0, "window": 1000, "step": 500},
     ),
+    "codegen.emit_fir": lambda: (
+        gyrobias.codegen.emit_fir,
+        {"f": FX.lowpass, "path": _tmp() / "cfir"},
+    ),
+    "codegen.emit_kalman": lambda: (
+        gyrobias.codegen.emit_kalman,
+        {"kf": FX.kalman, "path": _tmp() / "ckf"},
+    ),
+    "codegen.emit_predictor": lambda: (
+        gyrobias.codegen.emit_predictor,
+        {"cp": FX.predictor.compile(50, 5), "path": _tmp() / "cpred"},
+    ),
+    "fir.KaiserLowpass.to_c": lambda: (FX.lowpass.to_c, {"path": _tmp() / "cfir2"}),
+    "kalman.FixedGainKalman.to_c": lambda: (FX.kalman.to_c, {"path": _tmp() / "ckf2"}),
+    "predict.CompiledPredictor.to_c": lambda: (
+        FX.predictor.compile(50, 5).to_c,
+        {"path": _tmp() / "cpred2"},
+    ),
     "conservative.ConservativeCoefficients.export": lambda: (
         FX.coefficients.conservative().export,
         {"fmt": "json"},
@@ -511,8 +529,9 @@ def test_options_refuse_unknown_names_and_list_the_valid_ones(
         func(**{**kwargs, name: value})
     message = str(info.value)
     assert name in message, message
-    if isinstance(value, str):
-        assert "'" in message.replace(repr(value), ""), f"no valid names listed: {message}"
+    if isinstance(value, str):  # the valid names are listed after "must be" / "one of"
+        rest = message.replace(repr(value), "")
+        assert "one of" in rest or "'" in rest or " or " in rest, f"no valid names: {message}"
 
 
 @pytest.mark.parametrize(
@@ -706,6 +725,14 @@ def test_kalibr_writer_topic_is_quoted_or_refused() -> None:
         assert doc["rostopic"] == value and "b" not in doc
 
 
+@pytest.mark.parametrize("value", [*_INJECTIONS, "x; system", "__reserved", "a b", "1abc"])
+def test_c_names_cannot_inject_into_generated_c(value: str) -> None:
+    """A name written into generated C is a C identifier, or refused naming ``name``."""
+    for emit in (FX.lowpass.to_c, FX.kalman.to_c):
+        with pytest.raises(ValueError, match=r"^name must"):
+            emit(_tmp() / "inject_c", name=value)
+
+
 def test_report_title_is_escaped() -> None:
     page = gyrobias.report.build_report(FX.log, title="</title><script>alert(1)</script>")
     assert "<script>alert(1)" not in page
@@ -838,6 +865,7 @@ _HOSTILE_TEXT = ["", "a\nb", "\x00"]
 #: Hostile values per argparse converter of gyrobias.cli._types (numbers for the others).
 _HOSTILE_BY_TYPE = {
     "path": ["", "a\nb", "\x00"],
+    "c_identifier": ["", "a b", "x;y", "1a", "a\nb"],
     "text": _HOSTILE_TEXT,
     "delimiter": ["xx", "", "1", "\n", "."],
     "column_list": ["", ",", "a,,b", "-1", "a\nb"],

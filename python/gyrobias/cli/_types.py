@@ -21,6 +21,7 @@ from typing import NoReturn
 __all__ = [
     "TERMS",
     "Parser",
+    "c_identifier",
     "column_list",
     "count",
     "delimiter",
@@ -195,6 +196,13 @@ def path(value: str) -> Path:
     if not value or any(c in value for c in "\n\r\x00"):
         _fail("a file name (not empty, on one line)", value)
     return Path(value)
+
+
+def c_identifier(value: str) -> str:
+    """A C identifier (``[A-Za-z_][A-Za-z0-9_]*``): written into generated C as a prefix."""
+    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", value):
+        _fail("a C identifier ([A-Za-z_][A-Za-z0-9_]*)", value)
+    return value
 
 
 def text(value: str) -> str:
