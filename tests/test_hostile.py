@@ -620,6 +620,19 @@ def test_writers_name_the_callers_path(key: str, name: str, value: Any) -> None:
         assert target.exists() or target.parent.exists()
 
 
+def test_writers_never_replace_a_device_or_a_directory() -> None:
+    """Output to /dev/null is written in place (renaming a temporary file over it, as root,
+    replaced the device node with a regular file); a directory is refused naming it."""
+    import stat
+
+    from gyrobias._files import atomic_write
+
+    atomic_write("/dev/null", "x")
+    assert stat.S_ISCHR(os.stat("/dev/null").st_mode)
+    with pytest.raises(IsADirectoryError, match=re.escape(str(_tmp()))):
+        atomic_write(_tmp(), "x")
+
+
 _CORRUPT = {
     "gz": b"\x1f\x8b\x08\x00garbage-not-deflate",
     "bz2": b"BZh91AY&SYgarbage",

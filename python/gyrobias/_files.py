@@ -7,7 +7,9 @@ A leaf module (it imports nothing from gyrobias), so every layer can use it.
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
+import stat
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
@@ -23,18 +25,30 @@ def atomic_binary(path: str | os.PathLike[str]) -> Iterator[BinaryIO]:
 
     A reader never sees a half-written file, and a failure (an exception in the block, an
     interrupted run) leaves no file at ``path`` — or the existing one untouched — and no
-    temporary file. The file gets the target's mode if it exists, else the umask's.
+    temporary file. The file gets the target's mode if it exists, else the umask's. A target
+    that is a device or a FIFO (``/dev/null``) is written in place, never replaced; a directory
+    is an ``IsADirectoryError`` naming it.
     """
     if not isinstance(path, (str, os.PathLike)):
         raise TypeError(f"path must be a str or os.PathLike, got {type(path).__name__}")
     target = Path(os.fspath(path))
     directory = target.parent if str(target.parent) else Path(".")
     try:
-        mode = target.stat().st_mode & 0o777
+        st_mode = target.stat().st_mode
     except (FileNotFoundError, NotADirectoryError):
         umask = os.umask(0)
         os.umask(umask)
         mode = 0o666 & ~umask
+    else:
+        if stat.S_ISDIR(st_mode):
+            raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), str(target))
+        if not stat.S_ISREG(st_mode):
+            # A device or FIFO (/dev/null, /dev/stdout, a pipe): written in place. Renaming a
+            # temporary file over it would replace the device node itself.
+            with open(target, "wb") as fh:
+                yield fh
+            return
+        mode = st_mode & 0o777
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
     except OSError as exc:
