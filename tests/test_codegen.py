@@ -363,3 +363,31 @@ def test_emitters_are_registered_by_the_package() -> None:
     assert _generics.to_c.dispatch(FixedGainKalman) is codegen.kalman_c.emit
     with pytest.raises(TypeError, match="to_c: no method"):
         _generics.to_c(object(), ".")
+
+
+# --- command line -------------------------------------------------------------------------------
+
+
+def test_cli_emits_c(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from gyrobias.cli import main
+
+    out = tmp_path / "fw"
+    args = ["--fs", "1000", "--arw", "0.005", "--rrw", "1e-4", "--bandwidth", "20"]
+    assert main(["kalman", "design", *args, "--emit-c", str(out), "--c-dtype", "q31"]) == 0
+    assert "Q31 worst-case error" in capsys.readouterr().out
+    api = _kf("mems1k").to_c(tmp_path / "api", name="gyro_kf", dtype="q31")
+    assert (out / "gyro_kf.c").read_bytes() == api.source.read_bytes()
+    fir_args = ["--fs", "1000", "--fpass", "20", "--fstop", "60", "--astop", "60"]
+    assert main(["fir", "design", *fir_args, "--emit-c", str(out), "--c-name", "aa"]) == 0
+    assert (out / "aa.h").exists() and (out / "aa.c").exists()
+    log = tmp_path / "gyro.csv"
+    np.savetxt(log, _vectors()["white"][:500, None], header="gx", comments="", delimiter=",")
+    filt = ["filter", str(log), "--fs", "1000", "--arw", "0.005", "--bandwidth", "20"]
+    assert main([*filt, "--emit-c", str(out), "--c-name", "from_log"]) == 0
+    assert (out / "from_log.c").exists()
+    # Errors: one line, exit 2, nothing written.
+    capsys.readouterr()
+    assert main(["kalman", "design", *args, "--emit-c", str(out), "--c-name", "while"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("gyrobias: error: name must not be a C keyword") and err.count("\n") == 1
+    assert not (out / "while.c").exists()
