@@ -35,12 +35,13 @@ CFLAGS = ["-std=c99", "-O2", "-ffp-contract=off"]
 CT = {"float64": "double", "float32": "float", "q31": "int32_t"}
 
 TIMER = """
+#define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
 #include <stdlib.h>
 #include <stdint.h>
 #include <time.h>
-static double now(void) { struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec; }
+static double now(void) {{ struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec; }}
 """
 
 KALMAN_MAIN = (

@@ -489,7 +489,16 @@ class FixedGainKalman:
     def _filter_f32(self, z: ArrayLike, state: KalmanState | None, out: object) -> FilterResult:
         if out is not None:
             raise ValueError("out must be None with dtype=np.float32 (out arrays are float64)")
-        data = np.ascontiguousarray(as_float_array("z", z, ndims=(1, 2)), dtype=np.float32)
+        if (
+            type(z) is np.ndarray
+            and z.dtype == np.float32
+            and 1 <= z.ndim <= 2
+            and z.size
+            and z.flags.c_contiguous
+        ):
+            data = z  # nothing to convert (the core checks the values)
+        else:
+            data = np.ascontiguousarray(as_float_array("z", z, ndims=(1, 2)), dtype=np.float32)
         if state is None:
             first = data[0] if data.ndim == 2 else data[:1]
             if self._x0 is None:

@@ -163,12 +163,30 @@ int {name}_step({name}_state *s, {t} z, {t} *rate, {t} *bias)
 
 size_t {name}_process({name}_state *s, const {t} *z, {t} *rate, {t} *bias, size_t n)
 {{
+    /* step() on local copies of the state (registers: the outputs could alias it), the same
+     * operations in the same order. */
+    {t} level = s->level, r = s->rate, b = s->bias, u;
+    const {t} offset = s->offset;
     size_t i, skipped = 0;
     for (i = 0; i < n; ++i) {{
-        if ({name}_step(s, z[i], &rate[i], &bias[i]) != 0) {{
+        if (!(z[i] - z[i] == {zero})) {{
             ++skipped;
+        }} else {{
+            u = {name}_p * level + z[i];
+            if (!(u - u == {zero})) {{
+                ++skipped;
+            }} else {{
+                level = u;
+                r = {name}_g1 * u + offset;
+                b = {name}_g2 * u - offset;
+            }}
         }}
+        rate[i] = r;
+        bias[i] = b;
     }}
+    s->level = level;
+    s->rate = r;
+    s->bias = b;
     return skipped;
 }}
 """
