@@ -22,9 +22,10 @@ unit-aware Python interfaces:
   values in, conservative (overbounding) sets, estimator files (Kalibr, OpenVINS, VINS, ORB-SLAM3,
   LIO-SAM, MATLAB, JSON) and discrete-time parameters; ``gyrobias report`` for the HTML page.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
-"""
 
-from importlib.metadata import PackageNotFoundError, version
+``gyrobias.__version__`` is the version of the compiled core, set once in the workspace's
+``Cargo.toml`` (the wheel, ``gyrobias --version`` and the CHANGELOG's release use the same).
+"""
 
 from gyrobias import (
     allan,
@@ -41,6 +42,7 @@ from gyrobias import (
     thermal,
 )
 from gyrobias._core import GyroLinAlgError
+from gyrobias._core import __version__ as __version__
 from gyrobias.allan import AllanResult, adev, avar
 from gyrobias.fir import KaiserLowpass, kaiser_lowpass
 from gyrobias.kalman import FixedGainKalman
@@ -48,11 +50,6 @@ from gyrobias.noise import NoiseCoefficients
 from gyrobias.predict import FractionalKalmanPredictor, Prediction
 from gyrobias.spectral import LSSAResult, lssa
 from gyrobias.thermal import AR1Fit, TemperatureModel, fit_ar1
-
-try:
-    __version__ = version("gyrobias")
-except PackageNotFoundError:  # running from a source tree without installation
-    __version__ = "0.0.0+unknown"
 
 __all__ = [
     "AR1Fit",
