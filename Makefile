@@ -15,7 +15,7 @@ endif
 
 .DEFAULT_GOAL := help
 .PHONY: help dev build test lint lint-python format doc bench ci clean build-tools sdist wheel \
-	test-wheel actionlint version
+	test-wheel actionlint version docs perf-page
 
 help: ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F ':.*## ' '{printf "  %-11s %s\n", $$1, $$2}'
@@ -89,6 +89,13 @@ actionlint: ## check the GitHub workflows with actionlint (pinned, installed fro
 	$(PYTHON) -m pip install -q --require-hashes -r .ci/requirements-actionlint.txt
 	"$$($(PYTHON) -c 'import sysconfig; print(sysconfig.get_path("scripts"))')/actionlint" \
 		.github/workflows/*.yml
+
+# --- documentation site (docs/; owned by the docs engineer)
+docs: ## build the docs site (docs/_build/html): warnings are errors, every example executed
+	$(PYTHON) -m sphinx -W --keep-going -b html -j 1 docs docs/_build/html
+
+perf-page: ## regenerate docs/performance.md from quick runs of the benchmarks (commit the result)
+	$(PYTHON) docs/_tools/perf_page.py
 
 ci: ## what CI runs, from this checkout
 	bash .ci/run

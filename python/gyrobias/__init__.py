@@ -21,14 +21,23 @@ unit-aware Python interfaces:
 - :mod:`gyrobias.datasheet`, :mod:`gyrobias.conservative`, :mod:`gyrobias.exports` — datasheet
   values in, conservative (overbounding) sets, estimator files (Kalibr, OpenVINS, VINS, ORB-SLAM3,
   LIO-SAM, MATLAB, JSON) and discrete-time parameters; ``gyrobias report`` for the HTML page.
+- :mod:`gyrobias.codegen` — C99 (float64, float32, Q31) for the fixed-gain Kalman filter, the FIR
+  and the compiled predictor, bit-exact or with a stated Q31 error bound.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
+- :mod:`gyrobias.fleet`, :mod:`gyrobias.plotting` — many logs at once on Dask; every plot.
 
 ``gyrobias.__version__`` is the version of the compiled core, set once in the workspace's
 ``Cargo.toml`` (the wheel, ``gyrobias --version`` and the CHANGELOG's release use the same).
 """
 
+# The package façade: it imports the science modules and every module that registers the
+# result objects' methods (plotting: ``.plot()``; exports, conservative, noise.kalibr:
+# ``.export()`` and kin; see gyrobias._generics), so these are loaded whatever the caller
+# imports first. plotting loads matplotlib only when a plot is drawn. The layers:
+# docs/architecture.md.
 from gyrobias import (
     allan,
+    codegen,
     conservative,
     datasheet,
     exports,
@@ -37,12 +46,13 @@ from gyrobias import (
     io,
     kalman,
     noise,
+    plotting,
     predict,
     spectral,
     thermal,
 )
 from gyrobias._core import GyroLinAlgError
-from gyrobias._core import __version__ as __version__
+from gyrobias._version import __version__
 from gyrobias.allan import AllanResult, adev, avar
 from gyrobias.fir import KaiserLowpass, kaiser_lowpass
 from gyrobias.kalman import FixedGainKalman
@@ -66,6 +76,7 @@ __all__ = [
     "adev",
     "allan",
     "avar",
+    "codegen",
     "conservative",
     "datasheet",
     "exports",
@@ -77,6 +88,7 @@ __all__ = [
     "kaiser_lowpass",
     "lssa",
     "noise",
+    "plotting",
     "predict",
     "spectral",
     "thermal",

@@ -15,6 +15,7 @@
 
 mod allan;
 mod array;
+mod codegen;
 mod count;
 mod error;
 mod fir;
@@ -63,6 +64,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     error::core(gyrocore::simd::check())?;
     m.add_function(wrap_pyfunction!(instruction_set, m)?)?;
     submodule(m, "allan", allan::register)?;
+    submodule(m, "codegen", codegen::register)?;
     submodule(m, "fir", fir::register)?;
     submodule(m, "spectral", spectral::register)?;
     submodule(m, "thermal", thermal::register)?;

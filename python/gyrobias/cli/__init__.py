@@ -26,6 +26,8 @@ SUBCOMMANDS: list[str] = [
     "gyrobias.cli.demo",
     "gyrobias.cli.predict",
     "gyrobias.cli.filter",
+    "gyrobias.cli.kalman",
+    "gyrobias.cli.fir",
     "gyrobias.cli.thermal",
     "gyrobias.cli.fleet",
     "gyrobias.cli.report",
@@ -41,7 +43,7 @@ EXPERIMENTS: list[str] = [
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every registered subcommand."""
-    from gyrobias import __version__
+    from gyrobias._version import __version__
 
     parser = argparse.ArgumentParser(
         prog="gyrobias",
