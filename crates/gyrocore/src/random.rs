@@ -8,7 +8,14 @@
 //! u, v ~ U(−1, 1) until s = u² + v² ∈ (0, 1);   z₁ = u·√(−2 ln s / s),   z₂ = v·√(−2 ln s / s)
 //! ```
 //!
-//! Uniforms use the top 53 bits of each 64-bit output: `U[0, 1) = (r >> 11)·2⁻⁵³`.
+//! Uniforms use the top 53 bits of each 64-bit output: `U[0, 1) = (r >> 11)·2⁻⁵³`. Uniform
+//! integers in `[0, n)` (the bootstrap's resampling indices) use Lemire's multiply-and-reject
+//! method (Lemire 2019, "Fast random integer generation in an interval", ACM TOMACS 29(1)),
+//! exactly unbiased: `m = r·n` as a 128-bit product, the high word is the draw unless the low
+//! word falls below `2⁶⁴ mod n`, in which case `r` is drawn again.
+//!
+//! This is the one generator of gyrobias: every random number the library draws (simulation,
+//! bootstrap) comes from it.
 //!
 //! **Reproducibility.** The same seed gives the same sequence, bit for bit, on every run of the
 //! same build: both algorithms are fixed here (they do not follow a `rand` version's choice).
@@ -38,6 +45,30 @@ impl NormalStream {
     /// A uniform deviate in `[0, 1)` with 53 random bits.
     pub fn uniform(&mut self) -> f64 {
         (self.rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
+    /// A uniform integer in `[0, n)` (Lemire's unbiased method; see the module docs).
+    /// `n = 0` is an empty range and returns 0 without drawing.
+    pub fn below(&mut self, n: u64) -> u64 {
+        if n == 0 {
+            return 0;
+        }
+        let mut m = u128::from(self.rng.next_u64()) * u128::from(n);
+        #[allow(clippy::cast_possible_truncation)]
+        let mut low = m as u64;
+        if low < n {
+            let threshold = n.wrapping_neg() % n; // 2⁶⁴ mod n
+            while low < threshold {
+                m = u128::from(self.rng.next_u64()) * u128::from(n);
+                #[allow(clippy::cast_possible_truncation)]
+                {
+                    low = m as u64;
+                }
+            }
+        }
+        #[allow(clippy::cast_possible_truncation)]
+        let high = (m >> 64) as u64;
+        high
     }
 
     /// The next standard normal deviate.
@@ -93,6 +124,33 @@ mod tests {
         let c = normal_vec(500, 42);
         assert_eq!(&a[..500], &c[..]);
         assert_ne!(normal_vec(10, 43), normal_vec(10, 42));
+    }
+
+    #[test]
+    fn below_is_uniform_and_in_range() {
+        let mut s = NormalStream::new(11);
+        let n = 7_u64;
+        let draws = 70_000;
+        let mut counts = [0_usize; 7];
+        for _ in 0..draws {
+            let v = s.below(n);
+            assert!(v < n);
+            counts[usize::try_from(v).unwrap()] += 1;
+        }
+        // Pearson χ² with 6 degrees of freedom: P(χ² > 22.46) = 0.001.
+        let expected = draws as f64 / n as f64;
+        let chi2: f64 = counts
+            .iter()
+            .map(|&c| (c as f64 - expected).powi(2) / expected)
+            .sum();
+        assert!(chi2 < 22.46, "chi2 {chi2}, counts {counts:?}");
+        assert_eq!(s.below(0), 0);
+        assert_eq!(s.below(1), 0);
+        // Near 2⁶⁴ the rejection path runs and must still stay in range.
+        let big = u64::MAX - 3;
+        for _ in 0..1000 {
+            assert!(s.below(big) < big);
+        }
     }
 
     #[test]
