@@ -141,12 +141,7 @@ pub struct Spread {
 /// # Errors
 /// As [`robust_z`]; `alpha` not in (0, 1) or `min_ratio` not finite and ≥ 0
 /// ([`Error::InvalidParameter`]).
-pub fn spread(
-    values: &[f64],
-    uncertainties: &[f64],
-    alpha: f64,
-    min_ratio: f64,
-) -> Result<Spread> {
+pub fn spread(values: &[f64], uncertainties: &[f64], alpha: f64, min_ratio: f64) -> Result<Spread> {
     if !(alpha > 0.0 && alpha < 1.0) {
         return Err(Error::invalid(
             "alpha",
@@ -196,7 +191,8 @@ pub fn spread(
         let sw = validate::neumaier_sum(weighted.iter().map(|(_, w)| *w));
         let swx = validate::neumaier_sum(weighted.iter().map(|(x, w)| w * x));
         let mean = swx / sw;
-        let chi2 = validate::neumaier_sum(weighted.iter().map(|(x, w)| w * (x - mean) * (x - mean)));
+        let chi2 =
+            validate::neumaier_sum(weighted.iter().map(|(x, w)| w * (x - mean) * (x - mean)));
         let p = stats::chi2_sf(chi2, dof as f64)?;
         let ratio = (chi2 / dof as f64).sqrt();
         out.chi2 = chi2;

@@ -42,6 +42,11 @@ impl NormalStream {
         }
     }
 
+    /// The next raw 64-bit output of the generator (e.g. seeds for independent streams).
+    pub fn next_u64(&mut self) -> u64 {
+        self.rng.next_u64()
+    }
+
     /// A uniform deviate in `[0, 1)` with 53 random bits.
     pub fn uniform(&mut self) -> f64 {
         (self.rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
@@ -103,6 +108,19 @@ pub fn normal_vec(n: usize, seed: u64) -> Vec<f64> {
     out
 }
 
+/// `n` uniform deviates in `[0, 1)` from `seed` (53 random bits each).
+pub fn uniform_vec(n: usize, seed: u64) -> Vec<f64> {
+    let mut s = NormalStream::new(seed);
+    (0..n).map(|_| s.uniform()).collect()
+}
+
+/// `k` seeds for independent streams derived from `seed` (the first `k` raw outputs of the
+/// stream seeded with it): one call gives a reproducible seed per axis, per unit, ….
+pub fn seeds(k: usize, seed: u64) -> Vec<u64> {
+    let mut s = NormalStream::new(seed);
+    (0..k).map(|_| s.next_u64()).collect()
+}
+
 /// `n` normal deviates with standard deviation `sigma` from `seed` (`sigma · normal_vec`).
 pub fn scaled_normal_vec(n: usize, sigma: f64, seed: u64) -> Vec<f64> {
     let mut out = normal_vec(n, seed);
@@ -124,6 +142,19 @@ mod tests {
         let c = normal_vec(500, 42);
         assert_eq!(&a[..500], &c[..]);
         assert_ne!(normal_vec(10, 43), normal_vec(10, 42));
+    }
+
+    #[test]
+    fn uniform_and_seeds() {
+        let u = uniform_vec(100_000, 5);
+        assert!(u.iter().all(|v| (0.0..1.0).contains(v)));
+        let mean = u.iter().sum::<f64>() / u.len() as f64;
+        // s.e. of the mean of U(0, 1): √(1/12/n) = 0.00091; 5 s.e.
+        assert!((mean - 0.5).abs() < 0.0046, "mean {mean}");
+        let s = seeds(3, 9);
+        assert_eq!(s, seeds(3, 9));
+        assert!(s[0] != s[1] && s[1] != s[2]);
+        assert_eq!(&seeds(5, 9)[..3], &s[..]);
     }
 
     #[test]

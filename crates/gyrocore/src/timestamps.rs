@@ -90,7 +90,11 @@ pub fn median_positive_step<T: Stamp>(stamps: &[T]) -> f64 {
 /// The unit of stamps whose median positive step is `median_step` when no unit is stated:
 /// `"ns"` from [`NS_THRESHOLD`] up, else `"s"` (module docs).
 pub fn guess_unit(median_step: f64) -> &'static str {
-    if median_step >= NS_THRESHOLD { "ns" } else { "s" }
+    if median_step >= NS_THRESHOLD {
+        "ns"
+    } else {
+        "s"
+    }
 }
 
 /// Rows `i ≥ 1` whose stamp is earlier than the one before (`t_i < t_{i−1}`).
@@ -257,7 +261,9 @@ pub fn fill_time_into(
         }
         previous = r;
     }
-    let total = counts.iter().try_fold(n as u64, |acc, c| acc.checked_add(*c));
+    let total = counts
+        .iter()
+        .try_fold(n as u64, |acc, c| acc.checked_add(*c));
     if total != Some(out.len() as u64) {
         return Err(Error::ShapeMismatch {
             name: "out",
@@ -327,7 +333,12 @@ mod tests {
         }
         assert!(fill_time_into(&t, &[3], &[2], &mut [0.0; 3]).is_err());
         assert!(fill_time_into(&t, &[0], &[2], &mut out).is_err());
-        assert!(analyse(&[0.0, 0.0]).unwrap_err().to_string().contains("does not advance"));
+        assert!(
+            analyse(&[0.0, 0.0])
+                .unwrap_err()
+                .to_string()
+                .contains("does not advance")
+        );
         assert!(analyse(&[0.1, -0.1]).is_err());
     }
 

@@ -53,13 +53,30 @@ fn check_term(name: &'static str, value: f64, uncertainty: Option<f64>) -> Resul
     Ok(())
 }
 
+/// The filter rate `rate` (Hz) if it is finite and > 0 with a finite period `1/rate`: the one
+/// check of the rate for callers that discretise no term at all.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] naming `rate`.
+pub fn rate(rate: f64) -> Result<f64> {
+    validate::positive("rate", rate)?;
+    if (1.0 / rate).is_finite() {
+        Ok(rate)
+    } else {
+        Err(Error::invalid(
+            "rate",
+            format!("must be finite and > 0 with a finite period 1/rate, got {rate:e}"),
+        ))
+    }
+}
+
 /// `σ_white = N·√rate` (per-sample standard deviation of white rate noise with IEEE
 /// coefficient `N`), with its uncertainty.
 ///
 /// # Errors
 /// `rate` not finite and > 0; `n` or its uncertainty negative or not finite.
 pub fn white(n: f64, uncertainty: Option<f64>, rate: f64) -> Result<Estimate> {
-    validate::positive("rate", rate)?;
+    self::rate(rate)?;
     check_term("N", n, uncertainty)?;
     Ok(Estimate::scaled(n, uncertainty, rate.sqrt()))
 }
@@ -70,7 +87,7 @@ pub fn white(n: f64, uncertainty: Option<f64>, rate: f64) -> Result<Estimate> {
 /// # Errors
 /// As [`white`].
 pub fn random_walk(k: f64, uncertainty: Option<f64>, rate: f64) -> Result<Estimate> {
-    validate::positive("rate", rate)?;
+    self::rate(rate)?;
     check_term("K", k, uncertainty)?;
     Ok(Estimate::scaled(k, uncertainty, 1.0 / rate.sqrt()))
 }
@@ -96,7 +113,7 @@ pub fn gauss_markov(
     tau_uncertainty: Option<f64>,
     rate: f64,
 ) -> Result<GaussMarkovStep> {
-    validate::positive("rate", rate)?;
+    self::rate(rate)?;
     validate::positive("tau", tau)?;
     check_term("sigma", sigma, sigma_uncertainty)?;
     if let Some(u) = tau_uncertainty {
@@ -186,30 +203,37 @@ impl Conversion {
     }
 }
 
-/// The IEEE-952 coefficient of term `symbol` (`'Q'`, `'N'`, `'B'`, `'K'`, `'R'`) from a
-/// datasheet `value` already in the coefficient's unit (module docs). `per_root_hz`: the value
-/// was given per √Hz (a density), which matters for `N` and `K`.
+/// The IEEE-952 coefficient of term `symbol` (`"Q"`, `"N"`, `"B"`, `"K"`, `"R"`) from a
+/// datasheet `value` as written, times `unit_factor` (> 0) to the coefficient's unit (module
+/// docs). `per_root_hz`: the value was given per √Hz (a density), which matters for `N` and `K`.
 ///
 /// # Errors
-/// `value` negative or not finite (named `value`); an unknown `symbol`.
+/// `value` negative or not finite (named `value`), `unit_factor` not finite and > 0; an unknown
+/// `symbol`.
 pub fn datasheet_coefficient(
     value: f64,
-    symbol: char,
+    unit_factor: f64,
+    symbol: &str,
     per_root_hz: bool,
     density: Density,
     bias: BiasReading,
 ) -> Result<(f64, Conversion)> {
     validate::non_negative("value", value)?;
+    validate::positive("unit_factor", unit_factor)?;
+    let value = value * unit_factor;
     match symbol {
-        'N' | 'K' if per_root_hz => Ok(match density {
-            Density::OneSided => (value / std::f64::consts::SQRT_2, Conversion::OneSidedDensity),
+        "N" | "K" if per_root_hz => Ok(match density {
+            Density::OneSided => (
+                value / std::f64::consts::SQRT_2,
+                Conversion::OneSidedDensity,
+            ),
             Density::TwoSided => (value, Conversion::TwoSidedDensity),
         }),
-        'B' => Ok(match bias {
+        "B" => Ok(match bias {
             BiasReading::AllanMinimum => (value / FLICKER_FACTOR, Conversion::AllanMinimum),
             BiasReading::Coefficient => (value, Conversion::Coefficient),
         }),
-        'Q' | 'N' | 'K' | 'R' => Ok((value, Conversion::Coefficient)),
+        "Q" | "N" | "K" | "R" => Ok((value, Conversion::Coefficient)),
         other => Err(Error::invalid(
             "symbol",
             format!("must be one of Q, N, B, K, R; got {other:?}"),
@@ -231,6 +255,8 @@ mod tests {
         assert!((k.value - 0.05).abs() < 1e-16);
         assert_eq!(k.uncertainty, None);
         assert!(white(0.01, None, 0.0).is_err());
+        assert!(rate(1e-320).is_err());
+        assert_eq!(rate(200.0).unwrap(), 200.0);
         assert!(white(-0.01, None, 1.0).is_err());
         assert!(random_walk(0.01, Some(f64::NAN), 1.0).is_err());
     }
@@ -251,8 +277,14 @@ mod tests {
         assert!((g.driving_sigma.value / exact - 1.0).abs() < 1e-15);
         // The derivative of φ against a central difference.
         let (tau, h) = (3.0, 1e-6);
-        let num = (gauss_markov(1.0, None, tau + h, None, 10.0).unwrap().phi.value
-            - gauss_markov(1.0, None, tau - h, None, 10.0).unwrap().phi.value)
+        let num = (gauss_markov(1.0, None, tau + h, None, 10.0)
+            .unwrap()
+            .phi
+            .value
+            - gauss_markov(1.0, None, tau - h, None, 10.0)
+                .unwrap()
+                .phi
+                .value)
             / (2.0 * h);
         let ana = gauss_markov(1.0, None, tau, Some(1.0), 10.0)
             .unwrap()
@@ -267,32 +299,70 @@ mod tests {
     #[test]
     fn datasheet_conventions() {
         // ADIS16470: 0.008 °/s/√Hz one-sided = 0.008/√2·60 = 0.3394 °/√h.
-        let (n, c) =
-            datasheet_coefficient(0.008, 'N', true, Density::OneSided, BiasReading::AllanMinimum)
-                .unwrap();
+        let (n, c) = datasheet_coefficient(
+            0.008,
+            1.0,
+            "N",
+            true,
+            Density::OneSided,
+            BiasReading::AllanMinimum,
+        )
+        .unwrap();
         assert!((n * 60.0 - 0.339_411_254_969_542_8).abs() < 1e-15);
         assert_eq!(c, Conversion::OneSidedDensity);
-        let (n, c) =
-            datasheet_coefficient(0.008, 'N', true, Density::TwoSided, BiasReading::AllanMinimum)
-                .unwrap();
+        let (n, c) = datasheet_coefficient(
+            0.008,
+            1.0,
+            "N",
+            true,
+            Density::TwoSided,
+            BiasReading::AllanMinimum,
+        )
+        .unwrap();
         assert_eq!((n, c), (0.008, Conversion::TwoSidedDensity));
         // A random walk per √h is not a density: taken as is.
-        let (k, c) =
-            datasheet_coefficient(3.0, 'K', false, Density::OneSided, BiasReading::AllanMinimum)
-                .unwrap();
+        let (k, c) = datasheet_coefficient(
+            3.0,
+            1.0,
+            "K",
+            false,
+            Density::OneSided,
+            BiasReading::AllanMinimum,
+        )
+        .unwrap();
         assert_eq!((k, c), (3.0, Conversion::Coefficient));
-        let (b, c) =
-            datasheet_coefficient(8.0, 'B', false, Density::OneSided, BiasReading::AllanMinimum)
-                .unwrap();
+        let (b, c) = datasheet_coefficient(
+            8.0,
+            1.0,
+            "B",
+            false,
+            Density::OneSided,
+            BiasReading::AllanMinimum,
+        )
+        .unwrap();
         assert!((b - 8.0 / 0.664_282_470_267_960_1).abs() < 1e-15);
         assert_eq!(c, Conversion::AllanMinimum);
         assert!(
-            datasheet_coefficient(-1.0, 'B', false, Density::OneSided, BiasReading::Coefficient)
-                .is_err()
+            datasheet_coefficient(
+                -1.0,
+                1.0,
+                "B",
+                false,
+                Density::OneSided,
+                BiasReading::Coefficient
+            )
+            .is_err()
         );
         assert!(
-            datasheet_coefficient(1.0, 'X', false, Density::OneSided, BiasReading::Coefficient)
-                .is_err()
+            datasheet_coefficient(
+                1.0,
+                1.0,
+                "X",
+                false,
+                Density::OneSided,
+                BiasReading::Coefficient
+            )
+            .is_err()
         );
         assert!(Density::parse("both").is_err());
         assert!(BiasReading::parse("min").is_err());

@@ -112,7 +112,10 @@ pub fn sections(len: usize, row_width: Option<usize>, k: usize, h: usize) -> Res
         ));
     }
     if h == 0 {
-        return Err(Error::invalid("horizon", "must be at least 1 sample, got 0"));
+        return Err(Error::invalid(
+            "horizon",
+            "must be at least 1 sample, got 0",
+        ));
     }
     let width = k
         .checked_add(h)
@@ -152,12 +155,13 @@ pub fn sections(len: usize, row_width: Option<usize>, k: usize, h: usize) -> Res
     }
 }
 
-fn check_pair(y: &[f64], yhat: &[f64], width: usize) -> Result<()> {
-    if y.len() != yhat.len() {
+fn check_pair(y: &[f64], yhat: &[f64], width: usize, yhat_width: usize) -> Result<()> {
+    if y.len() != yhat.len() || width != yhat_width {
         return Err(Error::ShapeMismatch {
             name: "yhat",
             reason: format!(
-                "y has {} values and yhat {}: they must have the same shape",
+                "y has {} values in rows of {width} and yhat {} in rows of {yhat_width}: they \
+                 must have the same shape",
                 y.len(),
                 yhat.len()
             ),
@@ -173,12 +177,17 @@ fn check_pair(y: &[f64], yhat: &[f64], width: usize) -> Result<()> {
 }
 
 /// Integrated error `Σ_j (y_j − ŷ_j)` of every row of two row-major arrays with rows of
-/// `width` samples (compensated sum).
+/// `width` and `yhat_width` samples (compensated sum).
 ///
 /// # Errors
 /// Arrays of different lengths or not whole rows ([`Error::ShapeMismatch`]).
-pub fn integrated_error(y: &[f64], yhat: &[f64], width: usize) -> Result<Vec<f64>> {
-    check_pair(y, yhat, width)?;
+pub fn integrated_error(
+    y: &[f64],
+    yhat: &[f64],
+    width: usize,
+    yhat_width: usize,
+) -> Result<Vec<f64>> {
+    check_pair(y, yhat, width, yhat_width)?;
     Ok(y.chunks(width)
         .zip(yhat.chunks(width))
         .map(|(a, b)| validate::neumaier_sum(a.iter().zip(b).map(|(u, v)| u - v)))
@@ -189,8 +198,8 @@ pub fn integrated_error(y: &[f64], yhat: &[f64], width: usize) -> Result<Vec<f64
 ///
 /// # Errors
 /// As [`integrated_error`].
-pub fn rsse(y: &[f64], yhat: &[f64], width: usize) -> Result<Vec<f64>> {
-    check_pair(y, yhat, width)?;
+pub fn rsse(y: &[f64], yhat: &[f64], width: usize, yhat_width: usize) -> Result<Vec<f64>> {
+    check_pair(y, yhat, width, yhat_width)?;
     Ok(y.chunks(width)
         .zip(yhat.chunks(width))
         .map(|(a, b)| {
@@ -239,8 +248,8 @@ pub fn evaluate(
             Method::CalibrationMean => predict::calibration_mean(&calibration, k, h)?,
         };
         out.push(Scores {
-            integrated_error: integrated_error(&future, &forecast, h)?,
-            rsse: rsse(&future, &forecast, h)?,
+            integrated_error: integrated_error(&future, &forecast, h, h)?,
+            rsse: rsse(&future, &forecast, h, h)?,
         });
     }
     Ok(out)
@@ -357,25 +366,40 @@ mod tests {
         assert_eq!(sections(2000, Some(1000), 600, 400).unwrap(), 2);
         assert!(matches!(
             sections(900, None, 600, 400),
-            Err(Error::TooShort { needed: 1000, got: 900, .. })
+            Err(Error::TooShort {
+                needed: 1000,
+                got: 900,
+                ..
+            })
         ));
         assert!(matches!(
             sections(2000, Some(500), 600, 400),
             Err(Error::ShapeMismatch { .. })
         ));
-        assert!(sections(2000, None, 1, 400).unwrap_err().to_string().contains("calibration"));
-        assert!(sections(2000, None, 10, 0).unwrap_err().to_string().contains("horizon"));
+        assert!(
+            sections(2000, None, 1, 400)
+                .unwrap_err()
+                .to_string()
+                .contains("calibration")
+        );
+        assert!(
+            sections(2000, None, 10, 0)
+                .unwrap_err()
+                .to_string()
+                .contains("horizon")
+        );
     }
 
     #[test]
     fn scores_by_hand() {
         let y = [1.0, 2.0, 3.0, 4.0, 0.0, 0.0];
         let yhat = [0.0, 0.0, 0.0, 1.0, 1.0, 1.0];
-        assert_eq!(integrated_error(&y, &yhat, 3).unwrap(), vec![6.0, 1.0]);
-        let r = rsse(&y, &yhat, 3).unwrap();
+        assert_eq!(integrated_error(&y, &yhat, 3, 3).unwrap(), vec![6.0, 1.0]);
+        let r = rsse(&y, &yhat, 3, 3).unwrap();
         assert!((r[0] - 14.0_f64.sqrt()).abs() < 1e-15);
         assert!((r[1] - 11.0_f64.sqrt()).abs() < 1e-15);
-        assert!(rsse(&y, &yhat[..3], 3).is_err());
+        assert!(rsse(&y, &yhat[..3], 3, 3).is_err());
+        assert!(rsse(&y, &yhat, 3, 2).is_err());
     }
 
     #[test]
@@ -417,16 +441,28 @@ mod tests {
         assert!((value - ma / mb).abs() < 1e-15);
         let sa = mean_std(&a).1;
         let sb = mean_std(&b).1;
-        let delta = value * ((sa * sa) / (n as f64 * ma * ma) + (sb * sb) / (n as f64 * mb * mb)).sqrt();
-        assert!((se / delta - 1.0).abs() < 0.15, "bootstrap {se}, delta {delta}");
+        let delta =
+            value * ((sa * sa) / (n as f64 * ma * ma) + (sb * sb) / (n as f64 * mb * mb)).sqrt();
+        assert!(
+            (se / delta - 1.0).abs() < 0.15,
+            "bootstrap {se}, delta {delta}"
+        );
         // Reproducible from the seed, different for another seed.
         assert_eq!(
             bootstrap_ratio(&a, &b, Statistic::Mean, 800, 12345).unwrap(),
             (value, se)
         );
-        assert_ne!(bootstrap_ratio(&a, &b, Statistic::Mean, 800, 1).unwrap().1, se);
+        assert_ne!(
+            bootstrap_ratio(&a, &b, Statistic::Mean, 800, 1).unwrap().1,
+            se
+        );
         // Too few sections: no standard error.
-        assert!(bootstrap_ratio(&a[..9], &b[..9], Statistic::Std, 400, 1).unwrap().1.is_nan());
+        assert!(
+            bootstrap_ratio(&a[..9], &b[..9], Statistic::Std, 400, 1)
+                .unwrap()
+                .1
+                .is_nan()
+        );
         assert!(bootstrap_ratio(&a, &b[..9], Statistic::Std, 400, 1).is_err());
         assert!(bootstrap_ratio(&a, &b, Statistic::Std, 1, 1).is_err());
     }
