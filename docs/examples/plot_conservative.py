@@ -33,6 +33,7 @@ ax.errorbar(
     color="0.3",
     label="ADEV with 90 % interval",
 )
+ax.loglog(cons.taus, cons.upper_bound, "v", color="C3", ms=5, label="95 % one-sided upper bound")
 ax.loglog(taus, fit.model(taus)[0], label="best fit")
 ax.loglog(taus, cons.coefficients.model(taus)[0], "--", label="conservative (95 %)")
 ax.set_xlabel("τ [s]")

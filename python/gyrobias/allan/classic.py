@@ -44,53 +44,9 @@ from gyrobias._validation import as_float_array, choice
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.allan import stream as _stream
 from gyrobias.allan._options import _options
-from gyrobias.allan._types import NOISE_NAMES, AllanResult, Kind
+from gyrobias.allan._types import AllanResult, Kind
 from gyrobias.allan.family import _analyse_family
 from gyrobias.units import checked_units
-
-
-def _result(
-    r: dict[str, Any],
-    *,
-    kind: Kind,
-    fs: float,
-    data_type: str,
-    overlapping: bool,
-    confidence: float | None,
-    units: str | None,
-    axis: str | None,
-) -> AllanResult:
-    """One :class:`AllanResult` from the core's dict for one axis."""
-    t0 = 1.0 / fs
-    var = np.asarray(r["variance"], dtype=np.float64)
-    m = np.asarray(r["m"]).astype(np.int64)
-    kw: dict[str, Any] = {}
-    if confidence is not None:
-        alpha = np.asarray(r["alpha"]).astype(np.int64)
-        kw = {
-            "edf": np.asarray(r["edf"], dtype=np.float64),
-            "alpha": alpha,
-            "ci_low": np.asarray(r["deviation_low"], dtype=np.float64),
-            "ci_high": np.asarray(r["deviation_high"], dtype=np.float64),
-            "noise_type": tuple(NOISE_NAMES.get(int(a), f"alpha={a}") for a in alpha),
-        }
-    unit = units
-    if units is not None and data_type == "angle":
-        unit = f"{units}/s"
-    return AllanResult(
-        taus=np.asarray(m * t0, dtype=np.float64),
-        avar=var,
-        deviation=np.asarray(r["deviation"], dtype=np.float64),
-        n_terms=np.asarray(r["n_terms"]).astype(np.int64),
-        fs=fs,
-        data_type=data_type,
-        kind=kind,
-        overlapping=overlapping if kind == "adev" else True,
-        unit=unit,
-        confidence=confidence,
-        axis=axis,
-        **kw,
-    )
 
 
 def _analyse(
@@ -170,12 +126,12 @@ def _analyse(
             progress,
         )
     results = tuple(
-        _result(
+        AllanResult._from_core(
             r,
             kind=kind,
             fs=fs,
             data_type=data_type,
-            overlapping=overlapping,
+            overlapping=overlapping if kind == "adev" else True,
             confidence=confidence,
             units=units,
             axis=None if axis_names is None else str(axis_names[i]),
@@ -264,7 +220,7 @@ def adev_batch(
     )
     return tuple(
         tuple(
-            _result(
+            AllanResult._from_core(
                 r,
                 kind="adev",
                 fs=fs,

@@ -276,6 +276,6 @@ def _duration(seconds: float) -> str:
 
 
 def _version() -> str:
-    from gyrobias import __version__
+    from gyrobias._version import __version__
 
     return __version__

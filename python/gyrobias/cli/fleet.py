@@ -135,7 +135,7 @@ def _print_table(table: Any) -> None:
 
 
 def _print_summary(summ: Any) -> None:
-    pd = fleet._require("pandas")
+    pd = fleet.table._require("pandas")
     print(
         f"{'axis':<6} {'term':<4} {'unit':<10} {'n':>4} {'median':>11} {'spread':>10} {'mean 1σ':>10} "
         f"{'Birge':>6} {'p':>8}  spread real?"

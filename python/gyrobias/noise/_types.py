@@ -102,6 +102,20 @@ class Term:
     marker: tuple[float, float] | None = None
     missing: str | None = None
 
+    @classmethod
+    def _from_core(cls, raw: Mapping[str, Any], name: str, unit: str | None) -> Term:
+        """The one place a :class:`Term` is built from the core's ``TermEstimate``."""
+        return cls(
+            symbol=raw["symbol"],
+            name=name,
+            value=raw["value"],
+            uncertainty=raw["uncertainty"],
+            unit=unit,
+            tau_range=raw["tau_range"],
+            marker=raw["marker"],
+            missing=raw["missing"],
+        )
+
     @property
     def present(self) -> bool:
         """True when the term was identified."""
@@ -192,6 +206,43 @@ class GaussMarkovTerm:
     tau_range: tuple[float, float] | None = None
     missing: str | None = None
 
+    @classmethod
+    def _from_core(
+        cls, raw: Mapping[str, Any], index: int, rate_unit: str | None
+    ) -> GaussMarkovTerm:
+        """The one place a :class:`GaussMarkovTerm` is built from the core's ``GaussMarkovTerm``
+        (the ``index``-th component: symbol ``GM``, ``GM2``, …)."""
+        symbol = "GM" if index == 0 else f"GM{index + 1}"
+        rng = (
+            None
+            if raw["tau_range"] is None
+            else (float(raw["tau_range"][0]), float(raw["tau_range"][1]))
+        )
+        return cls(
+            sigma=Term(
+                symbol,
+                "Gauss–Markov σ",
+                raw["sigma"],
+                raw["sigma_uncertainty"],
+                rate_unit,
+                rng,
+                None,
+                raw["missing"],
+            ),
+            correlation_time=Term(
+                symbol,
+                "Gauss–Markov correlation time",
+                raw["correlation_time"],
+                raw["correlation_time_uncertainty"],
+                "s",
+                rng,
+                None,
+                raw["missing"],
+            ),
+            tau_range=rng,
+            missing=raw["missing"],
+        )
+
     @property
     def present(self) -> bool:
         """True when the term was identified."""
@@ -256,7 +307,8 @@ class FitDiagnostics:
         return not (self.p_value < REJECT_P)
 
     @classmethod
-    def _from_raw(cls, raw: Mapping[str, Any], taus: NDArray[np.float64]) -> FitDiagnostics:
+    def _from_core(cls, raw: Mapping[str, Any], taus: NDArray[np.float64]) -> FitDiagnostics:
+        """The one place :class:`FitDiagnostics` are built from the core's ``Diagnostics``."""
         return cls(
             chi2=float(raw["chi2"]),
             dof=int(raw["dof"]),
@@ -357,6 +409,62 @@ class NoiseCoefficients:
     gauss_markov: tuple[GaussMarkovTerm, ...] = ()
     diagnostics: FitDiagnostics | None = None
     allan: AllanResult | None = field(default=None, repr=False, compare=False)
+
+    @classmethod
+    def _from_core(
+        cls,
+        raw: Mapping[str, Any],
+        diagnostics: Mapping[str, Any],
+        taus: NDArray[np.float64],
+        *,
+        method: str,
+        data_unit: str | None,
+        sensor: str | None,
+        fs: float,
+        axis: str | None,
+        edf_source: str,
+        allan: AllanResult | None,
+    ) -> NoiseCoefficients:
+        """The one place :class:`NoiseCoefficients` are built from the core's output.
+
+        ``raw`` is the binding's ``JointFit`` or ``Gmwm`` (terms, Gauss–Markov components,
+        χ², fitted squares, τ range) or ``ReadOff`` (terms only: the τ range is then the
+        curve's, ``taus[0]``…``taus[-1]``); ``diagnostics`` the matching ``Diagnostics``.
+        """
+        names = TERM_NAMES[sensor or "gyro"]
+        built = {
+            d["symbol"]: Term._from_core(
+                d,
+                names[d["symbol"]],
+                None if data_unit is None else base_unit(data_unit, d["symbol"]),
+            )
+            for d in raw["terms"]
+        }
+        rate_unit = None if data_unit is None else base_unit(data_unit, "B")
+        joint = "chi2" in raw
+        return cls(
+            Q=built["Q"],
+            N=built["N"],
+            B=built["B"],
+            K=built["K"],
+            R=built["R"],
+            method=method,
+            data_unit=data_unit,
+            sensor=sensor,
+            fs=fs,
+            axis=axis,
+            edf_source=edf_source,
+            allan=allan,
+            tau_range=tuple(raw["tau_range"]) if joint else (float(taus[0]), float(taus[-1])),
+            chi2=float(raw["chi2"]) if joint else None,
+            dof=int(raw["dof"]) if joint else None,
+            squared=tuple(float(v) for v in raw["squared"]) if joint else None,  # type: ignore[arg-type]
+            gauss_markov=tuple(
+                GaussMarkovTerm._from_core(g, k, rate_unit)
+                for k, g in enumerate(raw.get("gauss_markov", ()))
+            ),
+            diagnostics=FitDiagnostics._from_core(diagnostics, taus),
+        )
 
     @property
     def terms(self) -> tuple[Term, Term, Term, Term, Term]:

@@ -20,13 +20,9 @@ from gyrobias._validation import (
 from gyrobias.noise._types import (
     _GM_SYMBOLS,
     _SYMBOLS,
-    TERM_NAMES,
-    FitDiagnostics,
-    GaussMarkovTerm,
     NoiseCoefficients,
-    Term,
 )
-from gyrobias.units import base_unit, sensor_kind
+from gyrobias.units import sensor_kind
 
 if TYPE_CHECKING:
     from gyrobias.allan import AllanResult
@@ -270,7 +266,6 @@ def fit(
     m = result.m
     n_terms = result.n_terms
     edf = None if result.edf is None else np.ascontiguousarray(result.edf, dtype=np.float64)
-    gm_raw: list[_core.noise.GaussMarkovTerm] = []
     raw: Mapping[str, Any]
     if method == "joint":
         if regions is not None:
@@ -289,13 +284,6 @@ def fit(
             correlation_time,
             auto_range,
         )
-        extra: dict[str, Any] = {
-            "chi2": float(raw["chi2"]),
-            "dof": int(raw["dof"]),
-            "squared": tuple(float(v) for v in raw["squared"]),
-            "tau_range": tuple(raw["tau_range"]),
-        }
-        gm_raw = list(raw["gauss_markov"])
         diagnostics_raw = raw["diagnostics"]
     else:
         if any(t in _GM_SYMBOLS for t in term_list):
@@ -322,7 +310,6 @@ def fit(
             slope_tolerance,
             int(min_points),
         )
-        extra = {"tau_range": (float(taus[0]), float(taus[-1]))}
         read = [0.0 if d["value"] is None else float(d["value"]) ** 2 for d in raw["terms"]]
         diagnostics_raw = _core.noise.diagnose(
             taus,
@@ -335,9 +322,8 @@ def fit(
             [],
             sum(v > 0.0 for v in read),
         )
-    return _assemble(
-        raw["terms"],
-        gm_raw,
+    return NoiseCoefficients._from_core(
+        raw,
         diagnostics_raw,
         taus,
         method=method,
@@ -347,90 +333,4 @@ def fit(
         axis=result.axis,
         edf_source=_edf_source(result),
         allan=result,
-        extra=extra,
-    )
-
-
-def _assemble(
-    term_dicts: Sequence[Mapping[str, Any]],
-    gm_dicts: Sequence[Mapping[str, Any]],
-    diagnostics_raw: Mapping[str, Any],
-    taus: NDArray[np.float64],
-    *,
-    method: str,
-    data_unit: str | None,
-    sensor: str | None,
-    fs: float,
-    axis: str | None,
-    edf_source: str,
-    allan: AllanResult | None,
-    extra: Mapping[str, Any],
-) -> NoiseCoefficients:
-    """Typed result from the core's dictionaries (shared by :func:`fit` and :func:`gmwm`)."""
-    names = TERM_NAMES[sensor or "gyro"]
-    built = {}
-    for d in term_dicts:
-        s = d["symbol"]
-        built[s] = Term(
-            symbol=s,
-            name=names[s],
-            value=d["value"],
-            uncertainty=d["uncertainty"],
-            unit=None if data_unit is None else base_unit(data_unit, s),
-            tau_range=d["tau_range"],
-            marker=d["marker"],
-            missing=d["missing"],
-        )
-    rate_unit = None if data_unit is None else base_unit(data_unit, "B")
-    gm_terms = []
-    for k, g in enumerate(gm_dicts):
-        symbol = "GM" if k == 0 else f"GM{k + 1}"
-        rng = (
-            None if g["tau_range"] is None else (float(g["tau_range"][0]), float(g["tau_range"][1]))
-        )
-        gm_terms.append(
-            GaussMarkovTerm(
-                sigma=Term(
-                    symbol,
-                    "Gauss–Markov σ",
-                    g["sigma"],
-                    g["sigma_uncertainty"],
-                    rate_unit,
-                    rng,
-                    None,
-                    g["missing"],
-                ),
-                correlation_time=Term(
-                    symbol,
-                    "Gauss–Markov correlation time",
-                    g["correlation_time"],
-                    g["correlation_time_uncertainty"],
-                    "s",
-                    rng,
-                    None,
-                    g["missing"],
-                ),
-                tau_range=rng,
-                missing=g["missing"],
-            )
-        )
-    return NoiseCoefficients(
-        Q=built["Q"],
-        N=built["N"],
-        B=built["B"],
-        K=built["K"],
-        R=built["R"],
-        method=method,
-        data_unit=data_unit,
-        sensor=sensor,
-        fs=fs,
-        axis=axis,
-        edf_source=edf_source,
-        allan=allan,
-        tau_range=extra["tau_range"],
-        chi2=extra.get("chi2"),
-        dof=extra.get("dof"),
-        squared=extra.get("squared"),
-        gauss_markov=tuple(gm_terms),
-        diagnostics=FitDiagnostics._from_raw(diagnostics_raw, taus),
     )

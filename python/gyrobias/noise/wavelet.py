@@ -18,7 +18,6 @@ from gyrobias._validation import axis_names as check_axis_names
 from gyrobias._validation import seed as seed_value
 from gyrobias.allan._types import AllanResult
 from gyrobias.noise._types import NoiseCoefficients
-from gyrobias.noise.fitting import _assemble
 from gyrobias.units import sensor_kind
 
 
@@ -117,24 +116,20 @@ def gmwm(
     for a in range(n_axes):
         column = np.ascontiguousarray(matrix[:, a], dtype=np.float64)
         raw = _core.noise.gmwm(column, t0, term_list, select, replicates, seed_number, 8)
-        wv = raw["wavelet"]
-        m = np.asarray(wv["m"]).astype(np.int64)
         name = None if axis_names is None else str(axis_names[a])
-        allan = AllanResult(
-            taus=np.asarray(m * t0, dtype=np.float64),
-            avar=2.0 * np.asarray(wv["variance"], dtype=np.float64),
-            n_terms=np.asarray(wv["n_coefficients"]).astype(np.int64),
+        allan = AllanResult._from_core(
+            raw["wavelet"],
+            kind="adev",
             fs=fs,
             data_type="rate",
-            kind="adev",
             overlapping=True,
-            unit=units,
+            confidence=None,
+            units=units,
             axis=name,
         )
         out.append(
-            _assemble(
-                raw["terms"],
-                raw["gauss_markov"],
+            NoiseCoefficients._from_core(
+                raw,
                 raw["diagnostics"],
                 np.asarray(allan.taus, dtype=np.float64),
                 method="gmwm",
@@ -144,12 +139,6 @@ def gmwm(
                 axis=name,
                 edf_source="SP1065 simple approximation",
                 allan=allan,
-                extra={
-                    "chi2": float(raw["chi2"]),
-                    "dof": int(raw["dof"]),
-                    "squared": tuple(float(v) for v in raw["squared"]),
-                    "tau_range": tuple(raw["tau_range"]),
-                },
             )
         )
     if arr.ndim == 1:
