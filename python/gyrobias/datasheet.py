@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from gyrobias import _core, _generics
-from gyrobias._validation import choice, positive_float, string
+from gyrobias._validation import choice, real, string
 from gyrobias.noise._types import TERM_NAMES, NoiseCoefficients, Term
 from gyrobias.units import CUSTOMARY, base_unit, parse_unit, sensor_kind
 
@@ -288,7 +288,7 @@ def from_datasheet(
                 f"{label}: {unit!r} is not {'an angular rate' if kind == 'gyro' else 'an acceleration'}"
             )
     if rate is not None:
-        rate = positive_float("rate", rate)
+        rate = _core.noise.discrete_rate(real("rate", rate))  # finite and > 0: the core's check
     if isinstance(units, Mapping):
         for key in units:
             choice("units key", key, tuple(_PARAMETERS))

@@ -32,34 +32,16 @@ use crate::{Error, Result};
 /// `1/Φ⁻¹(3/4)`: the MAD of a normal sample times this estimates its standard deviation.
 pub const MAD_TO_SD: f64 = 1.482_602_218_505_602;
 
-/// Median of a slice (the mean of the two middle values for an even count; NaN when empty).
-/// `values` is reordered.
-fn median_in_place(values: &mut [f64]) -> f64 {
-    let n = values.len();
-    if n == 0 {
-        return f64::NAN;
-    }
-    let mid = n / 2;
-    let (below, upper, _) = values.select_nth_unstable_by(mid, f64::total_cmp);
-    let upper = *upper;
-    if n % 2 == 1 {
-        return upper;
-    }
-    let lower = below.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    // NumPy's median averages the two middle values as their mean: (a + b)/2.
-    (lower + upper) / 2.0
-}
-
 /// Median of `values` (a copy is sorted partially; NaN when empty).
 pub fn median(values: &[f64]) -> f64 {
-    median_in_place(&mut values.to_vec())
+    stats::median_in_place(&mut values.to_vec())
 }
 
 /// Median and scaled MAD `1.482602·median|X − m|` of finite values.
 fn median_spread(values: &[f64]) -> (f64, f64) {
     let m = median(values);
     let mut dev: Vec<f64> = values.iter().map(|v| (v - m).abs()).collect();
-    (m, MAD_TO_SD * median_in_place(&mut dev))
+    (m, MAD_TO_SD * stats::median_in_place(&mut dev))
 }
 
 /// Robust z-scores of the units' values (module docs).

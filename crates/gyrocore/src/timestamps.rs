@@ -25,6 +25,7 @@
 //! floats in seconds. Every scan is one pass without full-length temporaries, except the median,
 //! which needs a copy of the positive intervals (`select_nth_unstable`, O(n)).
 
+use crate::stats;
 use crate::validate;
 use crate::{Error, Result};
 
@@ -59,20 +60,6 @@ impl Stamp for f64 {
     }
 }
 
-/// Median (NumPy's convention: the mean of the two middle values for an even count) of a
-/// non-empty slice, which is reordered.
-fn median_in_place(values: &mut [f64]) -> f64 {
-    let n = values.len();
-    let mid = n / 2;
-    let (below, upper, _) = values.select_nth_unstable_by(mid, f64::total_cmp);
-    let upper = *upper;
-    if n % 2 == 1 {
-        return upper;
-    }
-    let lower = below.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    (lower + upper) / 2.0
-}
-
 /// Median of the positive steps `t_i − t_{i−1}` of raw stamps (0 if none is positive).
 pub fn median_positive_step<T: Stamp>(stamps: &[T]) -> f64 {
     let mut positive: Vec<f64> = stamps
@@ -83,7 +70,7 @@ pub fn median_positive_step<T: Stamp>(stamps: &[T]) -> f64 {
     if positive.is_empty() {
         0.0
     } else {
-        median_in_place(&mut positive)
+        stats::median_in_place(&mut positive)
     }
 }
 
@@ -179,7 +166,7 @@ pub fn analyse(intervals: &[f64]) -> Result<Sampling> {
         ));
     }
     let mean_positive = validate::neumaier_sum(positive.iter().copied()) / positive.len() as f64;
-    let median = median_in_place(&mut positive);
+    let median = stats::median_in_place(&mut positive);
     drop(positive);
     let limit = GAP_FACTOR * median;
     let mut gap_rows = Vec::new();
