@@ -11,8 +11,8 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from gyrobias._files import atomic_write
 from gyrobias import _core
+from gyrobias._files import atomic_write
 from gyrobias._validation import choice, real
 from gyrobias.exports.discretisation import discrete
 from gyrobias.noise._types import NoiseCoefficients
