@@ -10,9 +10,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 from hypothesis import given
 from hypothesis import strategies as st
-import yaml
 
 import gyrobias
 from gyrobias import allan, exports, noise
