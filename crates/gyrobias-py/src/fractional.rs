@@ -128,6 +128,9 @@ fn elw_objective<'py>(
     Ok(core(py.detach(|| elw::objective(&x, &ds, m, level)))?.into_pyarray(py))
 }
 
+/// Two float64 arrays returned to Python (lower and upper bounds).
+type ArrayPair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
 /// Asymptotic normal interval of ELW estimates
 /// (`gyrocore::fractional::elw::confidence_interval`): `(lower, upper)`.
 #[pyfunction]
@@ -138,7 +141,7 @@ fn elw_confidence_interval<'py>(
     d: PyReadonlyArray1<'py, f64>,
     standard_error: f64,
     confidence: f64,
-) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+) -> PyResult<ArrayPair<'py>> {
     let (lo, hi) = core(elw::confidence_interval(
         &c_order(&d),
         standard_error,
