@@ -214,7 +214,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"gyrobias: warning: {row['source']}: {row['error']}", file=sys.stderr)
     if args.out is not None:
         if args.out.suffix.lower() == ".csv":
-            from gyrobias.exports import atomic_write
+            from gyrobias._files import atomic_write
 
             atomic_write(args.out, table.drop(columns=["adev_tau", "adev"]).to_csv(index=False))
         else:

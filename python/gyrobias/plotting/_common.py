@@ -55,7 +55,7 @@ def _sensor_title(unit: str | None) -> str:
 
 
 def _save_atomically(fig: Any, path: str | os.PathLike[str], dpi: int) -> None:
-    """``fig.savefig`` through :func:`gyrobias.exports.atomic_binary` (a temporary file beside
+    """``fig.savefig`` through :func:`gyrobias._files.atomic_binary` (a temporary file beside
     ``path``, renamed over it); the image format comes from the suffix, as ``savefig(path)``."""
     suffix = os.path.splitext(os.fspath(path))[1][1:].lower()
     with atomic_binary(path) as fh:
