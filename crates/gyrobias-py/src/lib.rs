@@ -15,6 +15,7 @@
 
 mod allan;
 mod array;
+mod codegen;
 mod count;
 mod discrete;
 mod error;
@@ -68,6 +69,7 @@ fn noise_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     error::register(m)?;
     submodule(m, "allan", allan::register)?;
+    submodule(m, "codegen", codegen::register)?;
     submodule(m, "fir", fir::register)?;
     submodule(m, "spectral", spectral::register)?;
     submodule(m, "thermal", thermal::register)?;

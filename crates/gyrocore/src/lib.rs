@@ -24,9 +24,11 @@
 #![forbid(unsafe_code)]
 
 pub mod allan;
+pub mod codegen;
 pub mod error;
 pub mod fir;
 pub mod fleet;
+pub mod float;
 pub mod fractional;
 pub mod kalman;
 pub mod noise;
