@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 from gyrobias import _core, _generics
 from gyrobias._validation import (
     as_float_array,
+    choice,
     integer,
     real,
     string,
@@ -54,8 +55,8 @@ def _n_threads(n_threads: int | None) -> int:
     if n_threads is None:
         return 0
     n = integer("n_threads", n_threads)
-    if n == 0:
-        raise ValueError("n_threads must be a positive integer or None, got 0")
+    if n <= 0:
+        raise ValueError(f"n_threads must be a positive integer or None, got {n}")
     return n
 
 
@@ -157,6 +158,9 @@ def integrated_error(y: Any, yhat: Any) -> NDArray[np.float64] | float:
 
 def rsse(y: Any, yhat: Any) -> NDArray[np.float64] | float:
     """Root of the sum of squared errors ``√Σ_j (y_j − ŷ_j)²`` along the last axis.
+
+    Where the squares overflow it is computed as ``s·√Σ(d_j/s)²`` with ``s = max|d_j|``, so
+    errors up to the float64 limit give a finite root; ``y`` and ``yhat`` must be finite.
 
     Notes
     -----
@@ -333,6 +337,7 @@ class FractionalKalmanPredictor:
         for name in ("d", "q", "r"):
             object.__setattr__(self, name, real(name, getattr(self, name)))
         object.__setattr__(self, "_spec", _mean_spec(self.mean))
+        string("algorithm", self.algorithm)
         # The model's preconditions (−½ < d < 3/2, q > 0, r ≥ 0, the prior, the algorithm's
         # name) are the core's; checked now so that a bad predictor fails where it is made.
         _core.predict.validate_model(*self._args(), self.algorithm)
@@ -534,7 +539,9 @@ class Evaluation:
         by default, so the numbers are reproducible); NaN with fewer than 10 sections
         (``gyrocore::predict::evaluate::bootstrap_ratio``).
         """
-        a, b = self.methods[method], self.methods[reference]
+        names = tuple(self.methods)
+        a = self.methods[choice("method", method, names)]
+        b = self.methods[choice("reference", reference, names)]
         pick = "rsse" if statistic == "rsse" else "ie"  # the core parses statistic itself
         return _core.predict.bootstrap_ratio(
             getattr(a, pick),

@@ -19,6 +19,7 @@
 //! | [`stats`] | chi-square quantiles and the special functions behind them | — |
 //! | [`fleet`] | robust z-scores of a unit within its fleet, weighted χ² homogeneity test and Birge ratio | Rousseeuw & Croux (1993), Birge (1932) |
 //! | [`timestamps`] | sampling analysis of a log's timestamps: rate, jitter, gaps, repeated and out-of-order stamps, gap filling | — |
+//! | [`simd`] | run-time choice of the kernels' vector instruction set (`GYROBIAS_SIMD=scalar` forces the baseline) | — |
 //!
 //! Units: time in seconds; rates and angles in the caller's unit (the core is unit-agnostic).
 #![forbid(unsafe_code)]
@@ -35,6 +36,7 @@ pub mod noise;
 pub mod optimize;
 pub mod predict;
 pub mod random;
+pub mod simd;
 pub mod spectral;
 pub mod stats;
 pub mod thermal;

@@ -16,7 +16,8 @@
 //! indices come from the core's one generator ([`crate::random`]), seeded by the caller.
 //!
 //! Sums are compensated (Neumaier), so a score does not depend on the order of summation to
-//! more than a few ulps.
+//! more than a few ulps; the RSSE is scaled by the largest error (squares beyond float64 give the
+//! same root), and a difference or sum beyond float64 is an error, never ∞.
 
 use crate::predict::batch::Compiled;
 use crate::predict::{self, Model};
@@ -173,7 +174,15 @@ fn check_pair(y: &[f64], yhat: &[f64], width: usize, yhat_width: usize) -> Resul
             reason: format!("{} values are not whole rows of {width}", y.len()),
         });
     }
-    Ok(())
+    validate::finite("y", y)?;
+    validate::finite("yhat", yhat)
+}
+
+fn overflow(what: &str) -> Error {
+    Error::invalid(
+        "y",
+        format!("y - yhat must have a finite {what} in float64, got an overflow"),
+    )
 }
 
 /// Integrated error `Σ_j (y_j − ŷ_j)` of every row of two row-major arrays with rows of
@@ -188,10 +197,17 @@ pub fn integrated_error(
     yhat_width: usize,
 ) -> Result<Vec<f64>> {
     check_pair(y, yhat, width, yhat_width)?;
-    Ok(y.chunks(width)
+    y.chunks(width)
         .zip(yhat.chunks(width))
-        .map(|(a, b)| validate::neumaier_sum(a.iter().zip(b).map(|(u, v)| u - v)))
-        .collect())
+        .map(|(a, b)| {
+            let s = validate::neumaier_sum(a.iter().zip(b).map(|(u, v)| u - v));
+            if s.is_finite() {
+                Ok(s)
+            } else {
+                Err(overflow("sum"))
+            }
+        })
+        .collect()
 }
 
 /// Root of the sum of squared errors `√Σ_j (y_j − ŷ_j)²` of every row (compensated sum).
@@ -200,12 +216,28 @@ pub fn integrated_error(
 /// As [`integrated_error`].
 pub fn rsse(y: &[f64], yhat: &[f64], width: usize, yhat_width: usize) -> Result<Vec<f64>> {
     check_pair(y, yhat, width, yhat_width)?;
-    Ok(y.chunks(width)
+    y.chunks(width)
         .zip(yhat.chunks(width))
         .map(|(a, b)| {
-            validate::neumaier_sum(a.iter().zip(b).map(|(u, v)| (u - v) * (u - v))).sqrt()
+            // Scaled by the largest error, so squares beyond float64 give the same root.
+            let scale = a
+                .iter()
+                .zip(b)
+                .map(|(u, v)| (u - v).abs())
+                .fold(0.0, f64::max);
+            if !scale.is_finite() {
+                return Err(overflow("difference"));
+            }
+            if scale == 0.0 {
+                return Ok(0.0);
+            }
+            let ss = validate::neumaier_sum(a.iter().zip(b).map(|(u, v)| {
+                let e = (u - v) / scale;
+                e * e
+            }));
+            Ok(scale * ss.sqrt())
         })
-        .collect())
+        .collect()
 }
 
 /// \[BP\]'s batch test: cuts `log` into sections ([`sections`]), forecasts the last `h` samples
@@ -400,6 +432,12 @@ mod tests {
         assert!((r[1] - 11.0_f64.sqrt()).abs() < 1e-15);
         assert!(rsse(&y, &yhat[..3], 3, 3).is_err());
         assert!(rsse(&y, &yhat, 3, 2).is_err());
+        // Squares beyond float64: the same root; differences beyond it: refused.
+        let big = rsse(&[1e200; 4], &[0.0; 4], 4, 4).unwrap();
+        assert!((big[0] / 2e200 - 1.0).abs() < 1e-15);
+        assert!(rsse(&[1e308, -1e308], &[-1e308, 1e308], 2, 2).is_err());
+        assert!(integrated_error(&[f64::MAX; 2], &[0.0; 2], 2, 2).is_err());
+        assert!(integrated_error(&[f64::NAN; 2], &[0.0; 2], 2, 2).is_err());
     }
 
     #[test]
