@@ -82,9 +82,9 @@ def test_accelerometer_and_units_forms() -> None:
         ({"arw": "0.3 deg/√h", "noise_density": "0.01 deg/s/√Hz"}, "give one of them"),
         ({}, "at least one value"),
         ({"arw": "0.3 deg/√h", "gyro_unit": "m/s^2"}, "gyro_unit"),
-        ({"arw": "0.3 deg/√h", "density": "single"}, "density: must be one of"),
+        ({"arw": "0.3 deg/√h", "density": "single"}, "density must be one of"),
         ({"arw": "0.3 deg/√h", "units": {"speed": "m/s"}}, "units key"),
-        ({"arw": "0.3 deg/√h", "rate": -5.0}, "rate: must be finite and > 0"),
+        ({"arw": "0.3 deg/√h", "rate": -5.0}, "rate must be finite and > 0"),
     ],
 )
 def test_bad_input_names_the_argument(kwargs: dict, match: str) -> None:

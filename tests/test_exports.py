@@ -214,7 +214,7 @@ def test_missing_required_term_and_rate_are_named() -> None:
     assert "SampleRate" not in full.export("matlab")  # matlab: the rate is optional
     with pytest.raises(ValueError, match="fmt must be one of"):
         full.export("rovio")
-    with pytest.raises(ValueError, match="rate: must be finite"):
+    with pytest.raises(ValueError, match="rate must be finite"):
         full.export("kalibr", rate=0.0)
     with pytest.raises(ValueError, match="accel: coefficients of data in 'rad/s' are gyro"):
         exports.export(None, "json", accel=full.gyro)

@@ -498,7 +498,10 @@ def analyse_log(
         temperature, (int, float, np.integer, np.floating)
     ):
         raise TypeError(f"temperature must be a real number, got {type(temperature).__name__}")
-    _core.thermal.check_temperatures(np.array([float(temperature)]))  # finite: the core's check
+    try:  # finite: the core's check (of a set of temperatures, here one)
+        _core.thermal.check_temperatures(np.array([float(temperature)]))
+    except ValueError:
+        raise ValueError(f"temperature must be finite, got {temperature!r}") from None
     units = checked_units("units", units)
     boolean("prefilter", prefilter)
     # The prefilter is designed (its options checked) even when prefilter=False ignores it:
