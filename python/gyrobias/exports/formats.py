@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from gyrobias._files import atomic_write
-from gyrobias._validation import choice, positive_float
+from gyrobias._validation import choice, positive_float, ros_topic
 from gyrobias.exports.discretisation import discrete
 from gyrobias.noise._types import NoiseCoefficients
 
@@ -148,7 +148,8 @@ def _densities(
 def _header(
     fmt: str, g: list[NoiseCoefficients], a: list[NoiseCoefficients], comment: str = "#"
 ) -> list[str]:
-    sources = sorted({c.method for c in g + a})
+    # one comment line whatever a hand-made NoiseCoefficients' method holds
+    sources = sorted({" ".join(str(c.method).split()) for c in g + a})
     return [
         f"{comment} {fmt} IMU noise parameters written by gyrobias (from: {', '.join(sources)} coefficients)",
         f"{comment} N, K: IEEE-952 coefficients (two-sided densities); see the convention table of the gyrobias docs (Estimator parameters).",
@@ -508,8 +509,7 @@ def export(
     ['IMU.NoiseGyro', 'IMU.NoiseAcc', 'IMU.GyroWalk', 'IMU.AccWalk', 'IMU.Frequency']
     """
     fmt = choice("fmt", fmt, FORMATS)
-    if not isinstance(rostopic, str) or not rostopic:
-        raise ValueError(f"rostopic must be a non-empty string, got {rostopic!r}")
+    ros_topic("rostopic", rostopic)  # written verbatim into YAML: a ROS name, nothing else
     g, a = _split(gyro, accel)
     text = _RENDER[fmt](g, a, rate, rostopic)
     if path is not None:
