@@ -801,6 +801,19 @@ def test_extreme_sample_rate_gives_the_ordinary_rate_data_result() -> None:
             np.testing.assert_allclose(got, ref, rtol=1e-12, err_msg=f"{k} fs={fs}")
 
 
+def test_extreme_sample_rate_with_gaps_and_windows_gives_the_ordinary_result() -> None:
+    """Gap-aware and dynamic ADEV split an extreme period like the other statistics do."""
+    gapped = _X[:600].copy()
+    gapped[[100, 257]] = np.nan
+    ref = allan.adev(gapped, 1.0, gaps="omit", confidence=None).adev
+    ref_dyn = allan.dynamic_adev(_X[:600], 1.0, window=200, step=100).avar
+    for fs in (1e286, 2.0**-900):
+        got = allan.adev(gapped, fs, gaps="omit", confidence=None).adev
+        np.testing.assert_allclose(got, ref, rtol=1e-12, err_msg=f"gaps fs={fs}")
+        dyn = allan.dynamic_adev(_X[:600], fs, window=200, step=100).avar
+        np.testing.assert_allclose(dyn, ref_dyn, rtol=1e-12, err_msg=f"dynamic fs={fs}")
+
+
 def test_model_curves_refuse_tau_without_value() -> None:
     for taus in (None, [0.0], [-1.0], [math.nan]):
         with pytest.raises((ValueError, TypeError), match="taus"):

@@ -14,7 +14,8 @@
 use rayon::prelude::*;
 
 use super::{
-    Column, DataType, Estimator, Taus, ldexp, resolve_factors, scaled_angle_series, variances_into,
+    Column, DataType, Estimator, Taus, ldexp, period_correction, resolve_factors,
+    scaled_angle_series, split_period, variances_into,
 };
 use crate::{Error, Result};
 
@@ -68,6 +69,10 @@ pub fn dynamic_avar(
                 other => other,
             },
         )?;
+    // An extreme period is computed as t0'·2^e (see `split_period`); τ were resolved above with
+    // the period itself.
+    let (t0, period_exponent) = split_period(t0);
+    let correction = period_correction(data_type, period_exponent, false);
     let starts: Vec<usize> = (0..=(n - window) / step).map(|w| w * step).collect();
     let k = ms.len();
     let rows: Vec<Result<(Vec<f64>, Vec<usize>)>> = starts
@@ -89,7 +94,7 @@ pub fn dynamic_avar(
             let mut t = vec![0usize; k];
             variances_into(&x, t0, &ms, Estimator::Overlapping, &mut v, &mut t)?;
             for value in &mut v {
-                *value = ldexp(*value, 2 * scale);
+                *value = ldexp(*value, 2 * (scale + correction));
             }
             Ok((v, t))
         })
@@ -167,5 +172,29 @@ mod tests {
             ),
             "taus"
         );
+    }
+
+    #[test]
+    fn extreme_periods_give_the_ordinary_result() {
+        // t0 = 1.25·2^±950: computed with t0' = 1.25, so rate variances equal those at
+        // t0 = 1.25 bit for bit and angle variances (at 2^±300, where
+        // they are representable) differ by exactly 4^∓300.
+        let r = rate(600);
+        let taus = Taus::Spec(TauSpec::Octave);
+        let base = dynamic_avar(&r, 1.25, DataType::Rate, 200, 100, &taus).unwrap();
+        for e in [-950, 950] {
+            let t0 = ldexp(1.25, e);
+            let d = dynamic_avar(&r, t0, DataType::Rate, 200, 100, &taus).unwrap();
+            assert_eq!(d.variance, base.variance);
+        }
+        for e in [-300, 300] {
+            let t0 = ldexp(1.25, e);
+            let a = dynamic_avar(&r, t0, DataType::Angle, 200, 100, &taus).unwrap();
+            let b = dynamic_avar(&r, 1.25, DataType::Angle, 200, 100, &taus).unwrap();
+            for (x, y) in a.variance.iter().zip(&b.variance) {
+                assert!(x.is_finite());
+                assert_eq!(*x, ldexp(*y, -2 * e));
+            }
+        }
     }
 }

@@ -41,8 +41,8 @@
 
 use super::{
     AllanAnalysis, Column, Config, DataType, Estimator, Progress, Taus, WORK_CONFIDENCE,
-    WORK_VARIANCES, Workspace, confidence, edf, integrate_rate_into, normalise, pow2, raw_sums,
-    resolve_factors, scale_exponent, sum_squares, unscale,
+    WORK_VARIANCES, Workspace, confidence, edf, integrate_rate_into, normalise, period_correction,
+    pow2, raw_sums, resolve_factors, scale_exponent, split_period, sum_squares, unscale,
 };
 use crate::{Error, Result};
 
@@ -131,6 +131,9 @@ pub(crate) fn analyse(
         .fold(0.0_f64, |p, v| p.max(v.abs()));
     let k = scale_exponent(peak);
     let factor = pow2(-k);
+    // An extreme period is computed as t0'·2^e (see `split_period`); τ were resolved above with
+    // the period itself.
+    let (t0, period_exponent) = split_period(config.t0);
     // Angle series of every segment (data scaled by 2^-k), concatenated in the workspace.
     let buffer = &mut workspace.segments;
     buffer.clear();
@@ -140,13 +143,7 @@ pub(crate) fn analyse(
         let part = column.sub(s, e);
         match config.data_type {
             DataType::Rate => {
-                integrate_rate_into(
-                    part,
-                    config.t0,
-                    &mut workspace.angle,
-                    &Progress::none(),
-                    Some(k),
-                )?;
+                integrate_rate_into(part, t0, &mut workspace.angle, &Progress::none(), Some(k))?;
                 buffer.extend_from_slice(&workspace.angle);
             }
             DataType::Angle => buffer.extend(part.iter().map(|v| v * factor)),
@@ -223,7 +220,7 @@ pub(crate) fn analyse(
         .zip(&n_terms)
         .map(|((&m, s), &t)| {
             let total = crate::validate::neumaier_sum(s.iter().copied());
-            normalise(estimator, total, m, config.t0, t)
+            normalise(estimator, total, m, t0, t)
         })
         .collect();
 
@@ -259,6 +256,7 @@ pub(crate) fn analyse(
         }
         None => None,
     };
+    let k = k + period_correction(config.data_type, period_exponent, false);
     Ok(unscale(ms, &variance, n_terms, confidence, k))
 }
 
@@ -416,5 +414,47 @@ mod tests {
         let mut total = config(Estimator::Total, DataType::Rate);
         total.gaps = Gaps::Omit;
         assert!(total.validate().is_err());
+    }
+
+    #[test]
+    fn extreme_periods_give_the_ordinary_result() {
+        // t0 = 1.25·2^±950 is computed with t0' = 1.25: rate variances (and their intervals)
+        // equal those at t0 = 1.25 bit for bit; angle variances (at 2^±300, where
+        // they are representable) differ by exactly 4^∓300.
+        let mut rate = noise(400, 7);
+        rate[100] = f64::NAN;
+        rate[257] = f64::NAN;
+        let run = |t0: f64, data_type: DataType| {
+            let cfg = Config {
+                t0,
+                ..config(Estimator::Overlapping, data_type)
+            };
+            analyse_column(
+                Column::contiguous(&rate),
+                &cfg,
+                &mut Workspace::new(),
+                &Progress::none(),
+            )
+            .unwrap()
+        };
+        let base = run(1.25, DataType::Rate);
+        let base_angle = run(1.25, DataType::Angle);
+        for e in [-950, 950] {
+            let t0 = super::super::ldexp(1.25, e);
+            let r = run(t0, DataType::Rate);
+            assert_eq!(r.variance, base.variance);
+            assert_eq!(
+                r.confidence.unwrap().high,
+                base.confidence.as_ref().unwrap().high
+            );
+        }
+        for e in [-300, 300] {
+            let t0 = super::super::ldexp(1.25, e);
+            let a = run(t0, DataType::Angle);
+            for (x, y) in a.variance.iter().zip(&base_angle.variance) {
+                assert!(x.is_finite() && *x > 0.0);
+                assert_eq!(*x, super::super::ldexp(*y, -2 * e));
+            }
+        }
     }
 }
