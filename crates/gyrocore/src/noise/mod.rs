@@ -21,6 +21,8 @@
 //!   minimum).
 //! * [`mod@overbound`]: conservative coefficients whose model overbounds the curve's upper
 //!   confidence bound (Lethander & Taylor 2023).
+//! * [`sinusoid`]: the IEEE-952 sinusoidal term (a periodic disturbance) and spectral-line
+//!   detection against the local noise floor.
 //! * [`model`]: the basis functions, slopes, read-off times and simple EDF approximations.
 
 pub mod covariance;
@@ -32,6 +34,7 @@ pub mod ieee;
 pub mod model;
 pub mod overbound;
 pub mod simulate;
+pub mod sinusoid;
 pub mod wavelet;
 
 pub use curve::{Curve, TermEstimate, parse_terms};
