@@ -644,6 +644,16 @@ def test_summary_decides_whether_the_spread_is_real() -> None:
     assert found / 500 > 0.95
 
 
+def test_summary_counts_no_flag_when_no_unit_is_out_of_family() -> None:
+    """A term no unit is flagged for counts 0 (pandas 3 once made this sum the string "")."""
+    rng = np.random.default_rng(4)
+    table = _table(1.0 + rng.normal(0.0, 0.01, 30), np.full(30, 0.01))
+    assert not table["out_of_family"].any()
+    # what analyse() produces under pandas 3: a string column with no value (all NaN)
+    table["out_of_family_terms"] = pd.Series([np.nan] * len(table), dtype="str")
+    assert fleet.summary(table)["n_out_of_family"].tolist() == [0]
+
+
 # ------------------------------------------------------------------------ command line
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"

@@ -36,10 +36,14 @@ from gyrobias import (
     io,
     kalman,
     noise,
+    plotting,
     predict,
     spectral,
     thermal,
 )
+
+# plotting is imported for its registrations of the results' ``.plot()`` methods
+# (gyrobias._generics); it loads matplotlib only when a plot is drawn.
 from gyrobias._core import GyroLinAlgError
 from gyrobias.allan import AllanResult, adev, avar
 from gyrobias.fir import KaiserLowpass, kaiser_lowpass
@@ -80,6 +84,7 @@ __all__ = [
     "kaiser_lowpass",
     "lssa",
     "noise",
+    "plotting",
     "predict",
     "spectral",
     "thermal",

@@ -48,20 +48,21 @@ directly).
 
 from __future__ import annotations
 
-import contextlib
 import json
 import math
 import os
-import tempfile
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, BinaryIO
+from typing import Any
 
+from gyrobias import _generics
+from gyrobias._files import atomic_binary as atomic_binary
+from gyrobias._files import atomic_write
 from gyrobias._validation import choice, positive_float
-
-if TYPE_CHECKING:
-    from gyrobias.noise import NoiseCoefficients
+from gyrobias.conservative import ConservativeCoefficients
+from gyrobias.datasheet import Datasheet
+from gyrobias.noise._types import NoiseCoefficients
 
 __all__ = [
     "DEFAULT_FILENAMES",
@@ -97,51 +98,7 @@ _SI = {
 _NAMES = {"N": "white noise N", "K": "random walk K", "B": "bias instability B"}
 
 
-@contextlib.contextmanager
-def atomic_binary(path: str | os.PathLike[str]) -> Iterator[BinaryIO]:
-    """A binary file to write ``path`` with: a temporary file beside it, renamed over ``path``
-    (``os.replace``) when the ``with`` block ends without an exception.
-
-    A reader never sees a half-written file, and a failure (an exception in the block, an
-    interrupted run) leaves no file at ``path`` — or the existing one untouched — and no
-    temporary file. The file gets the target's mode if it exists, else the umask's.
-    """
-    target = Path(os.fspath(path))
-    directory = target.parent if str(target.parent) else Path(".")
-    try:
-        mode = target.stat().st_mode & 0o777
-    except FileNotFoundError:
-        umask = os.umask(0)
-        os.umask(umask)
-        mode = 0o666 & ~umask
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            yield fh
-        os.chmod(tmp, mode)  # mkstemp creates 0600; keep the target's (or the umask's) mode
-        os.replace(tmp, target)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
-
-
-def atomic_write(path: str | os.PathLike[str], text: str) -> Path:
-    """Write ``text`` (UTF-8) to ``path`` through a temporary file beside it and ``os.replace``
-    (:func:`atomic_binary`).
-
-    A reader never sees a half-written file, and a failure leaves an existing file untouched.
-    """
-    with atomic_binary(path) as fh:
-        fh.write(text.encode("utf-8"))
-    return Path(os.fspath(path))
-
-
 def _group(name: str, value: Any, kind: str) -> list[NoiseCoefficients]:
-    from gyrobias.noise import NoiseCoefficients
-
     if value is None:
         return []
     items = [value] if isinstance(value, NoiseCoefficients) else list(value)
@@ -164,8 +121,6 @@ def _group(name: str, value: Any, kind: str) -> list[NoiseCoefficients]:
 
 def _split(gyro: Any, accel: Any) -> tuple[list[NoiseCoefficients], list[NoiseCoefficients]]:
     """Sort the arguments into gyro and accel groups (an accel set passed first is accepted)."""
-    from gyrobias.noise import NoiseCoefficients
-
     first = [gyro] if isinstance(gyro, NoiseCoefficients) else list(gyro or [])
     if (
         accel is None
@@ -743,8 +698,6 @@ def discrete(coefficients: NoiseCoefficients, rate: float) -> DiscreteNoise:
     >>> round(d.white.value, 6), d.white.unit
     (0.1, 'deg/s')
     """
-    from gyrobias.noise import NoiseCoefficients
-
     if not isinstance(coefficients, NoiseCoefficients):
         raise TypeError(
             f"coefficients must be NoiseCoefficients, got {type(coefficients).__name__}"
@@ -801,3 +754,79 @@ def discrete(coefficients: NoiseCoefficients, rate: float) -> DiscreteNoise:
     return DiscreteNoise(
         rate=rate, white=white, bias_walk=walk, gauss_markov=tuple(gm_out), axis=coefficients.axis
     )
+
+
+# --- the result objects' methods -----------------------------------------------------------------
+# ``.export()``, ``.export_all()`` and ``.discrete()`` of the coefficient types delegate to the
+# generic functions of gyrobias._generics; this module owns the behaviour and registers it.
+
+
+@_generics.export.register(NoiseCoefficients)
+def _export_coefficients(
+    coefficients: NoiseCoefficients,
+    fmt: str,
+    path: str | os.PathLike[str] | None = None,
+    **kwargs: Any,
+) -> str:
+    return export(coefficients, fmt, path, **kwargs)
+
+
+@_generics.export.register(ConservativeCoefficients)
+def _export_conservative(
+    conservative: ConservativeCoefficients,
+    fmt: str,
+    path: str | os.PathLike[str] | None = None,
+    **kwargs: Any,
+) -> str:
+    return export(conservative.coefficients, fmt, path, **kwargs)
+
+
+@_generics.export.register(Datasheet)
+def _export_datasheet(
+    sheet: Datasheet,
+    fmt: str,
+    path: str | os.PathLike[str] | None = None,
+    *,
+    rate: float | None = None,
+    rostopic: str = "/imu0",
+) -> str:
+    return export(
+        sheet.gyro,
+        fmt,
+        path,
+        accel=sheet.accel,
+        rate=rate if rate is not None else sheet.rate,
+        rostopic=rostopic,
+    )
+
+
+@_generics.export_all.register(Datasheet)
+def _export_all_datasheet(
+    sheet: Datasheet,
+    directory: str | os.PathLike[str] | None = None,
+    *,
+    rate: float | None = None,
+    rostopic: str = "/imu0",
+) -> dict[str, str]:
+    return export_all(
+        sheet.gyro,
+        directory,
+        accel=sheet.accel,
+        rate=rate if rate is not None else sheet.rate,
+        rostopic=rostopic,
+    )
+
+
+_generics.discrete.register(NoiseCoefficients, discrete)
+
+
+@_generics.discrete.register(Datasheet)
+def _discrete_datasheet(sheet: Datasheet, rate: float | None = None) -> dict[str, DiscreteNoise]:
+    use = rate if rate is not None else sheet.rate
+    if use is None:
+        raise ValueError("rate: give the filter rate in Hz (the datasheet set has none)")
+    return {
+        k: discrete(c, use)
+        for k, c in (("gyro", sheet.gyro), ("accel", sheet.accel))
+        if c is not None
+    }

@@ -69,6 +69,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core, allan, io, noise
+from gyrobias._files import atomic_binary
+from gyrobias._fleet_table import GM_PARAMETERS, TERMS, _gm_columns, term_columns
 from gyrobias._validation import as_float_array, positive_float, real
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.units import base_unit, sensor_kind
@@ -86,11 +88,7 @@ __all__ = [
     "write_table",
 ]
 
-#: Noise terms with their own columns (IEEE 952 symbols).
-TERMS: tuple[str, ...] = ("Q", "N", "B", "K", "R")
-#: Parameters of a Gauss–Markov term with their own columns (``GM1_sigma``, …).
-GM_PARAMETERS: tuple[str, ...] = ("sigma", "correlation_time")
-#: |z| above which a term is out of family (Iglewicz & Hoaglin's modified-z cut-off).
+#: ``|z|`` above which a term is out of family (Iglewicz & Hoaglin's modified-z cut-off).
 OUT_OF_FAMILY_THRESHOLD: float = 3.5
 #: Fewest units with a term (per axis) for a median/MAD comparison.
 MIN_UNITS: int = 5
@@ -141,22 +139,6 @@ def _gauss_markov_count(terms: Sequence[str] | None) -> int:
     if not terms:
         return 0
     return 2 if "GM2" in terms else 1 if "GM" in terms else 0
-
-
-def _gm_columns(n_gm: int) -> list[str]:
-    """``GM1_sigma``, ``GM1_correlation_time``, … for ``n_gm`` Gauss–Markov terms."""
-    return [f"GM{k}_{p}" for k in range(1, n_gm + 1) for p in GM_PARAMETERS]
-
-
-def term_columns(table: DataFrame) -> list[str]:
-    """The value columns of a fleet table that hold a term: Q, N, B, K, R, then ``GMk_…``.
-
-    ``GM1_sigma`` [rate unit] and ``GM1_correlation_time`` [s] (``GM2_…`` for the second
-    term) are there when :func:`analyse` was given ``terms`` with ``"GM"``/``"GM2"``. Each has
-    ``_uncertainty``, ``_unit`` and ``_z`` companions like the IEEE terms.
-    """
-    present = set(table.columns)
-    return [c for c in (*TERMS, *_gm_columns(2)) if c in present]
 
 
 # --------------------------------------------------------------------------------- per unit
@@ -587,7 +569,7 @@ def analyse(
         n_axes = 1 if expanded.ndim == 2 else int(expanded.shape[2])
         check_axis_names(names, n_axes)  # before any unit runs (an error, not a row per unit)
         names = names or tuple(f"col{i}" for i in range(n_axes))
-        array_units = io._resolve_units(
+        array_units = io.columns._resolve_units(
             units, names, None, "sources"
         )  # the reader's rules for units=
     opts = _Options(
@@ -856,7 +838,9 @@ def summary(
                     "unit": None if units.empty else str(units.iloc[0]),
                     "n": int(have.sum()),
                     **stats,
-                    "n_out_of_family": int(flagged.sum()),
+                    # astype(bool): under pandas 3 an empty map result keeps the string
+                    # dtype, whose sum is "" (int("") fails)
+                    "n_out_of_family": int(flagged.astype(bool).sum()),
                 }
             )
     result = pd.DataFrame.from_records(
@@ -889,8 +873,6 @@ def write_table(table: DataFrame, path: str | os.PathLike[str]) -> None:
     The Allan curves ``adev_tau``/``adev`` become list columns; ``pandas.read_parquet`` reads
     the file back.
     """
-    from gyrobias.exports import atomic_binary
-
     _require("pyarrow")
     with atomic_binary(path) as fh:
         table.to_parquet(fh, engine="pyarrow", index=False)

@@ -1,9 +1,9 @@
 """Every plot of gyrobias: Allan-family deviations with their confidence bars, fitted noise
 models, fleets, dynamic Allan maps, bias predictions and filter comparisons.
 
-The science modules never import this module at load time (their ``.plot()`` methods import it
-when called), so ``gyrobias.allan`` and ``gyrobias.noise`` load without it and without matplotlib.
-matplotlib is optional (``pip install "gyrobias[plot]"``) and imported only when a plot is made.
+The science modules never import this module: their results' ``.plot()`` methods delegate to
+:func:`gyrobias._generics.plot`, whose methods this module registers (at the end), so the
+dependency points one way (plotting → result types). matplotlib is optional (``pip install "gyrobias[plot]"``) and imported only when a plot is made.
 :func:`plot_allan` draws into a given or a new pyplot ``Axes``; :func:`save_allan_plot` renders
 straight to a file through a pyplot-free ``Figure`` (Agg canvas), so it works headless and does
 not touch pyplot's global state — the command line uses it.
@@ -13,14 +13,17 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-if TYPE_CHECKING:
-    from gyrobias.allan import AllanResult
-    from gyrobias.noise import NoiseCoefficients
+from gyrobias import _generics
+from gyrobias._files import atomic_binary
+from gyrobias._fleet_table import term_columns
+from gyrobias.allan._types import AllanResult, DynamicAllanResult
+from gyrobias.noise._types import NoiseCoefficients
+from gyrobias.noise.fitting import fit as fit_noise
 
 __all__ = [
     "allan_report_svg",
@@ -72,8 +75,6 @@ def _require_matplotlib() -> Any:
 
 
 def _as_list(results: AllanResult | Sequence[AllanResult]) -> list[AllanResult]:
-    from gyrobias.allan import AllanResult
-
     items = [results] if isinstance(results, AllanResult) else list(results)
     if not items:
         raise ValueError("results is empty: nothing to plot")
@@ -584,16 +585,12 @@ def save_fleet_plot(
 def _save_atomically(fig: Any, path: str | os.PathLike[str], dpi: int) -> None:
     """``fig.savefig`` through :func:`gyrobias.exports.atomic_binary` (a temporary file beside
     ``path``, renamed over it); the image format comes from the suffix, as ``savefig(path)``."""
-    from gyrobias.exports import atomic_binary
-
     suffix = os.path.splitext(os.fspath(path))[1][1:].lower()
     with atomic_binary(path) as fh:
         fig.savefig(fh, dpi=dpi, format=suffix or None)
 
 
 def _draw_fleet(fig: Any, ok: Any, title: str | None) -> None:
-    from gyrobias.fleet import term_columns
-
     axes_names = list(dict.fromkeys(str(a) for a in ok["axis"]))
     terms = [t for t in term_columns(ok) if np.isfinite(ok[t].to_numpy(dtype=np.float64)).any()]
     top, bottom = fig.subfigures(2, 1, height_ratios=[1.15, 1.0]) if terms else (fig, None)
@@ -850,3 +847,32 @@ def allan_report_svg(
         fig.savefig(buf, format="svg", metadata={"Date": None, "Creator": None})
     text = buf.getvalue()
     return text[text.index("<svg") :]
+
+
+# --- the result objects' ``.plot()`` methods ------------------------------------------------------
+
+
+@_generics.plot.register(AllanResult)
+def _plot_allan_result(
+    result: AllanResult, ax: Any = None, *, label: str | None = None, fit: Any = None, **kwargs: Any
+) -> Any:
+    if fit is True:
+        fit = fit_noise(result)
+    fits = None if fit is None or fit is False else [fit]
+    return plot_allan([result], ax=ax, labels=[label] if label else None, fits=fits, **kwargs)
+
+
+@_generics.plot.register(DynamicAllanResult)
+def _plot_dynamic_result(result: DynamicAllanResult, ax: Any = None, **kwargs: Any) -> Any:
+    return plot_dynamic_allan(result, ax=ax, **kwargs)
+
+
+@_generics.plot.register(NoiseCoefficients)
+def _plot_coefficients(
+    coefficients: NoiseCoefficients,
+    ax: Any = None,
+    *,
+    allan: AllanResult | None = None,
+    show_data: bool = True,
+) -> Any:
+    return plot_noise_model(coefficients, ax, allan=allan, show_data=show_data)
