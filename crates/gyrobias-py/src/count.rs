@@ -160,9 +160,9 @@ macro_rules! extractors {
 }
 
 extractors!(size -> usize:
-    axes, block, bootstrap, calibration_length, degree, horizon, iterations, min_blocks,
-    min_points, n, n_known, n_params, n_samples, n_threads, noverlap, nperseg, padlen,
+    axes, block, bootstrap, calibration_length, degree, half_width, horizon, iterations,
+    max_lines, min_blocks, min_points, n, n_known, n_params, n_samples, n_threads, noverlap, nperseg, padlen,
     per_decade, rows, step, window,
 );
 extractors!(unsigned -> u64: samples, seed);
-extractors!(optional_size -> Option<usize>: m);
+extractors!(optional_size -> Option<usize>: levels, m);

@@ -20,7 +20,10 @@ The package, by task:
 - **Simulation** (:mod:`gyrobias.noise.simulation`): :func:`simulate`.
 - **Identification** (:mod:`gyrobias.noise.fitting`, :mod:`gyrobias.noise.wavelet`): :func:`fit`
   (joint weighted fit or IEEE read-off on an Allan curve), :func:`gmwm` (wavelet moments on the
-  raw data), :func:`gauss_markov_avar`.
+  raw data), :func:`gauss_markov_avar`, :func:`sinusoid_avar`.
+- **Periodic disturbances and the wavelet variance**: :func:`detect_lines` (spectral lines with a
+  false-alarm level, :class:`SpectralLine`; fitted as :class:`SinusoidTerm`), :func:`wvar`
+  (Haar wavelet variance, classical and robust, :class:`WaveletVariance`).
 - **Datasheet values in** (:mod:`gyrobias.datasheet`): :func:`from_datasheet`, :class:`Datasheet`.
 - **Files out** (:mod:`gyrobias.noise.kalibr`): :func:`write_kalibr`; every other estimator
   format is in :mod:`gyrobias.exports`.
@@ -36,19 +39,22 @@ References
 # Datasheet values in (issue 13): gyrobias.datasheet builds NoiseCoefficients from
 # gyrobias.noise._types, so importing it here closes no cycle.
 from gyrobias.datasheet import Datasheet, from_datasheet  # noqa: I001
+from gyrobias._spectral_lines import SpectralLine, detect_lines
 from gyrobias.noise._types import (
     FLICKER_FACTOR,
     TERM_NAMES,
     FitDiagnostics,
     GaussMarkovTerm,
     NoiseCoefficients,
+    SinusoidTerm,
     Term,
+    WaveletVariance,
 )
 from gyrobias.noise._types import REJECT_P as REJECT_P
-from gyrobias.noise.fitting import fit, gauss_markov_avar
+from gyrobias.noise.fitting import fit, gauss_markov_avar, sinusoid_avar
 from gyrobias.noise.kalibr import write_kalibr
 from gyrobias.noise.simulation import simulate
-from gyrobias.noise.wavelet import gmwm
+from gyrobias.noise.wavelet import gmwm, wvar
 
 __all__ = [
     # coefficients
@@ -57,13 +63,20 @@ __all__ = [
     "FitDiagnostics",
     "GaussMarkovTerm",
     "NoiseCoefficients",
+    "SinusoidTerm",
+    "SpectralLine",
     "Term",
+    "WaveletVariance",
     # simulation
     "simulate",
     # identification
     "fit",
     "gauss_markov_avar",
     "gmwm",
+    "sinusoid_avar",
+    # periodic disturbances and the wavelet variance
+    "detect_lines",
+    "wvar",
     # datasheet values in
     "Datasheet",
     "from_datasheet",

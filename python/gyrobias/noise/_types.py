@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _core, _files, _generics
+from gyrobias._spectral_lines import SpectralLine
 from gyrobias._validation import (
     choice,
 )
@@ -215,6 +216,132 @@ class GaussMarkovTerm:
 
 
 @dataclass(frozen=True)
+class SinusoidTerm:
+    """A sinusoidal rate term (IEEE Std 952-1997 Annex C): a periodic disturbance
+    ``Ω₀·sin(2πf₀t + φ)`` (vibration, a fan, an aliased mechanical mode).
+
+    Its Allan variance for data sampled at period t0 is
+    ``Ω₀²·sin⁴(πf₀τ)/(m·sin(πf₀t0))²`` at ``τ = m·t0`` (the IEEE form
+    ``Ω₀²·(sin²(πf₀τ)/(πf₀τ))²`` is its continuous-time limit).
+
+    Attributes
+    ----------
+    frequency : Term
+        f₀ in Hz, refined in the fit.
+    amplitude : Term
+        Ω₀ in the rate unit of the data.
+    tau_range : (float, float) or None
+        τ range (s) of the Allan points where the term is ≥ 10 % of the fitted variance.
+    missing : str or None
+        Why the term is missing (the non-negative fit set it to zero).
+    """
+
+    frequency: Term
+    amplitude: Term
+    tau_range: tuple[float, float] | None = None
+    missing: str | None = None
+
+    @property
+    def present(self) -> bool:
+        """True when the term was identified."""
+        return self.amplitude.value is not None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {
+            "frequency": self.frequency.to_dict(),
+            "amplitude": self.amplitude.to_dict(),
+            "tau_range_s": None if self.tau_range is None else list(self.tau_range),
+            "missing": self.missing,
+        }
+
+    def __str__(self) -> str:
+        f = self.frequency.value
+        if not self.present:
+            return f"S (sinusoid at {f:.6g} Hz): missing — {self.missing}"
+        a = self.amplitude
+        unc = f" ± {a.uncertainty:.2g}" if a.uncertainty is not None else ""
+        return f"S (sinusoid) at {f:.6g} Hz: amplitude {a.value:.4g}{unc} {a.unit or ''}".rstrip()
+
+
+@dataclass(frozen=True)
+class WaveletVariance:
+    """Haar MODWT wavelet variance of one rate series with confidence intervals.
+
+    Attributes
+    ----------
+    levels : ndarray of int
+        Levels j = 1 … J.
+    scales : ndarray
+        Scales ``τ_j = 2^j/fs`` (s): the Haar filter width, as the R ``wv`` package labels them.
+    variance : ndarray
+        ``ν̂²_j`` in ``unit`` squared (classical: ``½·σ̂²_OAVAR(τ = 2^{j−1}/fs)`` exactly).
+    ci_low, ci_high : ndarray
+        Confidence limits of ``ν²_j`` at level ``confidence``.
+    edf : ndarray
+        Equivalent degrees of freedom of the intervals.
+    n_coefficients : ndarray of int
+        Wavelet coefficients ``M_j = n − 2^j + 1`` per level.
+    robust : bool
+        Robust (biweight M-) estimator instead of the mean of squares.
+    efficiency : float or None
+        Gaussian efficiency of the robust estimator.
+    confidence : float
+        Confidence level of the intervals.
+    fs : float
+        Sample rate (Hz).
+    unit : str or None
+        Rate unit of the data.
+    axis : str or None
+        Axis name.
+    """
+
+    levels: NDArray[np.int64] = field(compare=False)
+    scales: NDArray[np.float64] = field(compare=False)
+    variance: NDArray[np.float64] = field(compare=False)
+    ci_low: NDArray[np.float64] = field(compare=False)
+    ci_high: NDArray[np.float64] = field(compare=False)
+    edf: NDArray[np.float64] = field(compare=False)
+    n_coefficients: NDArray[np.int64] = field(compare=False)
+    robust: bool
+    efficiency: float | None
+    confidence: float
+    fs: float
+    unit: str | None = None
+    axis: str | None = None
+
+    @property
+    def allan_variance(self) -> NDArray[np.float64]:
+        """The Allan-variance equivalent ``2ν̂²_j`` at ``τ = scales/2``."""
+        return np.asarray(2.0 * self.variance, dtype=np.float64)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary with units."""
+        return {
+            "estimator": "robust (biweight)" if self.robust else "classical",
+            "efficiency": self.efficiency,
+            "confidence": self.confidence,
+            "fs_hz": self.fs,
+            "unit": None if self.unit is None else f"({self.unit})^2",
+            "axis": self.axis,
+            "levels": [int(v) for v in self.levels],
+            "scales_s": [float(v) for v in self.scales],
+            "variance": [float(v) for v in self.variance],
+            "ci_low": [float(v) for v in self.ci_low],
+            "ci_high": [float(v) for v in self.ci_high],
+            "edf": [float(v) for v in self.edf],
+            "n_coefficients": [int(v) for v in self.n_coefficients],
+        }
+
+    def plot(self, ax: Any = None) -> Any:
+        """Draw ν̂ (the wavelet deviation) against scale with its interval.
+
+        Drawn by :func:`gyrobias.plotting.plot_wvar`; returns the matplotlib Axes.
+        """
+        return _generics.plot(self, ax)
+
+
+@dataclass(frozen=True)
 class FitDiagnostics:
     """Goodness of fit of an identification and what it left out.
 
@@ -239,6 +366,9 @@ class FitDiagnostics:
         Excluded τ ranges (s) with the reason.
     warnings : tuple of str
         Plain sentences about anything to know before trusting the numbers.
+    lines : tuple of SpectralLine
+        Spectral lines found in the data (frequency, amplitude, p-value) that the fit took into
+        account as sinusoidal terms (see :func:`gyrobias.noise.detect_lines`).
     """
 
     chi2: float
@@ -249,6 +379,7 @@ class FitDiagnostics:
     tau_range: tuple[float, float]
     excluded: tuple[tuple[float, float, str], ...] = ()
     warnings: tuple[str, ...] = ()
+    lines: tuple[SpectralLine, ...] = ()
 
     @property
     def passed(self) -> bool:
@@ -282,6 +413,7 @@ class FitDiagnostics:
                 {"tau_low_s": a, "tau_high_s": b, "reason": r} for a, b, r in self.excluded
             ],
             "warnings": list(self.warnings),
+            "lines": [line.to_dict() for line in self.lines],
         }
 
     def summary(self) -> str:
@@ -292,6 +424,8 @@ class FitDiagnostics:
         ]
         for a, b, r in self.excluded:
             lines.append(f"  excluded τ {a:.3g}–{b:.3g} s: {r}")
+        for line in self.lines:
+            lines.append(f"  spectral {line}")
         for w in self.warnings:
             lines.append(f"  WARNING: {w}")
         return "\n".join(lines)
@@ -332,6 +466,8 @@ class NoiseCoefficients:
     gauss_markov : tuple of GaussMarkovTerm
         First-order Gauss–Markov terms (``terms`` containing ``"GM"``/``"GM2"``), sorted by
         correlation time.
+    sinusoids : tuple of SinusoidTerm
+        Sinusoidal terms ("S", IEEE 952), one per spectral line the fit modelled.
     diagnostics : FitDiagnostics or None
         Goodness of fit, excluded τ ranges and warnings (always set by :func:`fit` and
         :func:`gmwm`; ``None`` only for coefficients that did not come from data).
@@ -357,6 +493,7 @@ class NoiseCoefficients:
     gauss_markov: tuple[GaussMarkovTerm, ...] = ()
     diagnostics: FitDiagnostics | None = None
     allan: AllanResult | None = field(default=None, repr=False, compare=False)
+    sinusoids: tuple[SinusoidTerm, ...] = ()
 
     @property
     def terms(self) -> tuple[Term, Term, Term, Term, Term]:
@@ -427,13 +564,27 @@ class NoiseCoefficients:
                 choice("system key", key, _SYMBOLS)
         conv = {s: self[s].to(mapping[s]) if s in mapping else self[s] for s in _SYMBOLS}
         gm = self.gauss_markov
-        if "B" in mapping:  # σ of a Gauss–Markov term has the dimension of B (a rate)
+        sines = self.sinusoids
+        if "B" in mapping:  # σ of a Gauss–Markov term and Ω₀ have the dimension of B (a rate)
             gm = tuple(
                 replace(g, sigma=g.sigma.to(mapping["B"])) if g.sigma.unit is not None else g
                 for g in gm
             )
+            sines = tuple(
+                replace(w, amplitude=w.amplitude.to(mapping["B"]))
+                if w.amplitude.unit is not None
+                else w
+                for w in sines
+            )
         return replace(
-            self, Q=conv["Q"], N=conv["N"], B=conv["B"], K=conv["K"], R=conv["R"], gauss_markov=gm
+            self,
+            Q=conv["Q"],
+            N=conv["N"],
+            B=conv["B"],
+            K=conv["K"],
+            R=conv["R"],
+            gauss_markov=gm,
+            sinusoids=sines,
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -454,6 +605,7 @@ class NoiseCoefficients:
             "uncertainty": "standard (1 sigma)",
             "terms": {t.symbol: t.to_dict() for t in self.terms},
             "gauss_markov": [g.to_dict() for g in self.gauss_markov],
+            "sinusoids": [w.to_dict() for w in self.sinusoids],
             "diagnostics": None if self.diagnostics is None else self.diagnostics.to_dict(),
         }
 
@@ -494,6 +646,8 @@ class NoiseCoefficients:
                 f"{label} {g.sigma.value:12.5g} ± {g.sigma.uncertainty or float('nan'):<8.2g} "
                 f"{g.sigma.unit or '':<12}  T = {t.value:.4g} ± {t.uncertainty or float('nan'):.2g} s"
             )
+        for w in self.sinusoids:
+            lines.append(f"  {w}")
         if self.diagnostics is not None:
             lines.append(self.diagnostics.summary())
         return "\n".join(lines)
@@ -555,6 +709,15 @@ class NoiseCoefficients:
             for g, v in zip(self.gauss_markov, _core.noise.gauss_markov_variance(gm, t)):
                 total = total + v
                 out[g.sigma.symbol] = np.sqrt(v)
+        base = self.to("base") if self.data_unit is not None else self
+        for k, w in enumerate(base.sinusoids):
+            if w.amplitude.value is None or w.frequency.value is None:
+                continue
+            v = _core.noise.sinusoid_avar(
+                float(w.amplitude.value), float(w.frequency.value), t, 1.0 / self.fs
+            )
+            total = total + v
+            out["S" if k == 0 else f"S{k + 1}"] = np.sqrt(v)
         return np.sqrt(total), out
 
     def _gauss_markov_base(self) -> list[tuple[float, float]]:

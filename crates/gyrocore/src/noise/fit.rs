@@ -41,8 +41,8 @@
 //! **Automatic τ range** (when no range is given): (1) the longest-τ points whose EDF is below
 //! [`MIN_EDF`] are excluded (a chi-square with fewer than 3 degrees of freedom spans more than a
 //! factor 10 at 90 %, and such points are where non-stationary drift shows); (2) while the fit is
-//! rejected (p < [`REFIT_P`]) the leading run of points with `z < −2` (σ below the model at
-//! the shortest τ: a sensor's anti-alias/decimation filter correlates the samples and bends the
+//! rejected (p < [`REFIT_P`]) the leading points up to the last one with `z < −2` before any
+//! `z > 2` (within the first half; [`leading_run`]) (σ below the model at the shortest τ: a sensor's anti-alias/decimation filter correlates the samples and bends the
 //! curve below the −½ line, which no positive term can follow) or the trailing run with `z > 2`
 //! (σ above the model at long τ: drift the terms do not describe) is excluded and the model
 //! refitted, keeping at least half of the points. What was excluded and why is recorded.
@@ -536,15 +536,11 @@ pub(crate) fn profile_times(
                     }
                 }
                 let width = (b - a) / nodes as f64;
-                let (x, fx) = golden(
-                    (best.0 - width).max(a),
-                    (best.0 + width).min(b),
-                    &mut |f| {
-                        let mut trial = fl.clone();
-                        trial[k] = f;
-                        eval(&ts, &trial)
-                    },
-                );
+                let (x, fx) = golden((best.0 - width).max(a), (best.0 + width).min(b), &mut |f| {
+                    let mut trial = fl.clone();
+                    trial[k] = f;
+                    eval(&ts, &trial)
+                });
                 fl[k] = if fx <= best.1 { x } else { best.0 };
             }
             if n_gm > 0 {
@@ -1031,6 +1027,25 @@ pub fn model_term_symbols(enabled: &[bool; 5], gauss_markov: usize) -> Vec<&'sta
     symbols
 }
 
+/// Length of the leading run of points to exclude when the fit is rejected: the longest prefix
+/// that ends at a point with `z < −2`, contains no point with `z > 2` and is at most half of
+/// the points. A sensor's anti-alias filter bends the curve below the −½ line at the shortest τ;
+/// when another term (a sinusoid) is free at those τ, the first point can still fit while the
+/// next ones fall below the model, so the run is not required to start with `z < −2`.
+pub(crate) fn leading_run(z: &[f64]) -> usize {
+    let limit = z.len() / 2;
+    let mut lead = 0;
+    for (i, &v) in z.iter().enumerate().take(limit) {
+        if v > 2.0 || v.is_nan() {
+            break;
+        }
+        if v < -2.0 {
+            lead = i + 1;
+        }
+    }
+    lead
+}
+
 /// Merges a newly excluded τ range into the list (adjacent ranges with the same reason join).
 pub(crate) fn exclude(list: &mut Vec<(f64, f64, String)>, lo: f64, hi: f64, reason: &str) {
     if let Some(e) = list.iter_mut().find(|e| e.2 == reason) {
@@ -1084,7 +1099,8 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
             return Err(Error::invalid(
                 "lines",
                 format!(
-                    "the refinement half-width of the line at {f} Hz must be finite, >= 0 and                      below the frequency, got {half}"
+                    "the refinement half-width of the line at {f} Hz must be finite, >= 0 and \
+                     below the frequency, got {half}"
                 ),
             ));
         }
@@ -1133,7 +1149,14 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
     )?;
     let mut memo = CorrelationMemo::default();
     let count_params = |inner: &Inner| {
-        active_params(&requested, &inner.c, &inner.gm, &inner.lines, &inner.windows).len()
+        active_params(
+            &requested,
+            &inner.c,
+            &inner.gm,
+            &inner.lines,
+            &inner.windows,
+        )
+        .len()
     };
     if automatic {
         let min_keep = (n_max_params + 2).max(used.len().div_ceil(2)).max(3);
@@ -1151,13 +1174,13 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
             );
             used.truncate(cut);
             inner = irls(
-        curve,
-        &used,
-        &requested,
-        n_gm,
-        options.correlation_time,
-        &options.lines,
-    )?;
+                curve,
+                &used,
+                &requested,
+                n_gm,
+                options.correlation_time,
+                &options.lines,
+            )?;
         }
         for _ in 0..curve.len() {
             let (_, _, p, z) = goodness(
@@ -1173,7 +1196,7 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
             if p >= REFIT_P || p.is_nan() {
                 break;
             }
-            let lead = z.iter().take_while(|v| **v < -2.0).count();
+            let lead = leading_run(&z);
             let trail = z.iter().rev().take_while(|v| **v > 2.0).count();
             if lead > 0 && used.len() - lead >= min_keep {
                 exclude(
@@ -1196,13 +1219,13 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
                 break;
             }
             inner = irls(
-        curve,
-        &used,
-        &requested,
-        n_gm,
-        options.correlation_time,
-        &options.lines,
-    )?;
+                curve,
+                &used,
+                &requested,
+                n_gm,
+                options.correlation_time,
+                &options.lines,
+            )?;
         }
     }
     Ok(finish(
@@ -1242,8 +1265,16 @@ pub(crate) fn finish(
     let c = inner.c;
     let params = active_params(requested, &c, &inner.gm, &inner.lines, &inner.windows);
     let n_params = params.len();
-    let (gof_chi2, dof, p_value, z) =
-        goodness(curve, used, &c, &inner.gm, &inner.lines, &inner.edf, n_params, memo);
+    let (gof_chi2, dof, p_value, z) = goodness(
+        curve,
+        used,
+        &c,
+        &inner.gm,
+        &inner.lines,
+        &inner.edf,
+        n_params,
+        memo,
+    );
     let mut warnings = Vec::new();
     if let Some((a, b, _)) = excluded.iter().find(|e| e.2 == LONG_REASON) {
         warnings.push(format!(

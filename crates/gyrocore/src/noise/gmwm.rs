@@ -56,12 +56,12 @@ use super::curve::{Curve, TermEstimate};
 use super::fit::{
     CorrelationMemo, CovarianceSource, EDF_REASON, Inner, JointFit, LONG_REASON, MIN_EDF, REFIT_P,
     SHORT_REASON, Whitener, active_params, edf_model, exclude, finish, goodness, irls, jacobian,
-    model_with_lines, profile_times,
+    leading_run, model_with_lines, profile_times,
 };
-use super::sinusoid;
 use super::gauss_markov;
 use super::model::Term;
 use super::simulate::{Ar1, NoiseSpec, simulate_axis};
+use super::sinusoid;
 use super::wavelet::{WaveletVariance, haar};
 use crate::random::NormalStream;
 use crate::{Error, Result};
@@ -260,13 +260,7 @@ fn asymptotic_covariance(
     l: &DMatrix<f64>,
     requested: &[Term],
 ) -> Option<DMatrix<f64>> {
-    let params = active_params(
-        requested,
-        &inner.c,
-        &inner.gm,
-        &inner.lines,
-        &inner.windows,
-    );
+    let params = active_params(requested, &inner.c, &inner.gm, &inner.lines, &inner.windows);
     let d = jacobian(curve.taus, &inner.gm, &inner.lines, inner.t0, &params);
     let p = params.len();
     if p == 0 {
@@ -315,13 +309,7 @@ fn bootstrap_covariance(
     replicates: usize,
     seed: u64,
 ) -> Option<DMatrix<f64>> {
-    let params = active_params(
-        requested,
-        &inner.c,
-        &inner.gm,
-        &inner.lines,
-        &inner.windows,
-    );
+    let params = active_params(requested, &inner.c, &inner.gm, &inner.lines, &inner.windows);
     let p = params.len();
     let amp = |t: Term| inner.c[t.index()].max(0.0).sqrt();
     let ar = |g: usize| {
@@ -593,7 +581,13 @@ fn select_scales(
     let min_keep = (n_params + 2).max(used.len().div_ceil(2)).max(3);
     let fit_on = |used: &[usize]| -> Result<Inner> {
         let sub = all.subset(used);
-        estimate(&sub.curve(), &requested, options.gauss_markov, &options.lines).map(|e| e.0)
+        estimate(
+            &sub.curve(),
+            &requested,
+            options.gauss_markov,
+            &options.lines,
+        )
+        .map(|e| e.0)
     };
     let mut inner = fit_on(&used)?;
     let mut drop = 0;
@@ -634,7 +628,7 @@ fn select_scales(
         if pv >= REFIT_P || pv.is_nan() {
             break;
         }
-        let lead = z.iter().take_while(|v| **v < -2.0).count();
+        let lead = leading_run(&z);
         let trail = z.iter().rev().take_while(|v| **v > 2.0).count();
         if lead > 0 && used.len() - lead >= min_keep {
             exclude(

@@ -39,8 +39,8 @@ pub mod wavelet;
 
 pub use curve::{Curve, TermEstimate, parse_terms};
 pub use fit::{
-    Diagnostics, FitOptions, GaussMarkovEstimate, JointFit, diagnose, fit, full_model, joint,
-    model_term_symbols, parse_model_terms,
+    Diagnostics, FitOptions, GaussMarkovEstimate, JointFit, LineEstimate, diagnose, fit,
+    full_model, joint, model_term_symbols, parse_model_terms,
 };
 pub use gmwm::{GmwmFit, GmwmOptions, gmwm};
 pub use ieee::{ReadOff, ReadOffOptions, read_off};

@@ -32,8 +32,9 @@
 //! for Gaussian noise with a spectrum smooth over the window, `P_k / S_k ~ χ²₂/2` (exponential
 //! with mean 1), so `S_k = median(P_{k−h..k+h}) / ln 2` and the per-bin p-value is
 //! `exp(−P_k/S_k)`. With `K` frequencies searched the Bonferroni rule declares a line when
-//! `K·exp(−P_k/S_k) < α`, i.e. `P_k/S_k > ln(K/α)`: the probability of one or more false
-//! lines in a line-free record is at most α (the family-wise false-alarm level; conservative,
+//! `K·exp(−P_k/S_k) < α`, i.e. `P_k/S_k > ln(K/α)`, over the bins `h + 1 … ⌈n/2⌉ − 1` (from
+//! `h + 1` on the median window is centred; below, a red spectrum would stand above a floor
+//! taken from higher bins): the probability of one or more false lines in a line-free record is at most α (the family-wise false-alarm level; conservative,
 //! since neighbouring Hann bins are correlated). A line's main lobe and sidelobes give several
 //! significant bins; significant bins closer than `2h` bins are one line, at the strongest bin.
 //! The frequency is refined by maximising the windowed DTFT `|X(f)|` within ±1 bin (golden
@@ -206,11 +207,16 @@ pub fn detect(rate: &[f64], t0: f64, options: &DetectOptions) -> Result<Vec<Line
         }
         start += step;
     }
-    let threshold = (count as f64 / alpha).ln();
+    // The search starts at bin h + 1, where the median window is centred: below it a red
+    // spectrum (flicker, random walk) would stand above a floor estimated from higher bins.
+    let first = h;
+    let searched = count - first;
+    let threshold = (searched as f64 / alpha).ln();
     let ratio: Vec<f64> = p
         .iter()
         .zip(&floor)
-        .map(|(a, s)| if *s > 0.0 { a / s } else { 0.0 })
+        .enumerate()
+        .map(|(i, (a, s))| if i >= first && *s > 0.0 { a / s } else { 0.0 })
         .collect();
     // Clusters of significant bins (gaps ≤ 2h bins), each represented by its strongest bin.
     let mut peaks: Vec<usize> = Vec::new();
@@ -245,7 +251,7 @@ pub fn detect(rate: &[f64], t0: f64, options: &DetectOptions) -> Result<Vec<Line
                 frequency: f,
                 amplitude: 2.0 * power.sqrt() / gain,
                 ratio: ratio[i],
-                p_value: (count as f64 * (-ratio[i]).exp()).min(1.0),
+                p_value: (searched as f64 * (-ratio[i]).exp()).min(1.0),
                 resolution: df,
             }
         })
@@ -376,7 +382,10 @@ mod tests {
             let h = 1e-6;
             let fd = (basis(23.0 + h, t0, tau) - basis(23.0 - h, t0, tau)) / (2.0 * h);
             let an = basis_dfreq(23.0, t0, tau);
-            assert!((fd - an).abs() <= 1e-5 * an.abs().max(1e-8), "{tau}: {fd} vs {an}");
+            assert!(
+                (fd - an).abs() <= 1e-5 * an.abs().max(1e-8),
+                "{tau}: {fd} vs {an}"
+            );
         }
     }
 
@@ -387,7 +396,11 @@ mod tests {
         let mut g = NormalStream::new(7);
         let mut rate: Vec<f64> = (0..n).map(|_| 0.3 * g.next_normal()).collect();
         let clean = rate.clone();
-        assert!(detect(&clean, t0, &DetectOptions::default()).unwrap().is_empty());
+        assert!(
+            detect(&clean, t0, &DetectOptions::default())
+                .unwrap()
+                .is_empty()
+        );
         add_lines(&mut rate, t0, &[(23.37, 0.02, 1.0)]).unwrap();
         let lines = detect(&rate, t0, &DetectOptions::default()).unwrap();
         assert_eq!(lines.len(), 1, "{lines:?}");
