@@ -18,8 +18,11 @@ from gyrobias import _core
 from gyrobias._validation import as_float_array, integer, real, sample_rate
 from gyrobias._validation import axis_names as check_axis_names
 
-#: Smallest record the detector accepts: eight running-median windows of 2·64 + 1 bins.
-MIN_SAMPLES = 8 * 64
+#: Half-width (bins) of the detector's running-median window.
+HALF_WIDTH = 128
+
+#: Smallest record the detector accepts: eight window half-widths.
+MIN_SAMPLES = 8 * HALF_WIDTH
 
 
 @dataclass(frozen=True)
@@ -83,7 +86,7 @@ def detect_lines(
     Parameters
     ----------
     data : array_like, shape (n,) or (n, axes)
-        Rate samples; one column per axis. At least 512 samples.
+        Rate samples; one column per axis. At least 1024 samples.
     fs : float
         Sample rate (Hz).
     false_alarm : float
@@ -104,17 +107,19 @@ def detect_lines(
     Raises
     ------
     ValueError
-        Non-finite data, fewer than 512 samples, ``false_alarm`` outside (0, 1).
+        Non-finite data, fewer than 1024 samples, ``false_alarm`` outside (0, 1).
 
     Notes
     -----
     The Hann-windowed periodogram ``P_k`` of the whole mean-removed record is divided by a
-    running-median floor ``S_k = median(P_{k−64..k+64})/ln 2``; for Gaussian noise with a spectrum
-    smooth over the window ``P_k/S_k`` is exponential with mean 1 (χ²₂/2), so the per-bin p-value
-    is ``exp(−P_k/S_k)`` and, with K frequencies searched (every bin but DC and Nyquist), a line
-    is declared when ``K·exp(−P_k/S_k) < α`` (Bonferroni). Significant bins within 128 bins of
-    each other are one line. The frequency is refined to the maximum of the windowed DTFT within
-    ±1 bin and the amplitude is ``2|X(f̂)|/Σw`` (Hann coherent gain). A sinusoid above fs/2 is
+    running-median floor ``Ŝ_k`` (the lower median of the 128 bins at offsets ±3, ±5, …, ±129,
+    over ln 2). For Gaussian noise with a spectrum smooth over the window ``P_k/S_k`` is a unit
+    exponential and the median is an order statistic of exponentials (Rényi), so the per-bin
+    p-value of ``t = P_k/Ŝ_k`` is exactly ``p(t) = Π_{i=1}^{64} (1 + t/(ln 2·(129 − i)))⁻¹``
+    (the floor's own noise included). With K frequencies searched a line is declared when
+    ``K·p(t) < α`` (Bonferroni). Significant bins within 256 bins of each other are one line.
+    The frequency is refined to the maximum of the windowed DTFT within ±1 bin and the
+    amplitude is ``2|X(f̂)|/Σw`` (Hann coherent gain). A sinusoid above fs/2 is
     seen at its alias ``|f − k·fs|``. See ``gyrobias.noise.fit`` for how the Allan fit uses the
     lines (IEEE Std 952-1997 Annex C sinusoidal term).
 
@@ -156,7 +161,7 @@ def _detect_column(
     units: str | None,
     max_lines: int,
 ) -> tuple[SpectralLine, ...]:
-    raw = _core.noise.detect_lines(column, 1.0 / fs, false_alarm, 64, max_lines)
+    raw = _core.noise.detect_lines(column, 1.0 / fs, false_alarm, HALF_WIDTH, max_lines)
     return tuple(
         SpectralLine(
             frequency=float(d["frequency"]),

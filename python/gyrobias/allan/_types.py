@@ -106,7 +106,7 @@ class AllanResult:
         Spectral lines (periodic disturbances) found in the rate data at false-alarm level 0.01
         (:func:`gyrobias.noise.detect_lines`); :func:`gyrobias.noise.fit` models them with the
         sinusoidal term "S" by default. ``None`` when the data were not searched (angle input,
-        other deviations, files read in pieces, fewer than 512 samples).
+        other deviations, files read in pieces, fewer than 1024 samples).
     """
 
     taus: NDArray[np.float64]

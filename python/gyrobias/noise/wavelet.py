@@ -101,9 +101,11 @@ def gmwm(
     *Scales* (``auto_range``, default): every scale of :func:`wvar` (``2^j ≤ n/2``), then the
     rules of :func:`fit`: trailing scales with fewer than 3 EDF go; while the goodness-of-fit
     test rejects the model (p < 0.01) the leading scales up to the last one with standardised
-    residual ``z < −2`` (a sensor's anti-alias filter bends the first scales below the white-noise line)
-    or the trailing run with ``z > 2`` (drift) is excluded and the model refitted, keeping at
-    least half of the scales. ``diagnostics.excluded`` says what was dropped and why. Without
+    residual ``z < −2`` (failing that, the leading run of negative residuals: the generalized
+    least squares spreads a misfit of the first scales over their correlated neighbours) — a
+    sensor's anti-alias filter bends the first scales below the white-noise line — or the
+    trailing run with ``z > 2`` (drift) is excluded and the model refitted, keeping at least
+    half of the scales. ``diagnostics.excluded`` says what was dropped and why. Without
     it the scales are those with half-width ``m ≤ n/8``.
 
     References

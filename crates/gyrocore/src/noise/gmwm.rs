@@ -54,9 +54,9 @@ use rayon::prelude::*;
 use super::covariance::correlation_with;
 use super::curve::{Curve, TermEstimate};
 use super::fit::{
-    CorrelationMemo, CovarianceSource, EDF_REASON, Inner, JointFit, LONG_REASON, MIN_EDF, REFIT_P,
-    SHORT_REASON, Whitener, active_params, edf_model, exclude, finish, goodness, irls, jacobian,
-    leading_run, model_with_lines, profile_times,
+    CorrelationMemo, CovarianceSource, Inner, JointFit, LONG_REASON, REFIT_P, SHORT_REASON,
+    Whitener, active_params, edf_model, exclude, finish, goodness, irls, jacobian, leading_run,
+    model_with_lines, profile_times,
 };
 use super::gauss_markov;
 use super::model::Term;
@@ -560,12 +560,16 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
 }
 
 /// Automatic scale selection (module docs): the scales of the full model `options` that the
-/// GMWM uses, and what was excluded with the reason — the rules of [`super::fit()`]: trailing
-/// scales with fewer than [`MIN_EDF`] equivalent degrees of freedom go first; then, while the
-/// goodness-of-fit test rejects the model (p < [`REFIT_P`]), the leading run of scales with
-/// standardised residual `z < −2` (a sensor's anti-alias filter bends the first scales below
-/// the white-noise line) or the trailing run with `z > 2` (drift), keeping at least half of
-/// the scales and two more than the parameters.
+/// GMWM uses, and what was excluded with the reason. First [`super::fit()`]'s own automatic
+/// range on the Allan-variance equivalent `2ν̂²` (trailing scales with fewer than
+/// [`super::fit::MIN_EDF`]
+/// equivalent degrees of freedom, then the runs its diagonally weighted fit rejects); then, while the
+/// goodness-of-fit test rejects the model (p < [`REFIT_P`]), the leading scales up to the last
+/// one with standardised residual `z < −2` ([`super::fit::leading_run`]; failing that, the
+/// leading run of negative residuals: the generalized least squares spreads a misfit of the
+/// first scales over their correlated neighbours) — a sensor's anti-alias filter bends the
+/// first scales below the white-noise line — or the trailing run with `z > 2` (drift), keeping
+/// at least half of the scales and two more than the parameters.
 fn select_scales(
     all: &Scales,
     options: &GmwmOptions,
@@ -576,9 +580,24 @@ fn select_scales(
         .filter(|t| options.enabled[t.index()])
         .collect();
     let full = all.curve();
-    let mut used: Vec<usize> = (0..full.len()).collect();
-    let mut excluded = Vec::new();
-    let min_keep = (n_params + 2).max(used.len().div_ceil(2)).max(3);
+    // First the joint fit's own selection on the same points (2ν̂² is the Allan variance at
+    // τ = m t0): its diagonal weights are not dominated by the first scales, so filtered
+    // scales show as residuals there, where the GMWM's correlated metric would bend the
+    // model to them.
+    let joint = super::fit::fit(
+        &full,
+        &super::fit::FitOptions {
+            enabled: options.enabled,
+            gauss_markov: options.gauss_markov,
+            tau_range: None,
+            correlation_time: None,
+            automatic_range: true,
+            lines: options.lines.clone(),
+        },
+    )?;
+    let mut used = joint.used;
+    let mut excluded = joint.diagnostics.excluded;
+    let min_keep = (n_params + 2).max(full.len().div_ceil(2)).max(3);
     let fit_on = |used: &[usize]| -> Result<Inner> {
         let sub = all.subset(used);
         estimate(
@@ -590,21 +609,6 @@ fn select_scales(
         .map(|e| e.0)
     };
     let mut inner = fit_on(&used)?;
-    let mut drop = 0;
-    while used.len() - drop > min_keep && inner.edf[used.len() - 1 - drop] < MIN_EDF {
-        drop += 1;
-    }
-    if drop > 0 {
-        let cut = used.len() - drop;
-        exclude(
-            &mut excluded,
-            full.taus[used[cut]],
-            full.taus[used[used.len() - 1]],
-            EDF_REASON,
-        );
-        used.truncate(cut);
-        inner = fit_on(&used)?;
-    }
     let mut memo = CorrelationMemo::default();
     for _ in 0..full.len() {
         let p = active_params(
@@ -628,7 +632,13 @@ fn select_scales(
         if pv >= REFIT_P || pv.is_nan() {
             break;
         }
-        let lead = leading_run(&z);
+        let mut lead = leading_run(&z);
+        if lead == 0 {
+            // The generalized least squares spreads the misfit of filtered first scales over
+            // their correlated neighbours, whose standardised residuals then stay above −2: a
+            // leading run of negative residuals is excluded instead (while the test rejects).
+            lead = z.iter().take(z.len() / 2).take_while(|v| **v < 0.0).count();
+        }
         let trail = z.iter().rev().take_while(|v| **v > 2.0).count();
         if lead > 0 && used.len() - lead >= min_keep {
             exclude(

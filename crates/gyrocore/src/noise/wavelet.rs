@@ -204,8 +204,11 @@ pub fn biweight_constant(efficiency: f64) -> Result<f64> {
 /// relative to the classical `2ν⁴/M`; `c` is chosen for the requested efficiency
 /// ([`biweight_constant`]). The left side vanishes at ν → 0 and ν → ∞; the estimate is the root
 /// on its decreasing branch (where `D > 0` puts the Gaussian solution), bracketed from the MAD
-/// scale `ν₀ = 1.482602·median|W|` by doubling/halving and refined by bisection in `ln ν`
-/// (tolerance 1e-13 relative).
+/// scale `ν₀ = 1.482602·median|W|` by doubling/halving (at most 60 halvings) and refined by
+/// bisection in `ln ν` (tolerance 1e-13 relative). When the left side never reaches `a(c)`
+/// below ν₀ (coefficients far from Gaussian, e.g. every one hit by a spike) there is no root
+/// and the estimate is the left side's maximum over `[ν₀ 2⁻⁶⁰, ν₀]` (golden section in `ln ν`),
+/// the closest approach — what minimising the squared difference, as the R packages do, gives.
 pub fn robust_variance(w: &[f64], c: f64) -> f64 {
     let (a, _, _) = biweight_moments(c);
     let m = w.len() as f64;
@@ -252,10 +255,31 @@ pub fn robust_variance(w: &[f64], c: f64) -> f64 {
         hi = nu0;
         lo = nu0 / 2.0;
         let mut k = 0;
-        while lhs(lo) <= 0.0 && k < 200 {
+        while lhs(lo) <= 0.0 && k < 60 {
             hi = lo;
             lo /= 2.0;
             k += 1;
+        }
+        if lhs(lo) <= 0.0 {
+            // No root (the coefficients are too far from Gaussian for the left side to reach
+            // a(c)): the closest approach, the maximum of the left side over ν ≤ ν₀ (what
+            // minimising the squared difference, as the R packages do, also gives).
+            let (mut a, mut b) = (lo.ln(), nu0.ln());
+            let g = 0.5 * (5f64.sqrt() - 1.0);
+            for _ in 0..200 {
+                let x1 = b - g * (b - a);
+                let x2 = a + g * (b - a);
+                if lhs(x1.exp()) >= lhs(x2.exp()) {
+                    b = x2;
+                } else {
+                    a = x1;
+                }
+                if b - a < 1e-13 {
+                    break;
+                }
+            }
+            let nu = (0.5 * (a + b)).exp();
+            return nu * nu;
         }
     }
     for _ in 0..200 {
