@@ -44,7 +44,12 @@ def wvar_classical(rate: np.ndarray, levels: int, confidence: float) -> dict[str
         edf.append(eta)
         lo.append(eta * nu / stats.chi2.ppf(1.0 - alpha / 2.0, eta))
         hi.append(eta * nu / stats.chi2.ppf(alpha / 2.0, eta))
-    return {"variance": np.array(v), "ci_low": np.array(lo), "ci_high": np.array(hi), "edf": np.array(edf)}
+    return {
+        "variance": np.array(v),
+        "ci_low": np.array(lo),
+        "ci_high": np.array(hi),
+        "edf": np.array(edf),
+    }
 
 
 def rho(r: np.ndarray, c: float) -> np.ndarray:
@@ -65,6 +70,7 @@ def gaussian_expectation(g) -> float:  # type: ignore[no-untyped-def]
 def biweight_efficiency(c: float) -> float:
     """Gaussian efficiency of the M-estimator of scale with ρ_c: D²/(2·Var ρ) with
     D = E[Z²ρ(Z)] − E ρ(Z), by quadrature over the truncated support."""
+
     def e(g):  # type: ignore[no-untyped-def]
         val, _ = integrate.quad(lambda z: g(z) * stats.norm.pdf(z), -c, c, limit=200)
         return float(val)

@@ -10,8 +10,14 @@ from hypothesis import strategies as st
 
 from gyrobias import _core, allan, noise
 
-from .reference_lines import biweight_efficiency, haar_coefficients, oavar, robust_variance, rho
-from .reference_lines import wvar_classical
+from .reference_lines import (
+    biweight_efficiency,
+    haar_coefficients,
+    oavar,
+    rho,
+    robust_variance,
+    wvar_classical,
+)
 
 
 def test_classical_matches_numpy_with_eta3_intervals() -> None:

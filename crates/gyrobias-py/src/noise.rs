@@ -361,7 +361,7 @@ fn biweight_constant(efficiency: f64) -> PyResult<f64> {
 /// (`gyrocore::noise::wavelet::robust_variance`).
 #[pyfunction]
 #[allow(clippy::needless_pass_by_value)]
-fn robust_variance<'py>(coefficients: PyReadonlyArray1<'py, f64>, tuning: f64) -> f64 {
+fn robust_variance(coefficients: PyReadonlyArray1<'_, f64>, tuning: f64) -> f64 {
     wavelet::robust_variance(&c_order(&coefficients), tuning)
 }
 

@@ -7,7 +7,10 @@ from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "FLICKER_FACTOR",
+    "add_lines",
+    "biweight_constant",
     "conservative",
+    "detect_lines",
     "diagnose",
     "fit",
     "gauss_markov_avar",
@@ -16,7 +19,10 @@ __all__ = [
     "model",
     "overbound",
     "read_off",
+    "robust_variance",
     "simulate",
+    "sinusoid_avar",
+    "wvar",
 ]
 
 #: ``gyrocore::noise::FLICKER_FACTOR``: the Allan-deviation plateau ``√(2 ln 2 / π)`` of flicker
@@ -65,6 +71,17 @@ class Diagnostics(TypedDict):
     warnings: list[str]
 
 @type_check_only
+class LineEstimate(TypedDict):
+    """One fitted sinusoidal term (frequency in Hz, amplitude in the rate unit)."""
+
+    frequency: float
+    frequency_uncertainty: float
+    amplitude: float | None
+    amplitude_uncertainty: float | None
+    tau_range: tuple[float, float] | None
+    missing: str | None
+
+@type_check_only
 class JointFit(TypedDict):
     """Weighted joint fit of the noise model to an Allan curve."""
 
@@ -75,6 +92,7 @@ class JointFit(TypedDict):
     chi2: float
     dof: int
     tau_range: tuple[float, float]
+    lines: list[LineEstimate]
     diagnostics: Diagnostics
 
 @type_check_only
@@ -175,6 +193,7 @@ def fit(
     tau_range: tuple[float, float] | None,
     correlation_time: tuple[float, float] | None,
     automatic_range: bool,
+    lines: list[tuple[float, float]] = ...,
 ) -> JointFit: ...
 def diagnose(
     taus: NDArray[np.float64],
@@ -201,4 +220,50 @@ def gmwm(
     bootstrap: int,
     seed: int,
     min_blocks: int,
+    automatic_range: bool = ...,
+    lines: list[tuple[float, float]] = ...,
 ) -> Gmwm: ...
+
+@type_check_only
+class SpectralLine(TypedDict):
+    """One detected spectral line (frequency Hz, amplitude, peak/floor, adjusted p-value)."""
+
+    frequency: float
+    amplitude: float
+    ratio: float
+    p_value: float
+    resolution: float
+
+def detect_lines(
+    data: NDArray[np.float64], t0: float, false_alarm: float, half_width: int, max_lines: int
+) -> list[SpectralLine]: ...
+def sinusoid_avar(
+    amplitude: float, frequency: float, taus: NDArray[np.float64], t0: float | None = None
+) -> NDArray[np.float64]: ...
+def add_lines(
+    data: NDArray[np.float64], t0: float, lines: list[tuple[float, float, float]]
+) -> NDArray[np.float64]: ...
+
+@type_check_only
+class Wvar(TypedDict):
+    """Haar MODWT wavelet variance with chi-square intervals."""
+
+    levels: NDArray[np.uint64]
+    m: NDArray[np.uint64]
+    scales: NDArray[np.float64]
+    variance: NDArray[np.float64]
+    n_coefficients: NDArray[np.uint64]
+    edf: NDArray[np.float64]
+    ci_low: NDArray[np.float64]
+    ci_high: NDArray[np.float64]
+    tuning: float
+
+def wvar(
+    data: NDArray[np.float64],
+    t0: float,
+    efficiency: float | None,
+    confidence: float,
+    levels: int | None,
+) -> Wvar: ...
+def biweight_constant(efficiency: float) -> float: ...
+def robust_variance(coefficients: NDArray[np.float64], tuning: float) -> float: ...

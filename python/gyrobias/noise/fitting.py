@@ -11,6 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _core
+from gyrobias._spectral_lines import SpectralLine
 from gyrobias._validation import (
     as_float_array,
     boolean,
@@ -18,7 +19,6 @@ from gyrobias._validation import (
     integer,
     real,
 )
-from gyrobias._spectral_lines import SpectralLine
 from gyrobias.noise._types import (
     _GM_SYMBOLS,
     _SYMBOLS,
@@ -385,7 +385,9 @@ def fit(
         diagnostics_raw = raw["diagnostics"]
     else:
         if want_sine:
-            raise ValueError("the sinusoidal term 'S' needs method='joint' (or gyrobias.noise.gmwm)")
+            raise ValueError(
+                "the sinusoidal term 'S' needs method='joint' (or gyrobias.noise.gmwm)"
+            )
         if any(t in _GM_SYMBOLS for t in term_list):
             raise ValueError(
                 "Gauss–Markov terms ('GM', 'GM2') need method='joint' (or gyrobias.noise.gmwm)"
@@ -452,7 +454,9 @@ def _line_windows(
         return [], ()
     if isinstance(lines, str):
         if lines != "auto":
-            raise ValueError(f"lines must be 'auto', None or a sequence of frequencies, got {lines!r}")
+            raise ValueError(
+                f"lines must be 'auto', None or a sequence of frequencies, got {lines!r}"
+            )
         found = getattr(result, "lines", None)
         detected = tuple(found) if found else ()
     else:
@@ -478,7 +482,9 @@ def _sinusoids(
     out = []
     for k, d in enumerate(line_dicts):
         symbol = "S" if k == 0 else f"S{k + 1}"
-        rng = None if d["tau_range"] is None else (float(d["tau_range"][0]), float(d["tau_range"][1]))
+        rng = (
+            None if d["tau_range"] is None else (float(d["tau_range"][0]), float(d["tau_range"][1]))
+        )
         f_unc = float(d["frequency_uncertainty"])
         out.append(
             SinusoidTerm(

@@ -115,19 +115,22 @@ def simulate(
         seed_value("seed", seed),
     )
     out = flat if axes == 1 else flat.reshape(n, axes)
-    lines = []
+    lines: list[tuple[float, float, float]] = []
     for item in sinusoids:
-        values = tuple(real("sinusoids", v) for v in item)
+        values = [real("sinusoids", v) for v in item]
         if len(values) not in (2, 3):
             raise TypeError(
                 f"sinusoids must hold (frequency, amplitude) or (frequency, amplitude, phase), "
                 f"got {item!r}"
             )
-        lines.append(values if len(values) == 3 else (*values, 0.0))
+        phase = values[2] if len(values) == 3 else 0.0
+        lines.append((values[0], values[1], phase))
     if not lines:
         return out
     t0 = 1.0 / real("fs", fs)
     if axes == 1:
         return _core.noise.add_lines(out, t0, lines)
-    columns = [_core.noise.add_lines(np.ascontiguousarray(out[:, a]), t0, lines) for a in range(axes)]
+    columns = [
+        _core.noise.add_lines(np.ascontiguousarray(out[:, a]), t0, lines) for a in range(axes)
+    ]
     return np.stack(columns, axis=1)

@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 
 from gyrobias import _core
+from gyrobias._spectral_lines import MIN_SAMPLES, SpectralLine, detect_lines
 from gyrobias._validation import (
     as_float_array,
     boolean,
@@ -19,7 +20,6 @@ from gyrobias._validation import (
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias._validation import seed as seed_value
 from gyrobias.allan._types import AllanResult
-from gyrobias._spectral_lines import MIN_SAMPLES, SpectralLine, detect_lines
 from gyrobias.noise._types import NoiseCoefficients, WaveletVariance
 from gyrobias.noise.fitting import _assemble, _line_windows
 from gyrobias.units import sensor_kind

@@ -449,6 +449,9 @@ fn golden(mut a: f64, mut b: f64, f: &mut dyn FnMut(f64) -> f64) -> (f64, f64) {
     if f1 <= f2 { (x1, f1) } else { (x2, f2) }
 }
 
+/// What [`profile_times`] returns: correlation times, line frequencies, coefficients, χ².
+pub(crate) type Profiled = (Vec<f64>, Vec<f64>, Vec<f64>, f64);
+
 /// Profiles the correlation times and line frequencies: the `ts` (ascending, within `bounds`)
 /// and `fl` (each within its `lines` window `seed ± half-width`) minimising the NNLS χ² for fixed
 /// whitening, with the coefficients there (power-law, then GM, then line columns).
@@ -462,7 +465,7 @@ pub(crate) fn profile_times(
     whitener: &Whitener<'_>,
     lines: &[(f64, f64)],
     t0: f64,
-) -> Option<(Vec<f64>, Vec<f64>, Vec<f64>, f64)> {
+) -> Option<Profiled> {
     let eval = |ts: &[f64], fl: &[f64]| -> f64 {
         nnls(&design(taus, requested, ts, fl, t0), y, whitener).map_or(f64::INFINITY, |s| s.1)
     };

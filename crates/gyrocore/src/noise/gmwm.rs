@@ -559,6 +559,9 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
     })
 }
 
+/// The scales used and the excluded τ ranges with their reasons.
+type Selection = (Vec<usize>, Vec<(f64, f64, String)>);
+
 /// Automatic scale selection (module docs): the scales of the full model `options` that the
 /// GMWM uses, and what was excluded with the reason. First [`super::fit()`]'s own automatic
 /// range on the Allan-variance equivalent `2ν̂²` (trailing scales with fewer than
@@ -570,11 +573,7 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
 /// first scales over their correlated neighbours) — a sensor's anti-alias filter bends the
 /// first scales below the white-noise line — or the trailing run with `z > 2` (drift), keeping
 /// at least half of the scales and two more than the parameters.
-fn select_scales(
-    all: &Scales,
-    options: &GmwmOptions,
-    n_params: usize,
-) -> Result<(Vec<usize>, Vec<(f64, f64, String)>)> {
+fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result<Selection> {
     let requested: Vec<Term> = Term::ALL
         .into_iter()
         .filter(|t| options.enabled[t.index()])
