@@ -1,7 +1,8 @@
 """Every code example of the documentation pages and of the README runs and prints what it says.
 
 Each ```python block of ``docs/**/*.md`` is in doctest form (``>>>``) and runs here with the
-same runner the docs build uses (docs/_ext/mdexamples.py: one namespace per page, a fresh
+same runner the docs build uses (and each ``gyrobias …`` line of a ```bash run block runs through
+the CLI and must exit with 0) (docs/_ext/mdexamples.py: one namespace per page, a fresh
 temporary working directory). The README's Python example and its ``gyrobias`` command lines
 run on a small simulated ROS bag written beside them. The gallery scripts are executed by the
 docs build (sphinx-gallery), not here.
@@ -55,6 +56,21 @@ def test_the_runner_reports_a_wrong_output() -> None:
     assert result.attempted == 2
 
 
+def test_the_runner_runs_bash_run_blocks_and_reports_a_failing_command() -> None:
+    text = (
+        "```bash\ngyrobias allan shown-only.csv\n```\n"  # shown, not run
+        "```bash run\ngyrobias --version\ngyrobias allan missing.csv  # no such file\n```\n"
+    )
+    assert mdexamples.commands(text) == [
+        (5, "gyrobias --version"),
+        (6, "gyrobias allan missing.csv"),
+    ]
+    result = mdexamples.run_text(text, "cli.md")
+    assert result.attempted == 2
+    assert [ln for ln, _ in result.failures] == [6]
+    assert "exit code 2" in result.failures[0][1]
+
+
 def _write_bag(directory: Path) -> None:
     """A 2-minute, 200 Hz ROS1 bag of a white-noise IMU (gyro in rad/s, accel in m/s²)."""
     from tests.test_bags import regular, write_bag
@@ -94,3 +110,28 @@ def test_readme_command_lines_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatc
         if argv[:1] == ["demo"]:
             argv += ["--hours", "0.05", "--outdir", str(tmp_path / "demo")]
         assert main([*argv, "--no-progress"] if argv[0] == "allan" else argv) == 0, line
+
+
+def _ci_readme_command() -> str:
+    """The command ``.ci/run`` runs as "the README's test command, verbatim": the first line after
+    that comment that is neither a comment nor a progress message (``echo``/``step``)."""
+    lines = (ROOT / ".ci" / "run").read_text(encoding="utf-8").splitlines()
+    marks = [
+        i
+        for i, ln in enumerate(lines)
+        if ln.lstrip().startswith("#") and "README's test command, verbatim" in ln
+    ]
+    assert marks, ".ci/run does not say which command is the README's test command"
+    for ln in lines[marks[0] + 1 :]:
+        s = ln.strip()
+        if s and not s.startswith(("#", "echo ", "step ")):
+            return s
+    raise AssertionError(".ci/run has no command after its README test-command comment")
+
+
+def test_readme_test_command_is_the_one_ci_runs() -> None:
+    """The README's test command is, verbatim, the one ``.ci/run`` runs (no drift between them)."""
+    command = _ci_readme_command()
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    blocks = re.findall(r"^```bash\n(.*?)^```", readme, flags=re.S | re.M)
+    assert command in {ln.strip() for b in blocks for ln in b.splitlines()}

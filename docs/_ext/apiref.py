@@ -132,6 +132,11 @@ GROUPS: list[tuple[str, str, list[str]]] = [
         ["gyrobias.fir"],
     ),
     (
+        "C code generation",
+        "C99 for the fixed-gain filter, the FIR and the compiled predictor (float64, float32, Q31).",
+        ["gyrobias.codegen"],
+    ),
+    (
         "Spectral analysis",
         "Least-squares spectra of unequally spaced data, Welch PSD, noise density.",
         ["gyrobias.spectral"],
@@ -211,7 +216,7 @@ def _rank(module: str, obj: object) -> tuple[int, int, int, str]:
 
 def collect() -> tuple[list[Entry], list[tuple[str, str]]]:
     """All documented entries, and the (module, name) pairs that are submodules (sections)."""
-    seen: dict[int, list[tuple[str, str, object]]] = {}
+    seen: dict[int, list[tuple[str, str, object]]] = {}  # key -> every (module, name, obj)
     order: list[int] = []
     submodules: list[tuple[str, str]] = []
     for mod in public_modules():
@@ -220,7 +225,9 @@ def collect() -> tuple[list[Entry], list[tuple[str, str]]]:
             if isinstance(obj, types.ModuleType):
                 submodules.append((mod.__name__, name))
                 continue
-            key = id(obj) if _is_identity_object(obj) else hash((mod.__name__, name))
+            # a class/function/module is itself wherever it is exported; a constant is "the
+            # same" when a module re-exports it under its name (same name, same object)
+            key = id(obj) if _is_identity_object(obj) else hash((name, id(obj)))
             if key not in seen:
                 seen[key] = []
                 order.append(key)

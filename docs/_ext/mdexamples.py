@@ -6,6 +6,11 @@ is one story), in a fresh temporary directory as the working directory (files th
 go there), with matplotlib's non-interactive Agg backend. Output is compared by :mod:`doctest`
 with ``ELLIPSIS`` and ``NORMALIZE_WHITESPACE``.
 
+A shell block whose info string is ``bash run`` is a command-line example: each of its
+``gyrobias …`` lines runs (through :func:`gyrobias.cli.main`, in the same directory, after the
+blocks above it) and must exit with 0. Other shell blocks are shown, not run (placeholders such
+as ``LOG`` or commands of other tools).
+
 The Sphinx extension part runs each Markdown page when Sphinx reads it and reports a failing
 example as a warning at the page's line (an error under ``-W``); ``tests/test_docs_pages.py``
 runs the same function on every ``docs/**/*.md`` and on the README.
@@ -30,7 +35,17 @@ FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 
 def extract(text: str, languages: set[str] = LANGUAGES) -> list[tuple[int, str]]:
     """The doctest blocks of a Markdown text: ``(first line number (1-based), source)``."""
-    blocks: list[tuple[int, str]] = []
+    return [(ln, src) for ln, kind, src in blocks_of(text, languages) if kind == "doctest"]
+
+
+def commands(text: str) -> list[tuple[int, str]]:
+    """The ``gyrobias …`` lines of the ``bash run`` blocks: ``(line number, command)``."""
+    return [(ln, src) for ln, kind, src in blocks_of(text) if kind == "command"]
+
+
+def blocks_of(text: str, languages: set[str] = LANGUAGES) -> list[tuple[int, str, str]]:
+    """Doctest blocks and command lines in page order: ``(line number, kind, source)``."""
+    blocks: list[tuple[int, str, str]] = []
     lines = text.splitlines()
     i = 0
     while i < len(lines):
@@ -49,7 +64,12 @@ def extract(text: str, languages: set[str] = LANGUAGES) -> list[tuple[int, str]]
         first = next((ln for ln in body if ln.strip()), "")
         if lang in languages and first.lstrip().startswith(">>>"):
             indent = len(first) - len(first.lstrip())
-            blocks.append((start + 1, "\n".join(ln[indent:] for ln in body) + "\n"))
+            blocks.append((start + 1, "doctest", "\n".join(ln[indent:] for ln in body) + "\n"))
+        elif lang in {"bash", "sh", "console"} and "run" in info[1:]:
+            for k, ln in enumerate(body):
+                cmd = ln.strip().split(" #")[0].strip()
+                if cmd.startswith("gyrobias "):
+                    blocks.append((start + 1 + k, "command", cmd))
         i = j + 1
     return blocks
 
@@ -107,7 +127,11 @@ def run_text(
         try:
             if setup is not None:
                 setup(Path(tmp))
-            for lineno, source in extract(text):
+            for lineno, kind, source in blocks_of(text):
+                if kind == "command":
+                    attempted += 1
+                    _run_command(source, lineno, runner.reports)
+                    continue
                 try:
                     test = parser.get_doctest(source, namespace, name, name, lineno - 1)
                 except ValueError as exc:  # malformed doctest text: a failure, not a crash
@@ -122,6 +146,24 @@ def run_text(
 
             plt.close("all")
     return PageResult(name, attempted, runner.reports, time.perf_counter() - start)
+
+
+def _run_command(command: str, lineno: int, reports: list[tuple[int, str]]) -> None:
+    """Run one ``gyrobias …`` line through the CLI's ``main``; a non-zero exit is a failure."""
+    import contextlib
+    import io
+    import shlex
+
+    from gyrobias.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    try:
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            code = main(shlex.split(command)[1:])
+    except SystemExit as exc:  # argparse usage errors
+        code = exc.code if isinstance(exc.code, int) else 2
+    if code != 0:
+        reports.append((lineno, f"{command}\nexit code {code}:\n{err.getvalue()[-2000:]}"))
 
 
 def run_file(path: str | os.PathLike[str], **kwargs: Any) -> PageResult:
@@ -140,7 +182,7 @@ def _on_source_read(app: Any, docname: str, source: list[str]) -> None:
     if path.suffix != ".md":
         return
     text = source[0]
-    if not extract(text):
+    if not blocks_of(text):
         return
     logger = logging.getLogger("gyrobias.mdexamples")
     result = run_text(text, str(path))

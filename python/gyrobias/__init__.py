@@ -21,13 +21,23 @@ unit-aware Python interfaces:
 - :mod:`gyrobias.datasheet`, :mod:`gyrobias.conservative`, :mod:`gyrobias.exports` — datasheet
   values in, conservative (overbounding) sets, estimator files (Kalibr, OpenVINS, VINS, ORB-SLAM3,
   LIO-SAM, MATLAB, JSON) and discrete-time parameters; ``gyrobias report`` for the HTML page.
+- :mod:`gyrobias.codegen` — C99 (float64, float32, Q31) for the fixed-gain Kalman filter, the FIR
+  and the compiled predictor, bit-exact or with a stated Q31 error bound.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
+- :mod:`gyrobias.fleet`, :mod:`gyrobias.plotting` — many logs at once on Dask; every plot.
+
+``gyrobias.__version__`` is the version of the compiled core, set once in the workspace's
+``Cargo.toml`` (the wheel, ``gyrobias --version`` and the CHANGELOG's release use the same).
 """
 
-from importlib.metadata import PackageNotFoundError, version
-
+# The package façade: it imports the science modules and every module that registers the
+# result objects' methods (plotting: ``.plot()``; exports, conservative, noise.kalibr:
+# ``.export()`` and kin; see gyrobias._generics), so these are loaded whatever the caller
+# imports first. plotting loads matplotlib only when a plot is drawn. The layers:
+# docs/architecture.md.
 from gyrobias import (
     allan,
+    codegen,
     conservative,
     datasheet,
     exports,
@@ -41,10 +51,8 @@ from gyrobias import (
     spectral,
     thermal,
 )
-
-# plotting is imported for its registrations of the results' ``.plot()`` methods
-# (gyrobias._generics); it loads matplotlib only when a plot is drawn.
 from gyrobias._core import GyroLinAlgError
+from gyrobias._version import __version__
 from gyrobias.allan import AllanResult, adev, avar
 from gyrobias.fir import KaiserLowpass, kaiser_lowpass
 from gyrobias.kalman import FixedGainKalman
@@ -52,11 +60,6 @@ from gyrobias.noise import NoiseCoefficients
 from gyrobias.predict import FractionalKalmanPredictor, Prediction
 from gyrobias.spectral import LSSAResult, lssa
 from gyrobias.thermal import AR1Fit, TemperatureModel, fit_ar1
-
-try:
-    __version__ = version("gyrobias")
-except PackageNotFoundError:  # running from a source tree without installation
-    __version__ = "0.0.0+unknown"
 
 __all__ = [
     "AR1Fit",
@@ -73,6 +76,7 @@ __all__ = [
     "adev",
     "allan",
     "avar",
+    "codegen",
     "conservative",
     "datasheet",
     "exports",

@@ -32,8 +32,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gyrobias import _core
-from gyrobias._validation import as_float_array, count, integer, real, string
+from gyrobias import _core, _generics
+from gyrobias._validation import as_float_array, asarray, count, integer, real, string
 
 __all__ = ["FrequencyResponse", "KaiserLowpass", "apply", "kaiser_lowpass", "stream"]
 
@@ -148,6 +148,16 @@ class KaiserLowpass:
     ) -> NDArray[np.float64]:
         """Filter ``x`` with this filter; see :func:`apply`."""
         return apply(self.taps, x, zero_phase=zero_phase, axis=axis, padtype=padtype, padlen=padlen)
+
+    def to_c(
+        self, path: Any, *, name: str = "gyro_fir", dtype: Any = "float32", **options: Any
+    ) -> Any:
+        """Write this filter as streaming C99 (``<name>.h``, ``<name>.c`` in directory ``path``).
+
+        ``dtype`` is ``"float64"``, ``"float32"`` or ``"q31"``; CMSIS-DSP coefficient arrays are
+        included. See :mod:`gyrobias.codegen`; returns its :class:`~gyrobias.codegen.GeneratedC`.
+        """
+        return _generics.to_c(self, path, name=name, dtype=dtype, **options)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain-Python representation (taps as a list)."""
@@ -292,7 +302,7 @@ def apply(
     depends on this edge convention; in the interior it does not.
     """
     h = as_float_array("taps", taps)
-    arr = np.asarray(x)
+    arr = asarray("x", x)
     if arr.ndim == 0:
         raise ValueError("x must have at least one dimension")
     arr = as_float_array("x", arr, ndims=(arr.ndim,))
@@ -312,13 +322,27 @@ def apply(
     rows = np.ascontiguousarray(moved.reshape(-1, shape[-1]))
     # padlen is converted by the binding (which refuses a negative one) and ignored by the core
     # unless zero_phase.
-    out = _core.fir.filter_rows(h, rows, bool(zero_phase), padtype, padlen)
+    try:
+        out = _core.fir.filter_rows(h, rows, bool(zero_phase), padtype, padlen)
+    except ValueError as exc:
+        if str(exc).startswith("x is too short") and arr.ndim > 1:
+            # the core sees rows: say which axis of the caller's array was too short
+            raise ValueError(
+                f"{exc} along axis={axis} of x (shape {arr.shape}): filter along the axis of "
+                "time (axis=-1 by default)"
+            ) from None
+        raise
     return np.moveaxis(out.reshape(shape), -1, axis)
 
 
 def stream(
-    taps: ArrayLike, x: ArrayLike, state: ArrayLike | None = None, *, axis: int = -1
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    taps: ArrayLike,
+    x: ArrayLike,
+    state: ArrayLike | None = None,
+    *,
+    axis: int = -1,
+    dtype: Any = np.float64,
+) -> tuple[NDArray[Any], NDArray[Any]]:
     """Causal filtering of one chunk of a stream, with the filter state in and out.
 
     Parameters
@@ -333,6 +357,10 @@ def stream(
         (zero history, like ``scipy.signal.lfilter`` without ``zi``).
     axis : int
         Axis of time in ``x``.
+    dtype : {np.float64, np.float32}
+        Arithmetic. ``np.float32`` rounds the taps, ``x`` and ``state`` to float32 and runs the
+        float64 kernel's operations in the same order in float32: equal bit for bit to the C
+        from :meth:`KaiserLowpass.to_c` with ``dtype="float32"``.
 
     Returns
     -------
@@ -357,8 +385,13 @@ def stream(
     >>> bool(np.array_equal(np.r_[y1, y2], fir.stream(f.taps, x)[0]))
     True
     """
+    single = dtype is np.float32 or (isinstance(dtype, (str, np.dtype)) and dtype == "float32")
+    if not single and not (
+        dtype is np.float64 or (isinstance(dtype, (str, np.dtype)) and dtype == "float64")
+    ):
+        raise ValueError(f"dtype must be np.float64 or np.float32, got {dtype!r}")
     h = as_float_array("taps", taps)
-    arr = np.asarray(x)
+    arr = asarray("x", x)
     if arr.ndim == 0:
         raise ValueError("x must have at least one dimension")
     arr = as_float_array("x", arr, ndims=(arr.ndim,))
@@ -370,14 +403,25 @@ def stream(
         raise ValueError(f"axis {axis!r} is out of range for an array of {arr.ndim} dimensions")
     moved = np.moveaxis(arr, axis, -1)
     shape = moved.shape
-    rows = np.ascontiguousarray(moved.reshape(-1, shape[-1]))
+    rows = moved.reshape(-1, shape[-1])
     width = h.size - 1
     if state is None:
         st = np.zeros((rows.shape[0], width))
     else:
-        st = np.asarray(state, dtype=np.float64)
+        st = as_float_array("state", state, ndims=tuple(range(1, 33)))
         if st.shape != (*shape[:-1], width):
             raise ValueError(f"state must have shape {(*shape[:-1], width)}, got {st.shape}")
-        st = np.ascontiguousarray(st.reshape(rows.shape[0], width))
-    y, new_state = _core.fir.filter_stream_rows(h, rows, st)
+        st = st.reshape(rows.shape[0], width)
+    y: NDArray[Any]
+    new_state: NDArray[Any]
+    if single:
+        y, new_state = _core.fir.filter_stream_rows_f32(
+            h.astype(np.float32),
+            np.ascontiguousarray(rows, dtype=np.float32),
+            np.ascontiguousarray(st, dtype=np.float32),
+        )
+    else:
+        y, new_state = _core.fir.filter_stream_rows(
+            h, np.ascontiguousarray(rows, dtype=np.float64), np.ascontiguousarray(st)
+        )
     return np.moveaxis(y.reshape(shape), -1, axis), new_state.reshape(*shape[:-1], width)

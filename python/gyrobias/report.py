@@ -23,6 +23,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from gyrobias import _core
+from gyrobias._validation import choice, real, string
 from gyrobias.exports import DEFAULT_FILENAMES, FORMATS, atomic_write, export
 
 if TYPE_CHECKING:
@@ -318,7 +320,7 @@ def _exports_section(channels: list[ChannelReport], rate: float | None) -> str:
         return "".join(parts)
     parts.append(
         "<p>Each value is the largest over the channels of its sensor. Keys, units and the continuous / "
-        "discrete convention of every format are listed in the README's convention table.</p>"
+        "discrete convention of every format are listed in the convention table of the gyrobias documentation (Estimator parameters).</p>"
     )
     n = 0
     for label, group in (("best fit", best), ("conservative set", cons)):
@@ -408,8 +410,22 @@ def build_report(
         A log without samples or a sample rate, data not of shape (samples, channels),
         ``units`` with the wrong number of entries, or no channel that could be analysed
         (e.g. all NaN); a channel that fails while others succeed is reported on the page.
+        An invalid option (``method``, ``confidence`` or ``conservative_confidence`` outside
+        (0, 1), ``rate`` not finite and > 0) raises before any channel is analysed.
     """
     _check_log(log)
+    # The options apply to every channel: refuse a bad one here (the per-channel isolation
+    # below is for failures of the data, which must not turn into a page of errors for a typo).
+    choice("method", method, ("joint", "ieee"))
+    _core.validate.probability(
+        "conservative_confidence", real("conservative_confidence", conservative_confidence)
+    )
+    if confidence is not None:
+        _core.validate.probability("confidence", real("confidence", confidence))
+    if rate is not None:
+        _core.validate.positive("rate", real("rate", rate))
+    if title is not None:
+        string("title", title)
     k = len(log.columns)
     if units is None:
         per_channel: list[str | None] = list(log.units) if log.units else [None] * k
@@ -424,7 +440,7 @@ def build_report(
         # Nothing to report: a page of error messages would pass for a report.
         reasons = "; ".join(f"{ch.name}: {', '.join(ch.errors)}" for ch in channels)
         raise ValueError(f"log: no channel could be analysed ({reasons})")
-    from gyrobias import __version__
+    from gyrobias._version import __version__
 
     name = title or Path(log.path).name
     now = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC")

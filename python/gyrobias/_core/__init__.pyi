@@ -6,6 +6,7 @@ binding borrows C-contiguous float64 arrays and copies any other layout into C o
 """
 
 from gyrobias._core import allan as allan
+from gyrobias._core import codegen as codegen
 from gyrobias._core import fir as fir
 from gyrobias._core import fractional as fractional
 from gyrobias._core import kalman as kalman
@@ -17,3 +18,9 @@ from gyrobias._core import thermal as thermal
 from gyrobias._core import validate as validate
 
 class GyroLinAlgError(ValueError): ...
+
+#: The package version (the workspace version of Cargo.toml, also the wheel's).
+__version__: str
+
+def instruction_set() -> str:
+    """The vector instruction set of the core's kernels: ``"x86-64-v3"``, ``"neon"`` or ``"scalar"``."""

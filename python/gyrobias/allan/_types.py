@@ -8,6 +8,7 @@ types are registered by :mod:`gyrobias.plotting`.
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -44,6 +45,18 @@ _LONG_LABEL = {
     "theobr": "THEOBR (bias-removed Théo1 deviation)",
     "theoh": "THEOH (hybrid ADEV / ThéoBR deviation)",
 }
+
+
+def _statistic_unit(units: str | None, kind: str, data_type: str) -> str | None:
+    """Unit of the statistic from the data unit: the rate unit (``deg`` angle → ``deg/s``), or
+    for TDEV the angle unit (``deg/s`` rate → ``deg``)."""
+    if units is None:
+        return None
+    if kind == "tdev":
+        if data_type == "angle":
+            return units
+        return units[:-2] if units.endswith("/s") else f"{units}·s"
+    return f"{units}/s" if data_type == "angle" else units
 
 
 def _label(kind: str, overlapping: bool) -> str:
@@ -127,6 +140,73 @@ class AllanResult:
     factors: NDArray[np.int64] | None = None
     deviation: NDArray[np.float64] | None = None
     lines: tuple[SpectralLine, ...] | None = field(default=None, repr=False, compare=False)
+
+    @classmethod
+    def _from_core(
+        cls,
+        raw: Mapping[str, Any],
+        *,
+        kind: str,
+        fs: float,
+        data_type: str,
+        overlapping: bool,
+        confidence: float | None,
+        units: str | None,
+        axis: str | None,
+    ) -> AllanResult:
+        """The one place an :class:`AllanResult` is built from the core's output for one axis.
+
+        ``raw`` is one of the binding's dictionaries (``gyrobias._core.allan``/``noise`` stubs):
+        ``Analysis`` (:func:`~gyrobias._core.allan.analyse`, ``analyse_batch``,
+        ``analyse_stream``: τ = m·t0), ``FamilyAnalysis`` (``family_analyse``: τ = tau_factor·t0,
+        the averaging factors kept for Théo1's τ = 0.75·m·t0) or ``WaveletVariance`` (GMWM's
+        Haar wavelet variance ν², shown as the Allan variance σ² = 2ν², Percival & Guttorp
+        1994). ``units`` is the data unit; the statistic's unit is derived from it.
+        """
+        t0 = 1.0 / fs
+        kw: dict[str, Any] = {}
+        if confidence is not None:
+            alpha = np.asarray(raw["alpha"]).astype(np.int64)
+            kw = {
+                "edf": np.asarray(raw["edf"], dtype=np.float64),
+                "alpha": alpha,
+                "ci_low": np.asarray(raw["deviation_low"], dtype=np.float64),
+                "ci_high": np.asarray(raw["deviation_high"], dtype=np.float64),
+                "noise_type": tuple(NOISE_NAMES.get(int(a), f"alpha={a}") for a in alpha),
+            }
+        m = np.asarray(raw["m"]).astype(np.int64)
+        if "n_coefficients" in raw:  # GMWM's wavelet variance
+            return cls(
+                taus=np.asarray(m * t0, dtype=np.float64),
+                avar=2.0 * np.asarray(raw["variance"], dtype=np.float64),
+                n_terms=np.asarray(raw["n_coefficients"]).astype(np.int64),
+                fs=fs,
+                data_type=data_type,
+                kind=kind,
+                overlapping=overlapping,
+                unit=_statistic_unit(units, kind, data_type),
+                axis=axis,
+            )
+        family = "tau_factor" in raw
+        return cls(
+            taus=(
+                np.asarray(raw["tau_factor"], dtype=np.float64) * t0
+                if family
+                else np.asarray(m * t0, dtype=np.float64)
+            ),
+            avar=np.asarray(raw["variance"], dtype=np.float64),
+            deviation=np.asarray(raw["deviation"], dtype=np.float64),
+            n_terms=np.asarray(raw["n_terms"]).astype(np.int64),
+            fs=fs,
+            data_type=data_type,
+            kind=kind,
+            overlapping=overlapping,
+            unit=_statistic_unit(units, kind, data_type),
+            confidence=confidence,
+            axis=axis,
+            factors=m if family else None,
+            **kw,
+        )
 
     @property
     def adev(self) -> NDArray[np.float64]:
@@ -260,6 +340,34 @@ class DynamicAllanResult:
     fs: float
     data_type: str
     unit: str | None = None
+
+    @classmethod
+    def _from_core(
+        cls,
+        raw: Mapping[str, Any],
+        *,
+        fs: float,
+        window: int,
+        step: int,
+        data_type: str,
+        units: str | None,
+    ) -> DynamicAllanResult:
+        """The one place a :class:`DynamicAllanResult` is built from the core's ``DynamicAvar``
+        (:func:`gyrobias._core.allan.dynamic_avar`); ``units`` is the data unit."""
+        t0 = 1.0 / fs
+        starts = np.asarray(raw["starts"]).astype(np.int64)
+        return cls(
+            times=np.asarray((starts + window / 2.0) * t0, dtype=np.float64),
+            starts=starts,
+            taus=np.asarray(raw["m"]).astype(np.float64) * t0,
+            avar=np.asarray(raw["variance"], dtype=np.float64),
+            n_terms=np.asarray(raw["n_terms"]).astype(np.int64),
+            window=window,
+            step=step,
+            fs=fs,
+            data_type=data_type,
+            unit=_statistic_unit(units, "adev", data_type),
+        )
 
     @property
     def adev(self) -> NDArray[np.float64]:

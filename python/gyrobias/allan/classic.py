@@ -42,57 +42,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
 from gyrobias._spectral_lines import MIN_SAMPLES, SpectralLine, detect_lines
-from gyrobias._validation import as_float_array, choice
+from gyrobias._validation import as_float_array, asarray, callback, choice, string
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.allan import stream as _stream
 from gyrobias.allan._options import _options
-from gyrobias.allan._types import NOISE_NAMES, AllanResult, Kind
+from gyrobias.allan._types import AllanResult, Kind
 from gyrobias.allan.family import _analyse_family
 from gyrobias.units import checked_units
-
-
-def _result(
-    r: dict[str, Any],
-    *,
-    kind: Kind,
-    fs: float,
-    data_type: str,
-    overlapping: bool,
-    confidence: float | None,
-    units: str | None,
-    axis: str | None,
-) -> AllanResult:
-    """One :class:`AllanResult` from the core's dict for one axis."""
-    t0 = 1.0 / fs
-    var = np.asarray(r["variance"], dtype=np.float64)
-    m = np.asarray(r["m"]).astype(np.int64)
-    kw: dict[str, Any] = {}
-    if confidence is not None:
-        alpha = np.asarray(r["alpha"]).astype(np.int64)
-        kw = {
-            "edf": np.asarray(r["edf"], dtype=np.float64),
-            "alpha": alpha,
-            "ci_low": np.asarray(r["deviation_low"], dtype=np.float64),
-            "ci_high": np.asarray(r["deviation_high"], dtype=np.float64),
-            "noise_type": tuple(NOISE_NAMES.get(int(a), f"alpha={a}") for a in alpha),
-        }
-    unit = units
-    if units is not None and data_type == "angle":
-        unit = f"{units}/s"
-    return AllanResult(
-        taus=np.asarray(m * t0, dtype=np.float64),
-        avar=var,
-        deviation=np.asarray(r["deviation"], dtype=np.float64),
-        n_terms=np.asarray(r["n_terms"]).astype(np.int64),
-        fs=fs,
-        data_type=data_type,
-        kind=kind,
-        overlapping=overlapping if kind == "adev" else True,
-        unit=unit,
-        confidence=confidence,
-        axis=axis,
-        **kw,
-    )
 
 
 def _analyse(
@@ -110,7 +66,9 @@ def _analyse(
     gaps: str = "error",
 ) -> AllanResult | tuple[AllanResult, ...]:
     if _stream._file_readers(data) is not None:
-        arr = np.asarray(data)  # validated below; not converted (that would read the whole file)
+        arr = asarray(
+            "data", data
+        )  # validated below; not converted (that would read the whole file)
         if arr.ndim not in (1, 2):
             raise ValueError(
                 f"data must be a 1-D or 2-D array, got a {arr.ndim}-D array of shape {arr.shape}"
@@ -119,6 +77,8 @@ def _analyse(
             raise ValueError("data is empty")
     else:
         arr = as_float_array("data", data, ndims=(1, 2))
+    callback("progress", progress)
+    string("gaps", gaps)  # its values are parsed by the core (allan::Gaps)
     units = checked_units("units", units)
     fs, estimator, spec, explicit, confidence = _options(
         kind, fs, taus, per_decade, data_type, overlapping, confidence
@@ -172,12 +132,12 @@ def _analyse(
             progress,
         )
     results = tuple(
-        _result(
+        AllanResult._from_core(
             r,
             kind=kind,
             fs=fs,
             data_type=data_type,
-            overlapping=overlapping,
+            overlapping=overlapping if kind == "adev" else True,
             confidence=confidence,
             units=units,
             axis=None if axis_names is None else str(axis_names[i]),
@@ -260,6 +220,8 @@ def adev_batch(
     True
     """
     arr = as_float_array("data", data, ndims=(2, 3))
+    callback("progress", progress)
+    string("gaps", gaps)
     units = checked_units("units", units)
     fs, estimator, spec, explicit, confidence = _options(
         "adev", fs, taus, per_decade, data_type, overlapping, confidence
@@ -281,7 +243,7 @@ def adev_batch(
     )
     return tuple(
         tuple(
-            _result(
+            AllanResult._from_core(
                 r,
                 kind="adev",
                 fs=fs,

@@ -9,6 +9,7 @@ from gyrobias import _core
 from gyrobias._validation import as_float_array, integer
 from gyrobias.allan._options import _tau_options
 from gyrobias.allan._types import DynamicAllanResult
+from gyrobias.units import checked_units
 
 
 def dynamic_adev(
@@ -71,6 +72,7 @@ def dynamic_adev(
     True
     """
     arr = as_float_array("data", data, ndims=(1,))
+    units = checked_units("units", units)
     fs, spec, explicit, per_decade, _ = _tau_options(fs, taus, per_decade, data_type, None)
     window = integer("window", window)  # window <= n, step >= 1: the core's checks
     step = integer("step", step)
@@ -78,19 +80,6 @@ def dynamic_adev(
     raw = _core.allan.dynamic_avar(
         np.ascontiguousarray(arr), t0, data_type, window, step, spec, int(per_decade), explicit
     )
-    starts = np.asarray(raw["starts"]).astype(np.int64)
-    unit = units
-    if units is not None and data_type == "angle":
-        unit = f"{units}/s"
-    return DynamicAllanResult(
-        times=np.asarray((starts + window / 2.0) * t0, dtype=np.float64),
-        starts=starts,
-        taus=np.asarray(raw["m"]).astype(np.float64) * t0,
-        avar=np.asarray(raw["variance"], dtype=np.float64),
-        n_terms=np.asarray(raw["n_terms"]).astype(np.int64),
-        window=window,
-        step=step,
-        fs=fs,
-        data_type=data_type,
-        unit=unit,
+    return DynamicAllanResult._from_core(
+        raw, fs=fs, window=window, step=step, data_type=data_type, units=units
     )

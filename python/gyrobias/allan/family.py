@@ -3,16 +3,15 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array
+from gyrobias._validation import as_float_array, callback
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.allan._options import _tau_options
-from gyrobias.allan._types import NOISE_NAMES, AllanResult
+from gyrobias.allan._types import AllanResult
 from gyrobias.units import checked_units
 
 #: gyrobias kind → core statistic of :func:`gyrobias._core.allan.family_analyse`.
@@ -24,15 +23,6 @@ _FAMILY_STATISTIC = {
     "theobr": "theobr",
     "theoh": "theoh",
 }
-
-
-def _time_unit(units: str | None, data_type: str) -> str | None:
-    """Unit of TDEV: the angle unit (``deg/s`` rate → ``deg``)."""
-    if units is None:
-        return None
-    if data_type == "angle":
-        return units
-    return units[:-2] if units.endswith("/s") else f"{units}·s"
 
 
 def _analyse_family(
@@ -51,6 +41,7 @@ def _analyse_family(
 ) -> AllanResult | tuple[AllanResult, ...]:
     """Shared driver of the statistics computed by ``gyrocore::allan::family``."""
     arr = as_float_array("data", data, ndims=(1, 2))
+    callback("progress", progress)
     units = checked_units("units", units)
     # Types only: the ranges (per_decade >= 1, 0 < confidence < 1, ...) are the core's checks.
     fs, spec, explicit, per_decade, confidence = _tau_options(
@@ -74,40 +65,19 @@ def _analyse_family(
     )
     if progress is not None:
         progress(1.0)
-    unit = units
-    if kind == "tdev":
-        unit = _time_unit(units, data_type)
-    elif units is not None and data_type == "angle":
-        unit = f"{units}/s"
-    results = []
-    for i, r in enumerate(raw):
-        kw: dict[str, Any] = {}
-        if confidence is not None:
-            alpha = np.asarray(r["alpha"]).astype(np.int64)
-            kw = {
-                "edf": np.asarray(r["edf"], dtype=np.float64),
-                "alpha": alpha,
-                "ci_low": np.asarray(r["deviation_low"], dtype=np.float64),
-                "ci_high": np.asarray(r["deviation_high"], dtype=np.float64),
-                "noise_type": tuple(NOISE_NAMES.get(int(a), f"alpha={a}") for a in alpha),
-            }
-        results.append(
-            AllanResult(
-                taus=np.asarray(r["tau_factor"], dtype=np.float64) * t0,
-                avar=np.asarray(r["variance"], dtype=np.float64),
-                deviation=np.asarray(r["deviation"], dtype=np.float64),
-                n_terms=np.asarray(r["n_terms"]).astype(np.int64),
-                fs=fs,
-                data_type=data_type,
-                kind=kind,
-                overlapping=overlapping,
-                unit=unit,
-                confidence=confidence,
-                axis=None if axis_names is None else str(axis_names[i]),
-                factors=np.asarray(r["m"]).astype(np.int64),
-                **kw,
-            )
+    results = [
+        AllanResult._from_core(
+            r,
+            kind=kind,
+            fs=fs,
+            data_type=data_type,
+            overlapping=overlapping,
+            confidence=confidence,
+            units=units,
+            axis=None if axis_names is None else str(axis_names[i]),
         )
+        for i, r in enumerate(raw)
+    ]
     if arr.ndim == 1:
         return results[0]
     return tuple(results)

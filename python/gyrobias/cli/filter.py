@@ -5,6 +5,9 @@ Example::
     gyrobias filter gyro.csv --fs 200 --bandwidth 10 --arw 0.08 --rrw 7e-4 -o filtered.csv
     gyrobias filter imu.bag --columns gyro --bandwidth 10 --arw 0.0014 -o filtered.npy
 
+``--emit-c DIR`` also writes the designed filter as C99 (``gyrobias kalman design`` does that
+without a log; see ``docs/guides/embedded_c.md``).
+
 ``--arw`` is in u/√s and ``--rrw`` in u/s^1.5, u being the angle unit of the log's rates
 (``--arw-unit deg/sqrt(h)`` and ``--rrw-unit deg/h^1.5`` accept the customary units for logs in
 deg/s). The output (CSV or .npy) has, for every channel, the rate estimate and the bias estimate
@@ -17,11 +20,11 @@ from __future__ import annotations
 
 import argparse
 import math
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from gyrobias.cli import _emit, _types
 from gyrobias.cli._common import add_read_arguments, read_log, require_fs
 from gyrobias.kalman import (
     FixedGainKalman,
@@ -41,19 +44,28 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("log", type=Path, help="log of rates: text, .npy, a ROS bag or an MCAP file")
-    p.add_argument("--arw", type=float, required=True, help="angle random walk N (see --arw-unit)")
-    p.add_argument("--rrw", type=float, default=0.0, help="rate random walk K (see --rrw-unit)")
+    p.add_argument(
+        "log", type=_types.path, help="log of rates: text, .npy, a ROS bag or an MCAP file"
+    )
+    p.add_argument(
+        "--arw", type=_types.positive, required=True, help="angle random walk N (see --arw-unit)"
+    )
+    p.add_argument(
+        "--rrw", type=_types.non_negative, default=0.0, help="rate random walk K (see --rrw-unit)"
+    )
     p.add_argument("--arw-unit", choices=sorted(_ARW_UNITS), default="u/sqrt(s)")
     p.add_argument("--rrw-unit", choices=sorted(_RRW_UNITS), default="u/s^1.5")
     design = p.add_mutually_exclusive_group(required=True)
-    design.add_argument("--bandwidth", type=float, help="target -3 dB bandwidth in Hz")
-    design.add_argument("--q-omega", type=float, help="per-step rate process noise, (u/s)^2")
+    design.add_argument("--bandwidth", type=_types.positive, help="target -3 dB bandwidth in Hz")
+    design.add_argument(
+        "--q-omega", type=_types.positive, help="per-step rate process noise, (u/s)^2"
+    )
     p.add_argument("--form", choices=("standard", "paper"), default="standard")
     p.add_argument(
-        "-o", "--output", type=Path, help="output file (.csv or .npy); default: summary only"
+        "-o", "--output", type=_types.path, help="output file (.csv or .npy); default: summary only"
     )
     add_read_arguments(p)
+    _emit.add_emit_arguments(p, "gyro_kf")
     p.set_defaults(func=run)
     return p
 
@@ -76,6 +88,8 @@ def run(args: argparse.Namespace) -> int:
         bandwidth=args.bandwidth,
         form=args.form,
     )
+    if args.emit_c is not None:  # before filtering: a bad name or path fails fast
+        _emit.emit(kf, args)
     rate, bias = kf.filter(z)
     print(describe(kf))
     print(f"{z.shape[0]} samples x {z.shape[1]} channels from {args.log}")
@@ -86,7 +100,7 @@ def run(args: argparse.Namespace) -> int:
             f"(expected after filtering), final bias estimate {bias[-1, a] + 0.0:.6g}"
         )
     if args.output is not None:
-        from gyrobias.exports import atomic_binary
+        from gyrobias._files import atomic_binary
 
         out = np.empty((z.shape[0], 2 * z.shape[1]))
         out[:, 0::2] = rate

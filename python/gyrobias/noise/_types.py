@@ -20,9 +20,11 @@ from numpy.typing import NDArray
 from gyrobias import _core, _files, _generics
 from gyrobias._spectral_lines import SpectralLine
 from gyrobias._validation import (
+    as_float_array,
+    asarray,
     choice,
 )
-from gyrobias.units import CUSTOMARY, base_unit, parse_unit
+from gyrobias.units import CUSTOMARY, _parse_unit, base_unit
 
 if TYPE_CHECKING:
     from gyrobias.allan._types import AllanResult
@@ -103,6 +105,20 @@ class Term:
     marker: tuple[float, float] | None = None
     missing: str | None = None
 
+    @classmethod
+    def _from_core(cls, raw: Mapping[str, Any], name: str, unit: str | None) -> Term:
+        """The one place a :class:`Term` is built from the core's ``TermEstimate``."""
+        return cls(
+            symbol=raw["symbol"],
+            name=name,
+            value=raw["value"],
+            uncertainty=raw["uncertainty"],
+            unit=unit,
+            tau_range=raw["tau_range"],
+            marker=raw["marker"],
+            missing=raw["missing"],
+        )
+
     @property
     def present(self) -> bool:
         """True when the term was identified."""
@@ -122,8 +138,8 @@ class Term:
                 f"term {self.symbol} has no unit (the data unit was not given): pass units= to the "
                 "Allan analysis or unit= to gyrobias.noise.fit"
             )
-        target = parse_unit(unit)
-        source = parse_unit(self.unit)
+        target = _parse_unit(unit)
+        source = _parse_unit(self.unit)
         if target.dims != source.dims:
             raise ValueError(
                 f"cannot express {self.symbol} ({self.name}, in {self.unit}) in {unit!r}: different "
@@ -193,6 +209,43 @@ class GaussMarkovTerm:
     tau_range: tuple[float, float] | None = None
     missing: str | None = None
 
+    @classmethod
+    def _from_core(
+        cls, raw: Mapping[str, Any], index: int, rate_unit: str | None
+    ) -> GaussMarkovTerm:
+        """The one place a :class:`GaussMarkovTerm` is built from the core's ``GaussMarkovTerm``
+        (the ``index``-th component: symbol ``GM``, ``GM2``, …)."""
+        symbol = "GM" if index == 0 else f"GM{index + 1}"
+        rng = (
+            None
+            if raw["tau_range"] is None
+            else (float(raw["tau_range"][0]), float(raw["tau_range"][1]))
+        )
+        return cls(
+            sigma=Term(
+                symbol,
+                "Gauss–Markov σ",
+                raw["sigma"],
+                raw["sigma_uncertainty"],
+                rate_unit,
+                rng,
+                None,
+                raw["missing"],
+            ),
+            correlation_time=Term(
+                symbol,
+                "Gauss–Markov correlation time",
+                raw["correlation_time"],
+                raw["correlation_time_uncertainty"],
+                "s",
+                rng,
+                None,
+                raw["missing"],
+            ),
+            tau_range=rng,
+            missing=raw["missing"],
+        )
+
     @property
     def present(self) -> bool:
         """True when the term was identified."""
@@ -240,6 +293,42 @@ class SinusoidTerm:
     amplitude: Term
     tau_range: tuple[float, float] | None = None
     missing: str | None = None
+
+    @classmethod
+    def _from_core(cls, raw: Mapping[str, Any], index: int, rate_unit: str | None) -> SinusoidTerm:
+        """The one place a :class:`SinusoidTerm` is built from the core's ``LineEstimate``
+        (the ``index``-th line: symbol ``S``, ``S2``, …)."""
+        symbol = "S" if index == 0 else f"S{index + 1}"
+        rng = (
+            None
+            if raw["tau_range"] is None
+            else (float(raw["tau_range"][0]), float(raw["tau_range"][1]))
+        )
+        f_unc = float(raw["frequency_uncertainty"])
+        return cls(
+            frequency=Term(
+                symbol,
+                "sinusoid frequency",
+                float(raw["frequency"]),
+                f_unc if np.isfinite(f_unc) else None,
+                "Hz",
+                rng,
+                None,
+                raw["missing"],
+            ),
+            amplitude=Term(
+                symbol,
+                "sinusoid amplitude",
+                raw["amplitude"],
+                raw["amplitude_uncertainty"],
+                rate_unit,
+                rng,
+                None,
+                raw["missing"],
+            ),
+            tau_range=rng,
+            missing=raw["missing"],
+        )
 
     @property
     def present(self) -> bool:
@@ -356,8 +445,9 @@ class FitDiagnostics:
         Probability of a χ² at least this large if the model were right (NaN without degrees of
         freedom). Below 0.001 the fit is rejected and :attr:`warnings` says so.
     residuals : ndarray
-        Standardised residual of each Allan point (about N(0, 1) if the model holds; NaN where
-        the point was excluded).
+        Standardised residual of each Allan point used in the fit (about N(0, 1) if the model
+        holds). Points the fit did not use (outside ``tau_range``, without degrees of freedom)
+        have no residual and are omitted, so the array holds no NaN.
     taus : ndarray
         τ (s) of each residual.
     tau_range : (float, float)
@@ -387,13 +477,16 @@ class FitDiagnostics:
         return not (self.p_value < REJECT_P)
 
     @classmethod
-    def _from_raw(cls, raw: Mapping[str, Any], taus: NDArray[np.float64]) -> FitDiagnostics:
+    def _from_core(cls, raw: Mapping[str, Any], taus: NDArray[np.float64]) -> FitDiagnostics:
+        """The one place :class:`FitDiagnostics` are built from the core's ``Diagnostics``."""
+        residuals = np.asarray(raw["residuals"], dtype=np.float64)
+        used = np.isfinite(residuals)  # the core marks points the fit did not use with NaN
         return cls(
             chi2=float(raw["chi2"]),
             dof=int(raw["dof"]),
             p_value=float(raw["p_value"]),
-            residuals=np.asarray(raw["residuals"], dtype=np.float64),
-            taus=np.asarray(taus, dtype=np.float64).copy(),
+            residuals=residuals[used].copy(),
+            taus=np.asarray(taus, dtype=np.float64)[used].copy(),
             tau_range=(float(raw["tau_range"][0]), float(raw["tau_range"][1])),
             excluded=tuple((float(a), float(b), str(r)) for a, b, r in raw["excluded"]),
             warnings=tuple(str(w) for w in raw["warnings"]),
@@ -432,6 +525,28 @@ class FitDiagnostics:
 
     def __str__(self) -> str:
         return self.summary()
+
+
+def _with_lines(
+    diagnostics: FitDiagnostics, detected: Sequence[SpectralLine], method: str
+) -> FitDiagnostics:
+    """The diagnostics with the spectral lines the fit modelled and the sentence that says so."""
+    if not detected:
+        return diagnostics
+    found = "; ".join(
+        f"{x.frequency:.4g} Hz (amplitude {x.amplitude:.3g}{' ' + x.unit if x.unit else ''}, "
+        f"p = {x.p_value:.2g})"
+        for x in detected
+    )
+    n = len(detected)
+    plural = n > 1
+    warning = (
+        f"{n} spectral line{'s' if plural else ''} found in the rate data ({found}): "
+        f"periodic disturbance{'s' if plural else ''} (vibration, a fan, an aliased mode) that "
+        f"would bias N and Q; the {method} fit models {'them' if plural else 'it'} with the "
+        "IEEE-952 sinusoidal term 'S' (see sinusoids); pass lines=None to fit without"
+    )
+    return replace(diagnostics, lines=tuple(detected), warnings=(warning, *diagnostics.warnings))
 
 
 @dataclass(frozen=True)
@@ -494,6 +609,68 @@ class NoiseCoefficients:
     diagnostics: FitDiagnostics | None = None
     allan: AllanResult | None = field(default=None, repr=False, compare=False)
     sinusoids: tuple[SinusoidTerm, ...] = ()
+
+    @classmethod
+    def _from_core(
+        cls,
+        raw: Mapping[str, Any],
+        diagnostics: Mapping[str, Any],
+        taus: NDArray[np.float64],
+        *,
+        method: str,
+        data_unit: str | None,
+        sensor: str | None,
+        fs: float,
+        axis: str | None,
+        edf_source: str,
+        allan: AllanResult | None,
+        detected: Sequence[SpectralLine] = (),
+    ) -> NoiseCoefficients:
+        """The one place :class:`NoiseCoefficients` are built from the core's output.
+
+        ``raw`` is the binding's ``JointFit`` or ``Gmwm`` (terms, Gauss–Markov components,
+        χ², fitted squares, τ range) or ``ReadOff`` (terms only: the τ range is then the
+        curve's, ``taus[0]``…``taus[-1]``); ``diagnostics`` the matching ``Diagnostics``;
+        ``detected`` the spectral lines the fit modelled as sinusoidal terms (reported in the
+        diagnostics with a warning that says so).
+        """
+        names = TERM_NAMES[sensor or "gyro"]
+        built = {
+            d["symbol"]: Term._from_core(
+                d,
+                names[d["symbol"]],
+                None if data_unit is None else base_unit(data_unit, d["symbol"]),
+            )
+            for d in raw["terms"]
+        }
+        rate_unit = None if data_unit is None else base_unit(data_unit, "B")
+        joint = "chi2" in raw
+        return cls(
+            Q=built["Q"],
+            N=built["N"],
+            B=built["B"],
+            K=built["K"],
+            R=built["R"],
+            method=method,
+            data_unit=data_unit,
+            sensor=sensor,
+            fs=fs,
+            axis=axis,
+            edf_source=edf_source,
+            allan=allan,
+            tau_range=tuple(raw["tau_range"]) if joint else (float(taus[0]), float(taus[-1])),
+            chi2=float(raw["chi2"]) if joint else None,
+            dof=int(raw["dof"]) if joint else None,
+            squared=tuple(float(v) for v in raw["squared"]) if joint else None,  # type: ignore[arg-type]
+            gauss_markov=tuple(
+                GaussMarkovTerm._from_core(g, k, rate_unit)
+                for k, g in enumerate(raw.get("gauss_markov", ()))
+            ),
+            diagnostics=_with_lines(FitDiagnostics._from_core(diagnostics, taus), detected, method),
+            sinusoids=tuple(
+                SinusoidTerm._from_core(d, k, rate_unit) for k, d in enumerate(raw.get("lines", ()))
+            ),
+        )
 
     @property
     def terms(self) -> tuple[Term, Term, Term, Term, Term]:
@@ -559,6 +736,11 @@ class NoiseCoefficients:
             else:
                 mapping = CUSTOMARY[self.sensor][system]
         else:
+            if not isinstance(system, Mapping):
+                raise TypeError(
+                    "system must be 'ieee', 'si', 'kalibr', 'base' or a mapping symbol → unit, "
+                    f"got {type(system).__name__}"
+                )
             mapping = dict(system)
             for key in mapping:
                 choice("system key", key, _SYMBOLS)
@@ -700,7 +882,8 @@ class NoiseCoefficients:
         For the read-off, the model is built from the identified coefficients (missing terms
         count as zero).
         """
-        t = np.ascontiguousarray(np.asarray(taus, dtype=np.float64))
+        # τ finite and > 0 (the curves have no value at τ ≤ 0): the core's check
+        t = as_float_array("taus", np.atleast_1d(asarray("taus", taus)), ndims=(1,))
         squared = self._squared_base()
         total, parts = _core.noise.model(squared, t)
         out = {s: np.sqrt(p) for s, p in zip(_SYMBOLS, parts)}

@@ -4,7 +4,6 @@ the IEEE read-off (:func:`fit`), and the Gauss–Markov Allan variance."""
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import replace
 from typing import TYPE_CHECKING, Any, overload
 
 import numpy as np
@@ -14,22 +13,20 @@ from gyrobias import _core
 from gyrobias._spectral_lines import SpectralLine
 from gyrobias._validation import (
     as_float_array,
+    asarray,
     boolean,
     choice,
+    count,
     integer,
+    pair,
     real,
 )
 from gyrobias.noise._types import (
     _GM_SYMBOLS,
     _SYMBOLS,
-    TERM_NAMES,
-    FitDiagnostics,
-    GaussMarkovTerm,
     NoiseCoefficients,
-    SinusoidTerm,
-    Term,
 )
-from gyrobias.units import base_unit, sensor_kind
+from gyrobias.units import sensor_kind
 
 if TYPE_CHECKING:
     from gyrobias.allan import AllanResult
@@ -66,7 +63,7 @@ def gauss_markov_avar(sigma: float, correlation_time: float, taus: Any) -> NDArr
     >>> round(float(v[0]) * 1e4 / (2 * 10.0), 4)  # 1 − 3T/(2τ) of the white noise 2σ²T/τ
     0.9985
     """
-    tau = as_float_array("taus", np.atleast_1d(np.asarray(taus, dtype=np.float64)), ndims=(1,))
+    tau = as_float_array("taus", np.atleast_1d(asarray("taus", taus)), ndims=(1,))
     return _core.noise.gauss_markov_avar(
         real("sigma", sigma), real("correlation_time", correlation_time), tau
     )
@@ -121,6 +118,40 @@ def sinusoid_avar(
     return _core.noise.sinusoid_avar(
         real("amplitude", amplitude), real("frequency", frequency), tau, period
     )
+
+
+def _line_windows(
+    result: Any, lines: str | Sequence[float | SpectralLine] | None
+) -> tuple[list[tuple[float, float]], tuple[SpectralLine, ...]]:
+    """The fit's line windows ``(seed Hz, half-width Hz)`` and the detected lines behind them.
+
+    A detected line is refined within ±1 periodogram bin (its frequency is already the
+    periodogram maximum), a given frequency within ±1 % (the frequency must be in (0, fs/2]: the
+    core's check).
+    """
+    if lines is None:
+        return [], ()
+    if isinstance(lines, str):
+        if lines != "auto":
+            raise ValueError(
+                f"lines must be 'auto', None or a sequence of frequencies, got {lines!r}"
+            )
+        found = getattr(result, "lines", None)
+        detected = tuple(found) if found else ()
+    else:
+        if not isinstance(lines, Sequence):
+            raise TypeError(
+                f"lines must be 'auto', None or a sequence of frequencies, got {type(lines).__name__}"
+            )
+        detected = tuple(x for x in lines if isinstance(x, SpectralLine))
+        windows = [
+            (x.frequency, x.resolution)
+            if isinstance(x, SpectralLine)
+            else (real("lines", x), 0.01 * abs(real("lines", x)))
+            for x in lines
+        ]
+        return windows, detected
+    return [(x.frequency, x.resolution) for x in detected], detected
 
 
 def _edf_source(result: AllanResult) -> str:
@@ -315,6 +346,11 @@ def fit(
         )
     result: AllanResult = allan  # type: ignore[assignment]
     method = choice("method", method, ("joint", "ieee"))
+    if result.kind != "adev":
+        raise ValueError(
+            f"allan must be an Allan-deviation result (kind 'adev'); the five-term model does not "
+            f"hold for kind {result.kind!r}"
+        )
     term_list_in = [str(t) for t in terms] if not isinstance(terms, str) else [terms]
     want_sine = "S" in term_list_in
     line_windows, detected = _line_windows(result, lines)
@@ -323,11 +359,6 @@ def fit(
             "terms contains 'S' but there is no line to model: pass lines=[f0, ...] (Hz) or "
             "the SpectralLine objects of gyrobias.noise.detect_lines"
         )
-    if result.kind != "adev":
-        raise ValueError(
-            f"allan must be an Allan-deviation result (kind 'adev'); the five-term model does not "
-            f"hold for kind {result.kind!r}"
-        )
     term_list = [t for t in term_list_in if t != "S"]
     # The symbols are parsed by the core (noise::parse_model_terms), whose message names terms.
     data_unit = unit if unit is not None else result.unit
@@ -335,16 +366,13 @@ def fit(
     if data_unit is not None:
         sensor = sensor_kind(data_unit)
     if tau_range is not None:  # low < high: the core's check
-        lo, hi = (real("tau_range", v) for v in tau_range)
-        tau_range = (lo, hi)
+        tau_range = pair("tau_range", tau_range)
     if correlation_time is not None:
-        try:
-            t_lo, t_hi = (float(v) for v in correlation_time)
-        except (TypeError, ValueError):
-            raise TypeError(
-                f"correlation_time must be a pair (low, high) of seconds, got {correlation_time!r}"
-            ) from None
-        correlation_time = (t_lo, t_hi)
+        correlation_time = pair("correlation_time", correlation_time)
+    # The read-off's options are refused even when the joint fit ignores them (NumPy/SciPy
+    # convention): the range is the core's check, called here before either method runs.
+    _core.validate.positive("slope_tolerance", real("slope_tolerance", slope_tolerance))
+    min_points = count("min_points", min_points)
     auto_range = boolean("auto_range", auto_range)
     taus = np.ascontiguousarray(result.taus, dtype=np.float64)
     variance = np.ascontiguousarray(result.avar, dtype=np.float64)
@@ -353,7 +381,6 @@ def fit(
     m = result.m
     n_terms = result.n_terms
     edf = None if result.edf is None else np.ascontiguousarray(result.edf, dtype=np.float64)
-    gm_raw: list[_core.noise.GaussMarkovTerm] = []
     raw: Mapping[str, Any]
     if method == "joint":
         if regions is not None:
@@ -373,15 +400,6 @@ def fit(
             auto_range,
             line_windows,
         )
-        extra: dict[str, Any] = {
-            "chi2": float(raw["chi2"]),
-            "dof": int(raw["dof"]),
-            "squared": tuple(float(v) for v in raw["squared"]),
-            "tau_range": tuple(raw["tau_range"]),
-            "lines": list(raw["lines"]),
-            "detected": detected,
-        }
-        gm_raw = list(raw["gauss_markov"])
         diagnostics_raw = raw["diagnostics"]
     else:
         if want_sine:
@@ -412,7 +430,6 @@ def fit(
             slope_tolerance,
             int(min_points),
         )
-        extra = {"tau_range": (float(taus[0]), float(taus[-1]))}
         read = [0.0 if d["value"] is None else float(d["value"]) ** 2 for d in raw["terms"]]
         diagnostics_raw = _core.noise.diagnose(
             taus,
@@ -425,9 +442,8 @@ def fit(
             [],
             sum(v > 0.0 for v in read),
         )
-    return _assemble(
-        raw["terms"],
-        gm_raw,
+    return NoiseCoefficients._from_core(
+        raw,
         diagnostics_raw,
         taus,
         method=method,
@@ -437,189 +453,5 @@ def fit(
         axis=result.axis,
         edf_source=_edf_source(result),
         allan=result,
-        extra=extra,
-    )
-
-
-def _line_windows(
-    result: Any, lines: str | Sequence[float | SpectralLine] | None
-) -> tuple[list[tuple[float, float]], tuple[SpectralLine, ...]]:
-    """The fit's line windows ``(seed Hz, half-width Hz)`` and the detected lines behind them.
-
-    A detected line is refined within ±1 periodogram bin (its frequency is already the
-    periodogram maximum), a given frequency within ±1 % (the frequency must be in (0, fs/2]: the
-    core's check).
-    """
-    if lines is None:
-        return [], ()
-    if isinstance(lines, str):
-        if lines != "auto":
-            raise ValueError(
-                f"lines must be 'auto', None or a sequence of frequencies, got {lines!r}"
-            )
-        found = getattr(result, "lines", None)
-        detected = tuple(found) if found else ()
-    else:
-        if not isinstance(lines, Sequence):
-            raise TypeError(
-                f"lines must be 'auto', None or a sequence of frequencies, got {type(lines).__name__}"
-            )
-        detected = tuple(x for x in lines if isinstance(x, SpectralLine))
-        windows = [
-            (x.frequency, x.resolution)
-            if isinstance(x, SpectralLine)
-            else (real("lines", x), 0.01 * abs(real("lines", x)))
-            for x in lines
-        ]
-        return windows, detected
-    return [(x.frequency, x.resolution) for x in detected], detected
-
-
-def _sinusoids(
-    line_dicts: Sequence[Mapping[str, Any]], rate_unit: str | None
-) -> tuple[SinusoidTerm, ...]:
-    """Typed sinusoidal terms from the core's line dictionaries."""
-    out = []
-    for k, d in enumerate(line_dicts):
-        symbol = "S" if k == 0 else f"S{k + 1}"
-        rng = (
-            None if d["tau_range"] is None else (float(d["tau_range"][0]), float(d["tau_range"][1]))
-        )
-        f_unc = float(d["frequency_uncertainty"])
-        out.append(
-            SinusoidTerm(
-                frequency=Term(
-                    symbol,
-                    "sinusoid frequency",
-                    float(d["frequency"]),
-                    f_unc if np.isfinite(f_unc) else None,
-                    "Hz",
-                    rng,
-                    None,
-                    d["missing"],
-                ),
-                amplitude=Term(
-                    symbol,
-                    "sinusoid amplitude",
-                    d["amplitude"],
-                    d["amplitude_uncertainty"],
-                    rate_unit,
-                    rng,
-                    None,
-                    d["missing"],
-                ),
-                tau_range=rng,
-                missing=d["missing"],
-            )
-        )
-    return tuple(out)
-
-
-def _line_warning(detected: Sequence[SpectralLine], method: str) -> str:
-    """The sentence that says the data carry lines and what the fit did about them."""
-    found = "; ".join(
-        f"{x.frequency:.4g} Hz (amplitude {x.amplitude:.3g}{' ' + x.unit if x.unit else ''}, "
-        f"p = {x.p_value:.2g})"
-        for x in detected
-    )
-    n = len(detected)
-    return (
-        f"{n} spectral line{'s' if n > 1 else ''} found in the rate data ({found}): "
-        f"periodic disturbance{'s' if n > 1 else ''} (vibration, a fan, an aliased mode) that "
-        f"would bias N and Q; the {method} fit models {'them' if n > 1 else 'it'} with the "
-        "IEEE-952 sinusoidal term 'S' (see sinusoids); pass lines=None to fit without"
-    )
-
-
-def _assemble(
-    term_dicts: Sequence[Mapping[str, Any]],
-    gm_dicts: Sequence[Mapping[str, Any]],
-    diagnostics_raw: Mapping[str, Any],
-    taus: NDArray[np.float64],
-    *,
-    method: str,
-    data_unit: str | None,
-    sensor: str | None,
-    fs: float,
-    axis: str | None,
-    edf_source: str,
-    allan: AllanResult | None,
-    extra: Mapping[str, Any],
-) -> NoiseCoefficients:
-    """Typed result from the core's dictionaries (shared by :func:`fit` and :func:`gmwm`)."""
-    names = TERM_NAMES[sensor or "gyro"]
-    built = {}
-    for d in term_dicts:
-        s = d["symbol"]
-        built[s] = Term(
-            symbol=s,
-            name=names[s],
-            value=d["value"],
-            uncertainty=d["uncertainty"],
-            unit=None if data_unit is None else base_unit(data_unit, s),
-            tau_range=d["tau_range"],
-            marker=d["marker"],
-            missing=d["missing"],
-        )
-    rate_unit = None if data_unit is None else base_unit(data_unit, "B")
-    gm_terms = []
-    for k, g in enumerate(gm_dicts):
-        symbol = "GM" if k == 0 else f"GM{k + 1}"
-        rng = (
-            None if g["tau_range"] is None else (float(g["tau_range"][0]), float(g["tau_range"][1]))
-        )
-        gm_terms.append(
-            GaussMarkovTerm(
-                sigma=Term(
-                    symbol,
-                    "Gauss–Markov σ",
-                    g["sigma"],
-                    g["sigma_uncertainty"],
-                    rate_unit,
-                    rng,
-                    None,
-                    g["missing"],
-                ),
-                correlation_time=Term(
-                    symbol,
-                    "Gauss–Markov correlation time",
-                    g["correlation_time"],
-                    g["correlation_time_uncertainty"],
-                    "s",
-                    rng,
-                    None,
-                    g["missing"],
-                ),
-                tau_range=rng,
-                missing=g["missing"],
-            )
-        )
-    diagnostics = FitDiagnostics._from_raw(diagnostics_raw, taus)
-    detected = tuple(extra.get("detected", ()))
-    if detected:
-        diagnostics = replace(
-            diagnostics,
-            lines=detected,
-            warnings=(_line_warning(detected, method), *diagnostics.warnings),
-        )
-    return NoiseCoefficients(
-        Q=built["Q"],
-        N=built["N"],
-        B=built["B"],
-        K=built["K"],
-        R=built["R"],
-        method=method,
-        data_unit=data_unit,
-        sensor=sensor,
-        fs=fs,
-        axis=axis,
-        edf_source=edf_source,
-        allan=allan,
-        tau_range=extra["tau_range"],
-        chi2=extra.get("chi2"),
-        dof=extra.get("dof"),
-        squared=extra.get("squared"),
-        gauss_markov=tuple(gm_terms),
-        diagnostics=diagnostics,
-        sinusoids=_sinusoids(extra.get("lines", ()), rate_unit),
+        detected=detected if method == "joint" else (),
     )

@@ -8,6 +8,7 @@ from collections.abc import Sequence
 from gyrobias import _files, _generics
 from gyrobias._validation import (
     positive_float,
+    ros_topic,
 )
 from gyrobias.noise._types import NoiseCoefficients
 
@@ -51,7 +52,7 @@ def write_kalibr(
     update_rate : float, optional
         IMU rate in Hz (Kalibr discretises with it); default: the data's sample rate.
     rostopic : str
-        Kalibr's ``rostopic`` entry.
+        Kalibr's ``rostopic`` entry: a ROS topic name (letters, digits, ``_``, ``/``).
 
     Returns
     -------
@@ -67,6 +68,7 @@ def write_kalibr(
     term that could not be identified is written as a comment with the reason, so that Kalibr
     refuses the file rather than using a made-up number.
     """
+    ros_topic("rostopic", rostopic)
     gyro = list(gyro)
     accel = list(accel)
     if not gyro and not accel:

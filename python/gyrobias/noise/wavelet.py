@@ -21,7 +21,7 @@ from gyrobias._validation import axis_names as check_axis_names
 from gyrobias._validation import seed as seed_value
 from gyrobias.allan._types import AllanResult
 from gyrobias.noise._types import NoiseCoefficients, WaveletVariance
-from gyrobias.noise.fitting import _assemble, _line_windows
+from gyrobias.noise.fitting import _line_windows
 from gyrobias.units import sensor_kind
 
 
@@ -165,24 +165,20 @@ def gmwm(
             auto_range,
             windows,
         )
-        wv = raw["wavelet"]
-        m = np.asarray(wv["m"]).astype(np.int64)
         name = None if axis_names is None else str(axis_names[a])
-        allan = AllanResult(
-            taus=np.asarray(m * t0, dtype=np.float64),
-            avar=2.0 * np.asarray(wv["variance"], dtype=np.float64),
-            n_terms=np.asarray(wv["n_coefficients"]).astype(np.int64),
+        allan = AllanResult._from_core(
+            raw["wavelet"],
+            kind="adev",
             fs=fs,
             data_type="rate",
-            kind="adev",
             overlapping=True,
-            unit=units,
+            confidence=None,
+            units=units,
             axis=name,
         )
         out.append(
-            _assemble(
-                raw["terms"],
-                raw["gauss_markov"],
+            NoiseCoefficients._from_core(
+                raw,
                 raw["diagnostics"],
                 np.asarray(allan.taus, dtype=np.float64),
                 method="gmwm",
@@ -192,14 +188,7 @@ def gmwm(
                 axis=name,
                 edf_source="SP1065 simple approximation",
                 allan=allan,
-                extra={
-                    "chi2": float(raw["chi2"]),
-                    "dof": int(raw["dof"]),
-                    "squared": tuple(float(v) for v in raw["squared"]),
-                    "tau_range": tuple(raw["tau_range"]),
-                    "lines": list(raw["lines"]),
-                    "detected": detected,
-                },
+                detected=detected,
             )
         )
     if arr.ndim == 1:
