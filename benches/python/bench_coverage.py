@@ -10,7 +10,11 @@ Scenarios (20 Hz, 2^17 samples ≈ 1.8 h per log):
 * ``white+flicker+RRW``: N = 0.2 deg/√h, B = 3 deg/h, K = 10 deg/h^1.5;
 * ``white+GM``: N = 0.2 deg/√h and a Gauss–Markov bias σ = 5 deg/h, T = 60 s;
 * the same two through a 41-tap FIR low-pass at 3 Hz (a sensor's anti-alias filter with unity
-  DC gain: N, B, K and GM are unchanged at long τ, the curve bends below the −½ line at short τ).
+  DC gain: N, B, K and GM are unchanged at long τ, the curve bends below the −½ line at short τ);
+* periodic disturbances (issue 26) on white+flicker+RRW: a line at 0.23·fs (4.6 Hz, 0.01
+  deg/s; also through the filter, which passes it attenuated), two lines (4.3 and 5.5 Hz) and a
+  line near Nyquist (9.8 Hz). The estimators run with their defaults, which detect the lines
+  and model them with the sinusoidal term "S".
 
 A term an estimator reports missing counts as not covered (its error is the whole value). The
 binomial standard error of a coverage from L logs is √(p(1−p)/L): ±3.3 points at 68 % and ±1.5
@@ -32,15 +36,25 @@ import numpy as np
 FS = 20.0
 N_SAMPLES = 2**17
 DEG_H = 1.0 / 3600.0
+LINES: dict[str, list[tuple[float, float]]] = {
+    "white+flicker+RRW+line": [(4.6, 0.01)],
+    "white+flicker+RRW+2 lines": [(4.3, 0.01), (5.5, 0.008)],
+    "white+flicker+RRW+line near Nyquist": [(9.8, 0.01)],
+}
 TRUTH: dict[str, dict[str, float]] = {
     "white+flicker+RRW": {"N": 0.2 / 60.0, "B": 3.0 * DEG_H, "K": 10.0 / 216000.0},
     "white+GM": {"N": 0.2 / 60.0, "GM σ": 5.0 * DEG_H, "GM T": 60.0},
 }
+TRUTH.update({kind: TRUTH["white+flicker+RRW"] for kind in LINES})
 SCENARIOS = [
     ("white+flicker+RRW", False),
     ("white+GM", False),
     ("white+flicker+RRW", True),
     ("white+GM", True),
+    ("white+flicker+RRW+line", False),
+    ("white+flicker+RRW+line", True),
+    ("white+flicker+RRW+2 lines", False),
+    ("white+flicker+RRW+line near Nyquist", False),
 ]
 
 
@@ -59,7 +73,13 @@ def _simulate(kind: str, filtered: bool, seed: int) -> np.ndarray:
     else:
         gm = np.zeros(N_SAMPLES)
         base = noise.simulate(
-            N_SAMPLES + 100, FS, arw=t["N"], bias_instability=t["B"], rrw=t["K"], seed=seed
+            N_SAMPLES + 100,
+            FS,
+            arw=t["N"],
+            bias_instability=t["B"],
+            rrw=t["K"],
+            seed=seed,
+            sinusoids=[(f, a, 0.37 * seed) for f, a in LINES.get(kind, [])],
         )
     if filtered:
         taps = signal.firwin(41, 3.0, fs=FS)
@@ -86,10 +106,10 @@ def _one(job: tuple[str, bool, int]) -> dict[str, dict[str, tuple[float | None, 
 
     kind, filtered, seed = job
     rate = _simulate(kind, filtered, seed)
-    terms = ("N", "B", "K") if kind == "white+flicker+RRW" else ("N", "GM")
+    terms = ("N", "GM") if kind == "white+GM" else ("N", "B", "K")
     r = adev(rate, FS)
     out = {"joint": _estimates(noise.fit(r, terms=terms))}
-    if kind == "white+flicker+RRW":
+    if kind != "white+GM":
         out["ieee"] = _estimates(noise.fit(r, method="ieee", terms=terms))
     else:
         out["ieee"] = _estimates(noise.fit(r, method="ieee", terms=("N",)))
