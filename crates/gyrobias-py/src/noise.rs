@@ -280,31 +280,7 @@ fn sinusoid_avar<'py>(
     t0: Option<f64>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let taus = c_order(&taus);
-    let period = t0.unwrap_or(0.0);
-    if let Some(t0) = t0 {
-        core(sinusoid::validate_lines(
-            "frequency",
-            &[(frequency, amplitude)],
-            t0,
-        ))?;
-    } else {
-        core(sinusoid::validate_lines(
-            "frequency",
-            &[(frequency, amplitude)],
-            1.0 / (2.0 * frequency.abs().max(f64::MIN_POSITIVE)),
-        ))?;
-    }
-    let a2 = amplitude * amplitude;
-    let out: Vec<f64> = taus
-        .iter()
-        .map(|&tau| {
-            if t0.is_some() {
-                sinusoid::avar(a2, frequency, period, tau)
-            } else {
-                sinusoid::avar_continuous(a2, frequency, tau)
-            }
-        })
-        .collect();
+    let out = core(sinusoid::avar_curve(amplitude, frequency, t0, &taus))?;
     Ok(out.into_pyarray(py))
 }
 

@@ -41,7 +41,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._spectral_lines import MIN_SAMPLES, SpectralLine, detect_lines
+from gyrobias._line_detection import detect_lines
+from gyrobias._spectral_lines import MIN_SAMPLES, SpectralLine
 from gyrobias._validation import as_float_array, asarray, callback, choice, string
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.allan import stream as _stream

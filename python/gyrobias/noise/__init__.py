@@ -39,7 +39,8 @@ References
 # Datasheet values in (issue 13): gyrobias.datasheet builds NoiseCoefficients from
 # gyrobias.noise._types, so importing it here closes no cycle.
 from gyrobias.datasheet import Datasheet, from_datasheet  # noqa: I001
-from gyrobias._spectral_lines import SpectralLine, detect_lines
+from gyrobias._line_detection import detect_lines
+from gyrobias._spectral_lines import SpectralLine
 from gyrobias.noise._types import (
     FLICKER_FACTOR,
     TERM_NAMES,

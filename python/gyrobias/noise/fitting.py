@@ -20,6 +20,7 @@ from gyrobias._validation import (
     integer,
     pair,
     real,
+    sample_rate,
 )
 from gyrobias.noise._types import (
     _GM_SYMBOLS,
@@ -113,8 +114,8 @@ def sinusoid_avar(
     >>> [round(float(a / b), 3) for a, b in zip(v, c)]
     [1.194, 1.194]
     """
-    tau = as_float_array("taus", np.atleast_1d(np.asarray(taus, dtype=np.float64)), ndims=(1,))
-    period = None if fs is None else 1.0 / real("fs", fs)
+    tau = as_float_array("taus", np.atleast_1d(asarray("taus", taus)), ndims=(1,))
+    period = None if fs is None else 1.0 / sample_rate(fs)
     return _core.noise.sinusoid_avar(
         real("amplitude", amplitude), real("frequency", frequency), tau, period
     )

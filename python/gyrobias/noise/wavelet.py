@@ -9,7 +9,8 @@ from typing import Any
 import numpy as np
 
 from gyrobias import _core
-from gyrobias._spectral_lines import MIN_SAMPLES, SpectralLine, detect_lines
+from gyrobias._line_detection import detect_lines
+from gyrobias._spectral_lines import MIN_SAMPLES, SpectralLine
 from gyrobias._validation import (
     as_float_array,
     boolean,
@@ -22,7 +23,7 @@ from gyrobias._validation import seed as seed_value
 from gyrobias.allan._types import AllanResult
 from gyrobias.noise._types import NoiseCoefficients, WaveletVariance
 from gyrobias.noise.fitting import _line_windows
-from gyrobias.units import sensor_kind
+from gyrobias.units import checked_units, sensor_kind
 
 
 def gmwm(
@@ -263,7 +264,7 @@ def wvar(
     ``ρ_c(r) = r²(1 − r²/c²)⁴`` for ``|r| ≤ c`` and 0 beyond (the square of Tukey's biweight ψ,
     as in the R ``wv``/``gmwm`` packages of Guerrier, Molinari et al.), taking the root on the
     decreasing branch of the left side; ``c`` gives the requested Gaussian efficiency
-    ``D²/(2Q)``, ``D = E[Z²ρ_c(Z)] − E ρ_c(Z)``, ``Q = Var ρ_c(Z)`` (c = 3.9 at 0.6). Its
+    ``D²/(2Q)``, ``D = E[Z²ρ_c(Z)] − E ρ_c(Z)``, ``Q = Var ρ_c(Z)`` (c = 4.40 at 0.6). Its
     intervals use ``efficiency·η_j`` degrees of freedom (its variance is the classical one
     divided by the efficiency).
 
@@ -280,16 +281,17 @@ def wvar(
     >>> import gyrobias
     >>> rate = np.random.default_rng(1).standard_normal(4096)
     >>> w = gyrobias.noise.wvar(rate, 100.0)
-    >>> len(w.levels), round(float(w.variance[0]), 1)  # white noise: ν²_1 = σ²/4
-    (11, 0.3)
+    >>> len(w.levels), round(float(w.variance[0]), 1)  # white noise: ν²_1 = σ²/2
+    (11, 0.5)
     >>> spiky = rate.copy()
     >>> spiky[::500] = 50.0
     >>> r = gyrobias.noise.wvar(spiky, 100.0, robust=True)
     >>> round(float(r.variance[0]), 1)
-    0.3
+    0.5
     """
     arr = as_float_array("data", data, ndims=(1, 2))
     fs = sample_rate(fs)
+    units = checked_units("units", units)
     robust = boolean("robust", robust)
     efficiency = real("efficiency", efficiency)
     confidence = real("confidence", confidence)

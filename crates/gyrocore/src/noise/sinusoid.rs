@@ -71,6 +71,45 @@ pub fn avar(amplitude2: f64, f0: f64, t0: f64, tau: f64) -> f64 {
     amplitude2 * basis(f0, t0, tau)
 }
 
+/// [`avar`] (sampled at period `t0`) or [`avar_continuous`] (`t0 = None`) of a sinusoid of
+/// amplitude `amplitude` at every τ of `taus`, with the checks: amplitude finite and ≥ 0,
+/// frequency finite and > 0 (and ≤ fs/2 when sampled: a line above is its alias), τ finite
+/// and > 0.
+pub fn avar_curve(
+    amplitude: f64,
+    frequency: f64,
+    t0: Option<f64>,
+    taus: &[f64],
+) -> Result<Vec<f64>> {
+    validate::non_negative("amplitude", amplitude)?;
+    validate::positive("frequency", frequency)?;
+    if let Some(t0) = t0 {
+        validate::positive("fs", 1.0 / t0)?;
+        if frequency > 0.5 / t0 {
+            return Err(Error::invalid(
+                "frequency",
+                format!(
+                    "must be at most fs/2 = {} Hz, got {frequency} (a line above fs/2 appears \
+                     at its alias |f − k·fs|: pass that)",
+                    0.5 / t0
+                ),
+            ));
+        }
+    }
+    validate::finite("taus", taus)?;
+    if let Some(bad) = taus.iter().find(|t| **t <= 0.0) {
+        return Err(Error::invalid("taus", format!("must be > 0, got {bad}")));
+    }
+    let a2 = amplitude * amplitude;
+    Ok(taus
+        .iter()
+        .map(|&tau| match t0 {
+            Some(t0) => avar(a2, frequency, t0, tau),
+            None => avar_continuous(a2, frequency, tau),
+        })
+        .collect())
+}
+
 /// [`avar`] per unit amplitude².
 pub fn basis(f0: f64, t0: f64, tau: f64) -> f64 {
     let pi = std::f64::consts::PI;
