@@ -10,8 +10,13 @@ __all__ = [
     "add_lines",
     "biweight_constant",
     "conservative",
+    "datasheet_coefficient",
     "detect_lines",
     "diagnose",
+    "discrete_gauss_markov",
+    "discrete_random_walk",
+    "discrete_rate",
+    "discrete_white",
     "fit",
     "gauss_markov_avar",
     "gauss_markov_variance",
@@ -267,3 +272,25 @@ def wvar(
 ) -> Wvar: ...
 def biweight_constant(efficiency: float) -> float: ...
 def robust_variance(coefficients: NDArray[np.float64], tuning: float) -> float: ...
+def discrete_rate(rate: float) -> float: ...
+def discrete_white(
+    n: float, uncertainty: float | None, rate: float
+) -> tuple[float, float | None]: ...
+def discrete_random_walk(
+    k: float, uncertainty: float | None, rate: float
+) -> tuple[float, float | None]: ...
+def discrete_gauss_markov(
+    sigma: float,
+    sigma_uncertainty: float | None,
+    tau: float,
+    tau_uncertainty: float | None,
+    rate: float,
+) -> tuple[tuple[float, float | None], tuple[float, float | None]]: ...
+def datasheet_coefficient(
+    value: float,
+    unit_factor: float,
+    symbol: str,
+    per_root_hz: bool,
+    density: str,
+    bias_instability_is: str,
+) -> tuple[float, str]: ...

@@ -11,8 +11,9 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from gyrobias import _core
 from gyrobias._files import atomic_write
-from gyrobias._validation import choice, positive_float, ros_topic
+from gyrobias._validation import choice, real, ros_topic
 from gyrobias.exports.discretisation import discrete
 from gyrobias.noise._types import NoiseCoefficients
 
@@ -104,7 +105,7 @@ def _rate(
     rate: float | None, groups: Sequence[NoiseCoefficients], fmt: str, required: bool
 ) -> float | None:
     if rate is not None:
-        return positive_float("rate", rate)
+        return _core.noise.discrete_rate(real("rate", rate))  # finite and > 0: the core's check
     finite = [c.fs for c in groups if math.isfinite(c.fs) and c.fs > 0.0]
     if finite:
         return max(finite)
@@ -257,7 +258,13 @@ def _render_vins(
     f = _rate(rate, g + a, "vins", True)
     assert f is not None
     v = _densities(g, a, "vins")
-    root = math.sqrt(f)
+
+    def white(x: float | None) -> float | None:  # N·√rate: the core's discretisation
+        return None if x is None else _core.noise.discrete_white(x, None, f)[0]
+
+    def walk(x: float | None) -> float | None:  # K/√rate
+        return None if x is None else _core.noise.discrete_random_walk(x, None, f)[0]
+
     lines = ["%YAML:1.0", *_header("VINS-Mono/VINS-Fusion", g, a)]
     lines.append(f"# Discrete-time values at the IMU rate {f:.6g} Hz (VINS-Mono issue #280):")
     lines.append(
@@ -268,22 +275,10 @@ def _render_vins(
     )
     miss_a = _NOT_MEASURED if not a else ""
     miss_g = _NOT_MEASURED_GYRO if not g else ""
-    lines.append(
-        _yaml_pair("acc_n", None if v["aN"] is None else v["aN"] * root, "m/s^2, discrete", miss_a)
-    )
-    lines.append(
-        _yaml_pair("gyr_n", None if v["gN"] is None else v["gN"] * root, "rad/s, discrete", miss_g)
-    )
-    lines.append(
-        _yaml_pair(
-            "acc_w", None if v["aK"] is None else v["aK"] / root, "m/s^2 per step, discrete", miss_a
-        )
-    )
-    lines.append(
-        _yaml_pair(
-            "gyr_w", None if v["gK"] is None else v["gK"] / root, "rad/s per step, discrete", miss_g
-        )
-    )
+    lines.append(_yaml_pair("acc_n", white(v["aN"]), "m/s^2, discrete", miss_a))
+    lines.append(_yaml_pair("gyr_n", white(v["gN"]), "rad/s, discrete", miss_g))
+    lines.append(_yaml_pair("acc_w", walk(v["aK"]), "m/s^2 per step, discrete", miss_a))
+    lines.append(_yaml_pair("gyr_w", walk(v["gK"]), "rad/s per step, discrete", miss_g))
     return "\n".join(lines) + "\n"
 
 
@@ -371,8 +366,7 @@ def _render_matlab(
             t = gm[0]
             sigma = float(t.sigma.to(_SI[kind]["B"]).value)
             tau_c = float(t.correlation_time.to("s").value)
-            phi = math.exp(-1.0 / (f * tau_c))
-            drive = sigma * math.sqrt(1.0 - phi * phi)
+            (phi, _), (drive, _) = _core.noise.discrete_gauss_markov(sigma, None, tau_c, None, f)
             lines.append(
                 f"% Gauss-Markov bias: sigma = {sigma:.6e} {_SI[kind]['B']}, correlation time {tau_c:.6g} s,"
                 f" phi = exp(-dt/tau_c) = {phi:.9f}"

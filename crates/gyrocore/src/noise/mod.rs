@@ -21,12 +21,15 @@
 //!   minimum).
 //! * [`mod@overbound`]: conservative coefficients whose model overbounds the curve's upper
 //!   confidence bound (Lethander & Taylor 2023).
+//! * [`discrete`]: per-sample equivalents (white, random-walk step, Gauss–Markov φ) and the
+//!   datasheet conventions (one/two-sided densities, Allan-minimum bias instability).
 //! * [`sinusoid`]: the IEEE-952 sinusoidal term (a periodic disturbance) and spectral-line
 //!   detection against the local noise floor.
 //! * [`model`]: the basis functions, slopes, read-off times and simple EDF approximations.
 
 pub mod covariance;
 pub mod curve;
+pub mod discrete;
 pub mod fit;
 pub mod gauss_markov;
 pub mod gmwm;
