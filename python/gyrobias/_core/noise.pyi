@@ -17,6 +17,7 @@ __all__ = [
     "overbound",
     "read_off",
     "simulate",
+    "upper_bound",
 ]
 
 #: ``gyrocore::noise::FLICKER_FACTOR``: the Allan-deviation plateau ``√(2 ln 2 / π)`` of flicker
@@ -33,6 +34,18 @@ class TermEstimate(TypedDict):
     tau_range: tuple[float, float] | None
     marker: tuple[float, float] | None
     missing: str | None
+    upper_bound: UpperBound | None
+
+@type_check_only
+class UpperBound(TypedDict):
+    """Largest value of a term the data do not show (``gyrocore::noise::bound``)."""
+
+    value: float
+    confidence: float
+    tau: float
+    tau_range: tuple[float, float]
+    points: int
+    reason: str
 
 @type_check_only
 class ReadOff(TypedDict):
@@ -75,6 +88,8 @@ class JointFit(TypedDict):
     chi2: float
     dof: int
     tau_range: tuple[float, float]
+    used: list[int]
+    edf: NDArray[np.float64]
     diagnostics: Diagnostics
 
 @type_check_only
@@ -164,6 +179,17 @@ def conservative(
     tau_range: tuple[float, float] | None,
     confidence: float,
 ) -> Conservative: ...
+def upper_bound(
+    taus: NDArray[np.float64],
+    variance: NDArray[np.float64],
+    m: ArrayLike,
+    n_terms: ArrayLike,
+    overlapping: bool,
+    used: ArrayLike,
+    edf: NDArray[np.float64],
+    term: str,
+    confidence: float,
+) -> UpperBound: ...
 def fit(
     taus: NDArray[np.float64],
     variance: NDArray[np.float64],

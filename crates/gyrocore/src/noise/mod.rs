@@ -21,8 +21,10 @@
 //!   minimum).
 //! * [`mod@overbound`]: conservative coefficients whose model overbounds the curve's upper
 //!   confidence bound (Lethander & Taylor 2023).
+//! * [`bound`]: upper bounds of the terms the curve does not show.
 //! * [`model`]: the basis functions, slopes, read-off times and simple EDF approximations.
 
+pub mod bound;
 pub mod covariance;
 pub mod curve;
 pub mod fit;
@@ -34,6 +36,7 @@ pub mod overbound;
 pub mod simulate;
 pub mod wavelet;
 
+pub use bound::{BOUND_CONFIDENCE, UpperBound, upper_bound};
 pub use curve::{Curve, TermEstimate, parse_terms};
 pub use fit::{
     Diagnostics, FitOptions, GaussMarkovEstimate, JointFit, diagnose, fit, full_model, joint,
