@@ -4,7 +4,7 @@
 PYTHON ?= python
 
 .DEFAULT_GOAL := help
-.PHONY: help dev build test lint format doc bench ci clean
+.PHONY: help dev build test lint format doc bench ci clean docs perf-page
 
 help: ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F ':.*## ' '{printf "  %-8s %s\n", $$1, $$2}'
@@ -40,6 +40,13 @@ doc: ## Rust API docs (target/doc/gyrocore/index.html)
 bench: build ## Rust (divan) and Python benchmarks; ratios against same-run baselines (needs .[bench])
 	cargo bench -p gyrobias-benches --locked
 	for f in benches/python/bench_*.py; do echo "== $$f"; $(PYTHON) $$f || exit 1; done
+
+# --- documentation site (docs/; owned by the docs engineer)
+docs: ## build the docs site (docs/_build/html): warnings are errors, every example executed
+	$(PYTHON) -m sphinx -W --keep-going -b html -j 1 docs docs/_build/html
+
+perf-page: ## regenerate docs/performance.md from quick runs of the benchmarks (commit the result)
+	$(PYTHON) docs/_tools/perf_page.py
 
 ci: ## what CI runs, from this checkout
 	bash .ci/run

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from gyrobias import allan
+from gyrobias.allan import stream
 
 FIELDS = ("taus", "avar", "n_terms", "edf", "alpha", "ci_low", "ci_high", "noise_type", "axis")
 
@@ -26,15 +27,15 @@ def _same(a: allan.AllanResult, b: allan.AllanResult) -> None:
 @pytest.fixture
 def small_reads(monkeypatch: pytest.MonkeyPatch) -> list[int]:
     """Force 1 000-sample reads and count them."""
-    monkeypatch.setattr(allan, "_STREAM_BLOCK", 1000)
+    monkeypatch.setattr(stream, "_STREAM_BLOCK", 1000)
     calls: list[int] = []
-    original = allan._ColumnReader.__call__
+    original = stream._ColumnReader.__call__
 
-    def counted(self: allan._ColumnReader, start: int, count: int) -> np.ndarray:
+    def counted(self: stream._ColumnReader, start: int, count: int) -> np.ndarray:
         calls.append(count)
         return original(self, start, count)
 
-    monkeypatch.setattr(allan._ColumnReader, "__call__", counted)
+    monkeypatch.setattr(stream._ColumnReader, "__call__", counted)
     return calls
 
 

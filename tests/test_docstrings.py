@@ -4,26 +4,21 @@ from __future__ import annotations
 
 import doctest
 import importlib
+import pkgutil
 
 import pytest
 
-MODULES = [
-    "gyrobias.allan",
-    "gyrobias.io",
-    "gyrobias.noise",
-    "gyrobias.fractional",
-    "gyrobias.predict",
-    "gyrobias.kalman",
-    "gyrobias.fir",
-    "gyrobias.spectral",
-    "gyrobias.thermal",
-    "gyrobias.plotting",
-    "gyrobias.fleet",
-    "gyrobias.datasheet",
-    "gyrobias.exports",
-    "gyrobias.conservative",
-    "gyrobias.report",
-]
+import gyrobias
+
+#: Every module of the package: doctest only collects the objects a module *defines*
+#: (``obj.__module__``), so a package that re-exports from its submodules (``gyrobias.allan``
+#: from ``gyrobias.allan.classic``, ...) must be walked module by module. ``__main__`` runs
+#: the command line on import and is left out.
+MODULES = sorted(
+    m.name
+    for m in pkgutil.walk_packages(gyrobias.__path__, "gyrobias.")
+    if m.name != "gyrobias.__main__"
+) + ["gyrobias"]
 
 
 @pytest.mark.parametrize("name", MODULES)

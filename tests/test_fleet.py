@@ -496,8 +496,8 @@ def test_every_valid_option_passes_the_option_check() -> None:
         ):
             for terms in term_lists:
                 for fs in (None, 1e-3, 1e6):
-                    fleet._check_options(
-                        fleet._Options(
+                    fleet.analysis._check_options(
+                        fleet.analysis._Options(
                             fs=fs,
                             fit=fit,
                             taus="octave",
@@ -508,8 +508,8 @@ def test_every_valid_option_passes_the_option_check() -> None:
                     )
         for taus in ("octave", "decade", "log", "all"):
             for gaps in ("error", "omit"):
-                fleet._check_options(
-                    fleet._Options(
+                fleet.analysis._check_options(
+                    fleet.analysis._Options(
                         fs=100.0,
                         fit="joint",
                         taus=taus,
@@ -559,7 +559,9 @@ def _z_reference(x: np.ndarray, u: np.ndarray) -> np.ndarray:
 def test_robust_z_equals_formula(values: list[float], rel: float) -> None:
     x = np.asarray(values)
     u = rel * x
-    np.testing.assert_allclose(fleet._robust_z(x, u), _z_reference(x, u), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(
+        fleet.spread._robust_z(x, u), _z_reference(x, u), rtol=1e-12, atol=1e-12
+    )
 
 
 def test_out_of_family_false_alarm_rate_and_z_scale_by_monte_carlo() -> None:
@@ -575,7 +577,7 @@ def test_out_of_family_false_alarm_rate_and_z_scale_by_monte_carlo() -> None:
         for _ in range(reps):
             u = rng.uniform(0.01, 0.08, n)
             x = 1.0 + rng.normal(0.0, 0.05, n) + rng.normal(0.0, u)
-            z_all.append(fleet._robust_z(x, u))
+            z_all.append(fleet.spread._robust_z(x, u))
         z = np.concatenate(z_all)
         assert 0.9 < np.std(z) < 1.15
         assert np.mean(np.abs(z) > fleet.OUT_OF_FAMILY_THRESHOLD) < limit
@@ -586,7 +588,7 @@ def test_out_of_family_false_alarm_rate_and_z_scale_by_monte_carlo() -> None:
         x = 1.0 + rng.normal(0.0, 0.05, 40) + rng.normal(0.0, u)
         u[0] = 0.03
         x[0] = 1.0 + 6 * 0.05 + rng.normal(0.0, 0.03)
-        hits += fleet._robust_z(x, u)[0] > fleet.OUT_OF_FAMILY_THRESHOLD
+        hits += fleet.spread._robust_z(x, u)[0] > fleet.OUT_OF_FAMILY_THRESHOLD
     assert hits / 500 > 0.9
 
 
@@ -595,7 +597,9 @@ def test_out_of_family_false_alarm_rate_and_z_scale_by_monte_carlo() -> None:
 def test_chi2_tail_against_scipy(x: float, dof: int) -> None:
     # The core's continued fraction / series for Q(ν/2, x/2): SciPy's cephes agrees to ~1e-14
     # relative; tails below 1e-300 are compared absolutely.
-    assert fleet._chi2_sf(x, dof) == pytest.approx(stats.chi2.sf(x, dof), rel=1e-10, abs=1e-300)
+    assert fleet.spread._chi2_sf(x, dof) == pytest.approx(
+        stats.chi2.sf(x, dof), rel=1e-10, abs=1e-300
+    )
 
 
 def _table(values: np.ndarray, unc: np.ndarray) -> pd.DataFrame:
@@ -610,7 +614,7 @@ def _table(values: np.ndarray, unc: np.ndarray) -> pd.DataFrame:
         }
         for i, (v, s) in enumerate(zip(values, unc))
     ]
-    return fleet._finish(pd, rows, fleet.OUT_OF_FAMILY_THRESHOLD)
+    return fleet.spread._finish(pd, rows, fleet.OUT_OF_FAMILY_THRESHOLD)
 
 
 def test_summary_decides_whether_the_spread_is_real() -> None:
@@ -628,12 +632,14 @@ def test_summary_decides_whether_the_spread_is_real() -> None:
     false_real = 0
     for _ in range(2000):
         x = 1.0 + rng.normal(0.0, 0.01, 30)
-        false_real += fleet._spread(x, u, fleet.SPREAD_ALPHA, fleet.SPREAD_MIN_RATIO)["spread_real"]
+        false_real += fleet.spread._spread(x, u, fleet.SPREAD_ALPHA, fleet.SPREAD_MIN_RATIO)[
+            "spread_real"
+        ]
     # At n = 30 the p < 1 % condition is the binding one: the rate is alpha (binomial s.d. 0.2 %).
     assert false_real / 2000 < fleet.SPREAD_ALPHA + 0.005
     # ... and a real spread of twice the uncertainties is found nearly always.
     found = sum(
-        fleet._spread(
+        fleet.spread._spread(
             1.0 + rng.normal(0.0, 0.02, 30) + rng.normal(0.0, 0.01, 30),
             u,
             fleet.SPREAD_ALPHA,
@@ -642,6 +648,16 @@ def test_summary_decides_whether_the_spread_is_real() -> None:
         for _ in range(500)
     )
     assert found / 500 > 0.95
+
+
+def test_summary_counts_no_flag_when_no_unit_is_out_of_family() -> None:
+    """A term no unit is flagged for counts 0 (pandas 3 once made this sum the string "")."""
+    rng = np.random.default_rng(4)
+    table = _table(1.0 + rng.normal(0.0, 0.01, 30), np.full(30, 0.01))
+    assert not table["out_of_family"].any()
+    # what analyse() produces under pandas 3: a string column with no value (all NaN)
+    table["out_of_family_terms"] = pd.Series([np.nan] * len(table), dtype="str")
+    assert fleet.summary(table)["n_out_of_family"].tolist() == [0]
 
 
 # ------------------------------------------------------------------------ command line

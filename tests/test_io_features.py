@@ -10,10 +10,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import gyrobias
-from gyrobias import io as gio
-from gyrobias.io import load
+from gyrobias.io import _store, load, text, timestamps
 
 RNG = np.random.default_rng(77)
+#: The block iterator of the spill store, before a test patches it (to force small blocks).
+_BLOCKS = _store.blocks
 
 
 def _csv(path: Path, t: np.ndarray, x: np.ndarray, header: str = "t,gx,gy,gz,ax,ay,az") -> Path:
@@ -208,7 +209,7 @@ def test_spilled_time_vector_is_a_memmap_equal_to_the_in_memory_one(
             kw = {"repair": "sort"}
     ref = load(path, **kw)  # type: ignore[arg-type]
     # Small blocks: the block boundaries fall inside the gap, the swapped rows and everywhere.
-    monkeypatch.setattr(gio, "blocks", lambda m, rows=777: gio._store.blocks(m, rows))
+    monkeypatch.setattr(_store, "blocks", lambda m, rows=777: _BLOCKS(m, rows))
     spilled = load(path, spill=True, spill_dir=tmp_path, **kw)  # type: ignore[arg-type]
     assert isinstance(spilled.data, np.memmap) and isinstance(spilled.time, np.memmap)
     assert ref.time is not None and not isinstance(ref.time, np.memmap)
@@ -222,10 +223,10 @@ def test_spilled_time_vector_is_a_memmap_equal_to_the_in_memory_one(
 def test_step_rows_equals_diff_everywhere(monkeypatch: pytest.MonkeyPatch) -> None:
     t = RNG.integers(0, 5, size=3001).cumsum() * np.where(RNG.random(3001) < 0.05, -1, 1)
     for rows in (1, 2, 7, 1000, 5000):
-        monkeypatch.setattr(gio, "blocks", lambda m, rows=rows: gio._store.blocks(m, rows))
+        monkeypatch.setattr(_store, "blocks", lambda m, rows=rows: _BLOCKS(m, rows))
         for op in (np.less, np.equal):
             np.testing.assert_array_equal(
-                gio._step_rows(t, op), np.flatnonzero(op(np.diff(t), 0)) + 1
+                timestamps._step_rows(t, op), np.flatnonzero(op(np.diff(t), 0)) + 1
             )
 
 
@@ -242,14 +243,14 @@ def test_auto_spill_threshold() -> None:
 
 def _arrow_used(monkeypatch: pytest.MonkeyPatch) -> list[bool]:
     calls: list[bool] = []
-    real = gio._read_arrow
+    real = text._read_arrow
 
     def spy(*args: object, **kwargs: object) -> object:
         out = real(*args, **kwargs)  # type: ignore[arg-type]
         calls.append(out is not None)
         return out
 
-    monkeypatch.setattr(gio, "_read_arrow", spy)
+    monkeypatch.setattr(text, "_read_arrow", spy)
     return calls
 
 
@@ -373,4 +374,4 @@ def test_progress_reports_fractions_and_changes_nothing(tmp_path: Path) -> None:
 def test_std_in_place_is_numpy_std_bit_for_bit(values: list[float], scale: float) -> None:
     """The sampling report's jitter: np.std's arithmetic without its temporary (same bits)."""
     x = np.asarray(values) * scale
-    assert gio._std_in_place(x.copy()) == float(np.std(x))
+    assert timestamps._std_in_place(x.copy()) == float(np.std(x))

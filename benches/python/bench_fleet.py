@@ -87,7 +87,7 @@ def batch_modes(rates: np.ndarray) -> dict[str, Callable[[], object]]:
     """The Allan kernel alone (with confidence intervals) on the fleet as one array."""
     import dask
 
-    ranges = fleet._blocks(rates.shape[0], os.cpu_count() or 1)  # fleet.analyse's blocks
+    ranges = fleet.analysis._blocks(rates.shape[0], os.cpu_count() or 1)  # fleet.analyse's blocks
     reference = [allan.adev(u, FS) for u in rates[:2]]
 
     def adev_loop() -> None:

@@ -22,10 +22,14 @@ unit-aware Python interfaces:
   values in, conservative (overbounding) sets, estimator files (Kalibr, OpenVINS, VINS, ORB-SLAM3,
   LIO-SAM, MATLAB, JSON) and discrete-time parameters; ``gyrobias report`` for the HTML page.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
+- :mod:`gyrobias.fleet`, :mod:`gyrobias.plotting` — many logs at once on Dask; every plot.
 """
 
-from importlib.metadata import PackageNotFoundError, version
-
+# The package façade: it imports the science modules and every module that registers the
+# result objects' methods (plotting: ``.plot()``; exports, conservative, noise.kalibr:
+# ``.export()`` and kin; see gyrobias._generics), so these are loaded whatever the caller
+# imports first. plotting loads matplotlib only when a plot is drawn. The layers:
+# docs/architecture.md.
 from gyrobias import (
     allan,
     conservative,
@@ -36,11 +40,13 @@ from gyrobias import (
     io,
     kalman,
     noise,
+    plotting,
     predict,
     spectral,
     thermal,
 )
 from gyrobias._core import GyroLinAlgError
+from gyrobias._version import __version__
 from gyrobias.allan import AllanResult, adev, avar
 from gyrobias.fir import KaiserLowpass, kaiser_lowpass
 from gyrobias.kalman import FixedGainKalman
@@ -48,11 +54,6 @@ from gyrobias.noise import NoiseCoefficients
 from gyrobias.predict import FractionalKalmanPredictor, Prediction
 from gyrobias.spectral import LSSAResult, lssa
 from gyrobias.thermal import AR1Fit, TemperatureModel, fit_ar1
-
-try:
-    __version__ = version("gyrobias")
-except PackageNotFoundError:  # running from a source tree without installation
-    __version__ = "0.0.0+unknown"
 
 __all__ = [
     "AR1Fit",
@@ -80,6 +81,7 @@ __all__ = [
     "kaiser_lowpass",
     "lssa",
     "noise",
+    "plotting",
     "predict",
     "spectral",
     "thermal",

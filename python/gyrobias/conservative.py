@@ -26,15 +26,13 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from gyrobias import _core
-
-if TYPE_CHECKING:
-    from gyrobias.noise import NoiseCoefficients
+from gyrobias import _core, _generics
+from gyrobias.noise._types import NoiseCoefficients, Term
 
 __all__ = ["ConservativeCoefficients", "conservative"]
 
@@ -83,9 +81,7 @@ class ConservativeCoefficients:
 
     def export(self, fmt: str, path: Any = None, **kwargs: Any) -> str:
         """Export the conservative set (see :func:`gyrobias.exports.export`)."""
-        from gyrobias.exports import export
-
-        return export(self.coefficients, fmt, path, **kwargs)
+        return _generics.export(self, fmt, path, **kwargs)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary: coefficients, inflation factors and the bound."""
@@ -181,8 +177,6 @@ def conservative(
     >>> c.margin >= 1.0, c.inflation["N"] >= 1.0
     (True, True)
     """
-    from gyrobias.noise import NoiseCoefficients, Term
-
     if not isinstance(coefficients, NoiseCoefficients):
         raise TypeError(
             f"coefficients must be NoiseCoefficients, got {type(coefficients).__name__}"
@@ -262,3 +256,7 @@ def conservative(
         edf=np.asarray(raw["edf"], dtype=np.float64),
         ratio=np.asarray(raw["ratio"], dtype=np.float64),
     )
+
+
+# ``NoiseCoefficients.conservative()``: this module owns the behaviour and registers it.
+_generics.conservative.register(NoiseCoefficients, conservative)

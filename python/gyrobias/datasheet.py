@@ -31,13 +31,13 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from gyrobias import _core
+from gyrobias import _core, _generics
 from gyrobias._validation import choice, positive_float
+from gyrobias.noise._types import TERM_NAMES, NoiseCoefficients, Term
 from gyrobias.units import CUSTOMARY, base_unit, parse_unit, sensor_kind
 
 if TYPE_CHECKING:
     from gyrobias.exports import DiscreteNoise
-    from gyrobias.noise import NoiseCoefficients
 
 __all__ = ["Datasheet", "from_datasheet"]
 
@@ -115,16 +115,7 @@ class Datasheet:
         rostopic: str = "/imu0",
     ) -> str:
         """Write one estimator file (see :func:`gyrobias.exports.export`)."""
-        from gyrobias.exports import export
-
-        return export(
-            self.gyro,
-            fmt,
-            path,
-            accel=self.accel,
-            rate=rate if rate is not None else self.rate,
-            rostopic=rostopic,
-        )
+        return _generics.export(self, fmt, path, rate=rate, rostopic=rostopic)
 
     def export_all(
         self,
@@ -134,28 +125,11 @@ class Datasheet:
         rostopic: str = "/imu0",
     ) -> dict[str, str]:
         """Every format at once (see :func:`gyrobias.exports.export_all`)."""
-        from gyrobias.exports import export_all
-
-        return export_all(
-            self.gyro,
-            directory,
-            accel=self.accel,
-            rate=rate if rate is not None else self.rate,
-            rostopic=rostopic,
-        )
+        return _generics.export_all(self, directory, rate=rate, rostopic=rostopic)
 
     def discrete(self, rate: float | None = None) -> dict[str, DiscreteNoise]:
         """Per-sample parameters of each sensor at ``rate`` (see :func:`gyrobias.exports.discrete`)."""
-        from gyrobias.exports import discrete
-
-        use = rate if rate is not None else self.rate
-        if use is None:
-            raise ValueError("rate: give the filter rate in Hz (the datasheet set has none)")
-        return {
-            k: discrete(c, use)
-            for k, c in (("gyro", self.gyro), ("accel", self.accel))
-            if c is not None
-        }
+        return _generics.discrete(self, rate)  # type: ignore[no-any-return]
 
     def summary(self) -> str:
         """Coefficients in IEEE units and the conventions applied."""
@@ -290,8 +264,6 @@ def from_datasheet(
     >>> round(g.N.value, 3), g.N.unit, round(g.B.value, 2)
     (0.339, 'deg/√h', 12.04)
     """
-    from gyrobias.noise import TERM_NAMES, NoiseCoefficients, Term
-
     density = choice("density", density, ("one-sided", "two-sided"))
     bias_instability_is = choice(
         "bias_instability_is", bias_instability_is, ("allan_minimum", "coefficient")

@@ -223,7 +223,7 @@ def arfima(
 
     Returns
     -------
-    ndarray, shape (n,) or (*size, n)
+    ndarray, shape ``(n,)`` or ``(*size, n)``
 
     Notes
     -----

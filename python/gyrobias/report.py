@@ -318,7 +318,7 @@ def _exports_section(channels: list[ChannelReport], rate: float | None) -> str:
         return "".join(parts)
     parts.append(
         "<p>Each value is the largest over the channels of its sensor. Keys, units and the continuous / "
-        "discrete convention of every format are listed in the README's convention table.</p>"
+        "discrete convention of every format are listed in the convention table of the gyrobias documentation (Estimator parameters).</p>"
     )
     n = 0
     for label, group in (("best fit", best), ("conservative set", cons)):
@@ -424,7 +424,7 @@ def build_report(
         # Nothing to report: a page of error messages would pass for a report.
         reasons = "; ".join(f"{ch.name}: {', '.join(ch.errors)}" for ch in channels)
         raise ValueError(f"log: no channel could be analysed ({reasons})")
-    from gyrobias import __version__
+    from gyrobias._version import __version__
 
     name = title or Path(log.path).name
     now = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC")

@@ -41,7 +41,7 @@ EXPERIMENTS: list[str] = [
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every registered subcommand."""
-    from gyrobias import __version__
+    from gyrobias._version import __version__
 
     parser = argparse.ArgumentParser(
         prog="gyrobias",

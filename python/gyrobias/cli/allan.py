@@ -225,7 +225,7 @@ def run(args: argparse.Namespace) -> int:
         }
         if args.noise_coefficients:
             doc["noise_coefficients"] = [c.to_dict() for c in args.noise_coefficients]
-        from gyrobias.exports import atomic_write
+        from gyrobias._files import atomic_write
 
         atomic_write(args.json, json.dumps(doc, indent=2) + "\n")
         print(f"\nwrote {args.json}")
@@ -276,6 +276,6 @@ def _duration(seconds: float) -> str:
 
 
 def _version() -> str:
-    from gyrobias import __version__
+    from gyrobias._version import __version__
 
     return __version__

@@ -131,7 +131,7 @@ def run(args: argparse.Namespace) -> int:
         print(r.table())
 
     log_path = outdir / "demo_log.npy"
-    from gyrobias.exports import atomic_binary
+    from gyrobias._files import atomic_binary
 
     with atomic_binary(log_path) as fh:
         np.save(fh, rate)

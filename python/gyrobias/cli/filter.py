@@ -86,7 +86,7 @@ def run(args: argparse.Namespace) -> int:
             f"(expected after filtering), final bias estimate {bias[-1, a] + 0.0:.6g}"
         )
     if args.output is not None:
-        from gyrobias.exports import atomic_binary
+        from gyrobias._files import atomic_binary
 
         out = np.empty((z.shape[0], 2 * z.shape[1]))
         out[:, 0::2] = rate

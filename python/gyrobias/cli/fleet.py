@@ -135,7 +135,7 @@ def _print_table(table: Any) -> None:
 
 
 def _print_summary(summ: Any) -> None:
-    pd = fleet._require("pandas")
+    pd = fleet.table._require("pandas")
     print(
         f"{'axis':<6} {'term':<4} {'unit':<10} {'n':>4} {'median':>11} {'spread':>10} {'mean 1σ':>10} "
         f"{'Birge':>6} {'p':>8}  spread real?"
@@ -214,7 +214,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"gyrobias: warning: {row['source']}: {row['error']}", file=sys.stderr)
     if args.out is not None:
         if args.out.suffix.lower() == ".csv":
-            from gyrobias.exports import atomic_write
+            from gyrobias._files import atomic_write
 
             atomic_write(args.out, table.drop(columns=["adev_tau", "adev"]).to_csv(index=False))
         else:

@@ -85,7 +85,7 @@ def register(subparsers: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run ``gyrobias thermal``; returns the exit status."""
     from gyrobias import thermal
-    from gyrobias.exports import atomic_write
+    from gyrobias._files import atomic_write
 
     try:
         tagged = [_parse_tag(tag) for tag in args.logs]

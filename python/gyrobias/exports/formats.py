@@ -1,78 +1,22 @@
-"""Estimator parameter files from noise coefficients, and their discrete-time equivalents.
-
-Every estimator wants the same four numbers — white-noise and bias-random-walk strength of the
-gyroscope and of the accelerometer — under different names, units and time conventions:
-
-==========  =====================================  ==========================  ===========
-format      keys (gyro / accel)                    unit                        time
-==========  =====================================  ==========================  ===========
-kalibr      gyroscope_noise_density = N            rad/s/√Hz                   continuous
-            gyroscope_random_walk = K              rad/s²/√Hz                  continuous
-            accelerometer_noise_density = N        m/s²/√Hz                    continuous
-            accelerometer_random_walk = K          m/s³/√Hz                    continuous
-openvins    same keys under ``imu0:`` (kalibr_imu_chain.yaml, ``model: "kalibr"``)
-vins        gyr_n = N·√f, gyr_w = K/√f            rad/s, rad/s                discrete
-            acc_n = N·√f, acc_w = K/√f            m/s², m/s²                  discrete
-orbslam3    IMU.NoiseGyro = N, IMU.GyroWalk = K    rad/s/√Hz, rad/s²/√Hz       continuous
-            IMU.NoiseAcc = N, IMU.AccWalk = K      m/s²/√Hz, m/s³/√Hz          continuous
-liosam      imuGyrNoise = N, imuGyrBiasN = K       rad/s/√Hz, rad/s²/√Hz       continuous
-            imuAccNoise = N, imuAccBiasN = K       m/s²/√Hz, m/s³/√Hz          continuous
-matlab      gyroparams NoiseDensity = N,           (rad/s)/√Hz, rad/s,         continuous
-            BiasInstability = B, RandomWalk = K    (rad/s)·√Hz
-            accelparams: the same in m/s²
-json        every coefficient with uncertainty, unit and conventions
-==========  =====================================  ==========================  ===========
-
-``N`` and ``K`` are the IEEE-952 coefficients (two-sided densities: white rate noise of
-per-sample standard deviation σ_w at rate f has ``N = σ_w/√f``), ``B`` the bias instability and
-``f`` the IMU rate in Hz. Several axes: each value is the largest over the axes (the
-conservative choice for a filter that uses one value for all three).
-
-Discretisation (:func:`discrete`) at period ``Δt = 1/f``::
-
-    σ_white = N/√Δt            per-sample standard deviation of the white rate noise
-    σ_walk  = K·√Δt            standard deviation of one step of the bias random walk
-    φ = exp(−Δt/τ_c),  σ_drive = σ_GM·√(1 − φ²)   first-order Gauss–Markov bias
-
-References
-----------
-Kalibr wiki, "IMU Noise Model" (ethz-asl/kalibr); OpenVINS ``config/*/kalibr_imu_chain.yaml``;
-VINS-Mono/Fusion ``config/*.yaml`` and HKUST-Aerial-Robotics/VINS-Mono issue #280 (discrete
-values: divide densities by √Δt, multiply random walks by √Δt); ORB-SLAM3 ``Examples/*/*.yaml``
-and ``Tracking.cc`` (continuous densities, discretised with √Frequency); LIO-SAM
-``config/params.yaml`` and ``imuPreintegration.cpp`` (GTSAM continuous-time covariances);
-MathWorks ``gyroparams``/``accelparams``/``imuSensor`` documentation and the example "Inertial
-Sensor Noise Analysis Using Allan Variance" (N, K and B from the Allan deviation entered
-directly).
-"""
+"""The estimator file formats: Kalibr, OpenVINS, VINS-Mono/Fusion, ORB-SLAM3, LIO-SAM, MATLAB
+and JSON renderers, :func:`export` and :func:`export_all` (the conventions are tabulated in
+:mod:`gyrobias.exports`)."""
 
 from __future__ import annotations
 
-import contextlib
 import json
 import math
 import os
-import tempfile
-from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, BinaryIO
+from typing import Any
 
+from gyrobias._files import atomic_write
 from gyrobias._validation import choice, positive_float
+from gyrobias.exports.discretisation import discrete
+from gyrobias.noise._types import NoiseCoefficients
 
-if TYPE_CHECKING:
-    from gyrobias.noise import NoiseCoefficients
-
-__all__ = [
-    "DEFAULT_FILENAMES",
-    "FORMATS",
-    "DiscreteNoise",
-    "DiscreteValue",
-    "atomic_write",
-    "discrete",
-    "export",
-    "export_all",
-]
+__all__ = ["export", "export_all"]  # FORMATS, DEFAULT_FILENAMES: documented in gyrobias.exports
 
 #: Supported formats.
 FORMATS: tuple[str, ...] = ("kalibr", "openvins", "vins", "orbslam3", "liosam", "matlab", "json")
@@ -97,51 +41,7 @@ _SI = {
 _NAMES = {"N": "white noise N", "K": "random walk K", "B": "bias instability B"}
 
 
-@contextlib.contextmanager
-def atomic_binary(path: str | os.PathLike[str]) -> Iterator[BinaryIO]:
-    """A binary file to write ``path`` with: a temporary file beside it, renamed over ``path``
-    (``os.replace``) when the ``with`` block ends without an exception.
-
-    A reader never sees a half-written file, and a failure (an exception in the block, an
-    interrupted run) leaves no file at ``path`` — or the existing one untouched — and no
-    temporary file. The file gets the target's mode if it exists, else the umask's.
-    """
-    target = Path(os.fspath(path))
-    directory = target.parent if str(target.parent) else Path(".")
-    try:
-        mode = target.stat().st_mode & 0o777
-    except FileNotFoundError:
-        umask = os.umask(0)
-        os.umask(umask)
-        mode = 0o666 & ~umask
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            yield fh
-        os.chmod(tmp, mode)  # mkstemp creates 0600; keep the target's (or the umask's) mode
-        os.replace(tmp, target)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
-
-
-def atomic_write(path: str | os.PathLike[str], text: str) -> Path:
-    """Write ``text`` (UTF-8) to ``path`` through a temporary file beside it and ``os.replace``
-    (:func:`atomic_binary`).
-
-    A reader never sees a half-written file, and a failure leaves an existing file untouched.
-    """
-    with atomic_binary(path) as fh:
-        fh.write(text.encode("utf-8"))
-    return Path(os.fspath(path))
-
-
 def _group(name: str, value: Any, kind: str) -> list[NoiseCoefficients]:
-    from gyrobias.noise import NoiseCoefficients
-
     if value is None:
         return []
     items = [value] if isinstance(value, NoiseCoefficients) else list(value)
@@ -164,8 +64,6 @@ def _group(name: str, value: Any, kind: str) -> list[NoiseCoefficients]:
 
 def _split(gyro: Any, accel: Any) -> tuple[list[NoiseCoefficients], list[NoiseCoefficients]]:
     """Sort the arguments into gyro and accel groups (an accel set passed first is accepted)."""
-    from gyrobias.noise import NoiseCoefficients
-
     first = [gyro] if isinstance(gyro, NoiseCoefficients) else list(gyro or [])
     if (
         accel is None
@@ -253,7 +151,7 @@ def _header(
     sources = sorted({c.method for c in g + a})
     return [
         f"{comment} {fmt} IMU noise parameters written by gyrobias (from: {', '.join(sources)} coefficients)",
-        f"{comment} N, K: IEEE-952 coefficients (two-sided densities); see the README's convention table.",
+        f"{comment} N, K: IEEE-952 coefficients (two-sided densities); see the convention table of the gyrobias docs (Estimator parameters).",
     ]
 
 
@@ -639,165 +537,3 @@ def export_all(
         for fmt, text in texts.items():
             atomic_write(out / DEFAULT_FILENAMES[fmt], text)
     return texts
-
-
-# --- discretisation ------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class DiscreteValue:
-    """One discrete-time noise parameter with its uncertainty, unit and formula."""
-
-    name: str
-    value: float | None
-    uncertainty: float | None
-    unit: str
-    formula: str
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        return {
-            "name": self.name,
-            "value": self.value,
-            "uncertainty": self.uncertainty,
-            "unit": self.unit,
-            "formula": self.formula,
-        }
-
-
-@dataclass(frozen=True)
-class DiscreteNoise:
-    """Per-sample noise parameters of one sensor axis at a given rate.
-
-    Attributes
-    ----------
-    rate : float
-        Rate in Hz (``Δt = 1/rate``).
-    white : DiscreteValue
-        Per-sample standard deviation of the white rate noise, ``σ_white = N/√Δt`` (data unit).
-    bias_walk : DiscreteValue
-        Standard deviation of one step of the bias random walk, ``σ_walk = K·√Δt`` (data unit).
-    gauss_markov : tuple of (DiscreteValue, DiscreteValue)
-        Per Gauss–Markov term: ``φ = exp(−Δt/τ_c)`` (dimensionless) and the driving standard
-        deviation ``σ_GM·√(1 − φ²)`` (data unit) of ``b_{k+1} = φ·b_k + w_k``.
-    axis : str or None
-        Axis name.
-    """
-
-    rate: float
-    white: DiscreteValue
-    bias_walk: DiscreteValue
-    gauss_markov: tuple[tuple[DiscreteValue, DiscreteValue], ...] = ()
-    axis: str | None = None
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        return {
-            "axis": self.axis,
-            "rate_hz": self.rate,
-            "white": self.white.to_dict(),
-            "bias_walk": self.bias_walk.to_dict(),
-            "gauss_markov": [
-                {"phi": p.to_dict(), "driving_sigma": d.to_dict()} for p, d in self.gauss_markov
-            ],
-        }
-
-
-def discrete(coefficients: NoiseCoefficients, rate: float) -> DiscreteNoise:
-    """Discrete-time (per-sample) noise parameters at ``rate`` for a hand-written filter.
-
-    Parameters
-    ----------
-    coefficients : NoiseCoefficients
-        Coefficients with a known data unit.
-    rate : float
-        Filter rate in Hz; ``Δt = 1/rate``.
-
-    Returns
-    -------
-    DiscreteNoise
-        Values in the data unit of ``coefficients`` (e.g. deg/s or m/s²).
-
-    Raises
-    ------
-    ValueError
-        ``rate`` not finite and positive, unknown data unit.
-
-    Notes
-    -----
-    White rate noise with IEEE coefficient N (two-sided PSD ``N²``) averaged over Δt has
-    variance ``N²/Δt``: ``σ_white = N/√Δt = N·√rate`` (Kalibr's ``σ_d``; SPEC §1).
-    Rate random walk ``ḃ = w``, ``E[w(t)w(s)] = K²δ(t−s)``, over one step:
-    ``σ_walk = K·√Δt`` (Kalibr's ``σ_bd``). A first-order Gauss–Markov bias with stationary
-    standard deviation σ and correlation time τ_c, sampled exactly:
-    ``b_{k+1} = φ b_k + w_k``, ``φ = exp(−Δt/τ_c)``, ``std(w) = σ√(1 − φ²)``.
-    Uncertainties scale linearly (φ's by the delta method, ``u(φ) = φ·Δt·u(τ_c)/τ_c²``).
-    Bias instability (flicker noise) has no finite-state exact discretisation and is not
-    converted.
-
-    Examples
-    --------
-    >>> import gyrobias
-    >>> ds = gyrobias.noise.from_datasheet(arw="0.6 deg/sqrt(h)", rrw="6 deg/h^1.5", gyro_unit="deg/s")
-    >>> d = ds.gyro.discrete(100.0)
-    >>> round(d.white.value, 6), d.white.unit
-    (0.1, 'deg/s')
-    """
-    from gyrobias.noise import NoiseCoefficients
-
-    if not isinstance(coefficients, NoiseCoefficients):
-        raise TypeError(
-            f"coefficients must be NoiseCoefficients, got {type(coefficients).__name__}"
-        )
-    rate = positive_float("rate", rate)
-    if coefficients.data_unit is None:
-        raise ValueError(
-            "coefficients: the data unit is unknown (pass units= to the Allan analysis)"
-        )
-    base = coefficients.to("base")
-    unit = coefficients.data_unit
-    dt = 1.0 / rate
-    root = math.sqrt(rate)
-
-    def scaled(symbol: str, factor: float, name: str, formula: str) -> DiscreteValue:
-        t = base[symbol]
-        return DiscreteValue(
-            name=name,
-            value=None if t.value is None else t.value * factor,
-            uncertainty=None
-            if t.uncertainty is None or t.value is None
-            else t.uncertainty * factor,
-            unit=unit,
-            formula=formula,
-        )
-
-    white = scaled(
-        "N", root, "white rate noise per sample", "sigma_white = N/sqrt(dt) = N*sqrt(rate)"
-    )
-    walk = scaled(
-        "K", 1.0 / root, "bias random-walk step", "sigma_walk = K*sqrt(dt) = K/sqrt(rate)"
-    )
-    gm_out = []
-    for t in coefficients.gauss_markov:
-        tau = t.correlation_time.to("s")
-        sigma = t.sigma.to(unit)
-        if tau.value is None or sigma.value is None:
-            continue
-        phi = math.exp(-dt / tau.value)
-        u_phi = None if tau.uncertainty is None else phi * dt * tau.uncertainty / tau.value**2
-        drive_factor = math.sqrt(1.0 - phi * phi)
-        gm_out.append(
-            (
-                DiscreteValue("Gauss-Markov phi", phi, u_phi, "1", "phi = exp(-dt/tau_c)"),
-                DiscreteValue(
-                    "Gauss-Markov driving noise",
-                    sigma.value * drive_factor,
-                    None if sigma.uncertainty is None else sigma.uncertainty * drive_factor,
-                    unit,
-                    "sigma_drive = sigma*sqrt(1 - phi^2)",
-                ),
-            )
-        )
-    return DiscreteNoise(
-        rate=rate, white=white, bias_walk=walk, gauss_markov=tuple(gm_out), axis=coefficients.axis
-    )

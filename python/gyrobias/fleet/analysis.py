@@ -1,64 +1,9 @@
-"""Fleets: the noise terms of many IMU logs in one table, on Dask, locally or on a cluster.
-
-:func:`analyse` runs the single-unit pipeline — :func:`gyrobias.io.load`,
-:func:`gyrobias.allan.adev` with confidence intervals, :func:`gyrobias.noise.fit` — on every unit
-of a fleet and returns one pandas ``DataFrame`` row per unit and axis. The work is a Dask task
-per log file (or per block of units of an in-memory array): by default on Dask's local threaded
-scheduler (the Rust kernels release the GIL, so threads run them in parallel), or on a
-``distributed.Client`` (a ``LocalCluster`` or a remote scheduler's address). A log that cannot be
-read or analysed is a row with its ``error``, never a crashed run. :func:`summary` condenses the
-table per axis and term: median, robust spread, the mean reported uncertainty and whether the
-unit-to-unit spread is real.
-
-Needs the ``fleet`` extra: ``pip install "gyrobias[fleet]"`` (dask[distributed], pandas, pyarrow).
-
-Out-of-family flag
-------------------
-For each term ``X`` (Q, N, B, K, R and the Gauss–Markov columns ``GMk_sigma``,
-``GMk_correlation_time`` when they were fitted) and axis, over the ``n`` units whose fit has
-the term (at least
-:data:`MIN_UNITS`), with ``u_i`` the unit's standard uncertainty::
-
-    m       = median_i X_i
-    s       = 1.4826 · median_i |X_i − m|                 (MAD: the s.d. for normal data)
-    σ_fleet = √max(s² − median_i u_i², 0)                 (unit-to-unit spread, noise removed)
-    z_i     = (X_i − m) / √(σ_fleet² + u_i² + (π/2)·s²/n)
-
-``(π/2)·s²/n`` is the variance of the median itself. A unit whose own estimate is uncertain
-(short log, a term barely visible) therefore needs a larger deviation to be flagged. A row is
-``out_of_family`` when ``|z_i| > 3.5`` for any term (:data:`OUT_OF_FAMILY_THRESHOLD`, the
-modified-z-score cut-off of Iglewicz & Hoaglin 1993); ``out_of_family_terms`` names them and the
-``X_z`` columns hold the scores. With fewer than :data:`MIN_UNITS` units the flag is ``<NA>``.
-Scores are compared within an axis name (``x`` with ``x``); name the axes alike
-(``axis_names=``) when logs of different formats are mixed.
-
-False alarms (Monte Carlo, ``tests/test_fleet.py``; one family with a 5 % true spread and 1σ
-uncertainties of 1–8 %): ``z`` has unit standard deviation, and ``|z| > 3.5`` happens for
-0.9 % / 0.5 % / 0.06 % of the terms at 10 / 40 / 400 units (0.05 % for a known normal law; small
-fleets pay for estimating the median and MAD). A unit 6 family standard deviations away is
-flagged in more than 90 % of the cases at 40 units.
-
-References
-----------
-.. [IH93] B. Iglewicz, D. C. Hoaglin, "How to Detect and Handle Outliers", ASQC (1993), §3.
-.. [IEEE952] IEEE Std 952-1997, Annex C (the noise terms).
-
-Examples
---------
->>> import numpy as np, gyrobias
->>> from gyrobias import fleet
->>> rate = np.stack([gyrobias.noise.simulate(20_000, 100.0, arw=0.2 / 60, seed=s) for s in range(6)])
->>> table = fleet.analyse(rate, fs=100.0, units="deg/s")          # (units, n): 6 units, 1 axis
->>> len(table), table.loc[0, "N_unit"], bool(abs(table.N.median() * 60 - 0.2) < 0.02)
-(6, 'deg/√s', True)
->>> int(table.out_of_family.sum())
-0
-"""
+"""Fleet analysis: the single-unit pipeline (load, ADEV, noise fit) on every unit of a fleet, as
+Dask tasks, into the fleet table."""
 
 from __future__ import annotations
 
 import glob
-import importlib
 import math
 import os
 from collections.abc import Callable, Mapping, Sequence
@@ -68,53 +13,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gyrobias import _core, allan, io, noise
+from gyrobias import allan, io, noise
 from gyrobias._validation import as_float_array, positive_float, real
 from gyrobias._validation import axis_names as check_axis_names
+from gyrobias.fleet.spread import OUT_OF_FAMILY_THRESHOLD, _finish
+from gyrobias.fleet.table import GM_PARAMETERS, DataFrame, _require
 from gyrobias.units import base_unit, sensor_kind
 
-__all__ = [
-    "MIN_UNITS",
-    "OUT_OF_FAMILY_THRESHOLD",
-    "SPREAD_ALPHA",
-    "SPREAD_MIN_RATIO",
-    "GM_PARAMETERS",
-    "TERMS",
-    "analyse",
-    "summary",
-    "term_columns",
-    "write_table",
-]
-
-#: Noise terms with their own columns (IEEE 952 symbols).
-TERMS: tuple[str, ...] = ("Q", "N", "B", "K", "R")
-#: Parameters of a Gauss–Markov term with their own columns (``GM1_sigma``, …).
-GM_PARAMETERS: tuple[str, ...] = ("sigma", "correlation_time")
-#: |z| above which a term is out of family (Iglewicz & Hoaglin's modified-z cut-off).
-OUT_OF_FAMILY_THRESHOLD: float = 3.5
-#: Fewest units with a term (per axis) for a median/MAD comparison.
-MIN_UNITS: int = 5
-#: Significance level of the "is the spread real?" chi-square test in :func:`summary`.
-SPREAD_ALPHA: float = 0.01
-#: The spread must also exceed the uncertainties by this factor (Birge ratio) to count as real:
-#: the joint fit's uncertainties are calibrated to about 15 % (README, noise coefficients).
-SPREAD_MIN_RATIO: float = 1.2
-
-_MAD_TO_SD = 1.482602218505602  # 1 / Φ⁻¹(3/4)
 _GLOB_CHARS = frozenset("*?[")
-
-#: A pandas DataFrame (pandas is imported lazily: it belongs to the ``fleet`` extra).
-DataFrame = Any
-
-
-def _require(name: str) -> Any:
-    try:
-        return importlib.import_module(name)
-    except ImportError as exc:
-        raise ImportError(
-            f"gyrobias.fleet needs {name}, which is not installed; install the fleet extra with "
-            'pip install "gyrobias[fleet]" (dask[distributed], pandas, pyarrow)'
-        ) from exc
 
 
 @dataclass(frozen=True)
@@ -141,22 +47,6 @@ def _gauss_markov_count(terms: Sequence[str] | None) -> int:
     if not terms:
         return 0
     return 2 if "GM2" in terms else 1 if "GM" in terms else 0
-
-
-def _gm_columns(n_gm: int) -> list[str]:
-    """``GM1_sigma``, ``GM1_correlation_time``, … for ``n_gm`` Gauss–Markov terms."""
-    return [f"GM{k}_{p}" for k in range(1, n_gm + 1) for p in GM_PARAMETERS]
-
-
-def term_columns(table: DataFrame) -> list[str]:
-    """The value columns of a fleet table that hold a term: Q, N, B, K, R, then ``GMk_…``.
-
-    ``GM1_sigma`` [rate unit] and ``GM1_correlation_time`` [s] (``GM2_…`` for the second
-    term) are there when :func:`analyse` was given ``terms`` with ``"GM"``/``"GM2"``. Each has
-    ``_uncertainty``, ``_unit`` and ``_z`` companions like the IEEE terms.
-    """
-    present = set(table.columns)
-    return [c for c in (*TERMS, *_gm_columns(2)) if c in present]
 
 
 # --------------------------------------------------------------------------------- per unit
@@ -587,7 +477,7 @@ def analyse(
         n_axes = 1 if expanded.ndim == 2 else int(expanded.shape[2])
         check_axis_names(names, n_axes)  # before any unit runs (an error, not a row per unit)
         names = names or tuple(f"col{i}" for i in range(n_axes))
-        array_units = io._resolve_units(
+        array_units = io.columns._resolve_units(
             units, names, None, "sources"
         )  # the reader's rules for units=
     opts = _Options(
@@ -659,238 +549,3 @@ def _check_options(opts: _Options) -> None:
     except ValueError as exc:  # noise.fit calls them method and terms: say which were given
         given = f"fit={opts.fit!r}" + ("" if opts.terms is None else f", terms={opts.terms!r}")
         raise ValueError(f"{given}: {exc}") from None
-
-
-# --------------------------------------------------------------------------------- the table
-
-_COUNTS = ("n_samples", "n_gaps", "missing_samples", "n_duplicates", "dof")
-
-
-def _columns(n_gm: int = 0) -> list[str]:
-    cols = [
-        "source",
-        "axis",
-        "sensor",
-        "data_unit",
-        "fs",
-        "duration",
-        "n_samples",
-        "n_gaps",
-        "missing_samples",
-        "longest_gap",
-        "n_duplicates",
-        "sampling_warnings",
-        "fit_method",
-    ]
-    for t in (*TERMS, *_gm_columns(n_gm)):
-        cols += [t, f"{t}_uncertainty", f"{t}_unit", f"{t}_z"]
-    cols += [
-        "chi2",
-        "dof",
-        "chi2_reduced",
-        "p_value",
-        "fit_warnings",
-        "out_of_family",
-        "out_of_family_terms",
-        "error",
-        "adev_tau",
-        "adev",
-    ]
-    return cols
-
-
-def _finish(pd: Any, rows: list[dict[str, Any]], threshold: float, n_gm: int = 0) -> DataFrame:
-    table = pd.DataFrame.from_records(rows, columns=_columns(n_gm))
-    terms = (*TERMS, *_gm_columns(n_gm))
-    for name in _COUNTS:
-        table[name] = table[name].astype("Int64")
-    for name in (
-        "fs",
-        "duration",
-        "longest_gap",
-        "chi2",
-        "chi2_reduced",
-        "p_value",
-        *terms,
-        *(f"{t}_uncertainty" for t in terms),
-    ):
-        table[name] = table[name].astype("float64")
-    z = {t: np.full(len(table), np.nan) for t in terms}
-    flag = np.zeros(len(table), dtype=bool)
-    known = np.zeros(len(table), dtype=bool)
-    ok = table["error"].isna().to_numpy()
-    for idx in table[ok].groupby("axis", dropna=False, sort=False).groups.values():
-        pos = table.index.get_indexer(idx)
-        for t in terms:
-            values = table[t].to_numpy()[pos]
-            unc = table[f"{t}_uncertainty"].to_numpy()[pos]
-            have = np.isfinite(values)
-            if have.sum() < MIN_UNITS:
-                continue
-            z[t][pos[have]] = _robust_z(
-                values[have], np.where(np.isfinite(unc[have]), unc[have], 0.0)
-            )
-            known[pos[have]] = True
-    terms_out = []
-    for i in range(len(table)):
-        out = [t for t in terms if np.isfinite(z[t][i]) and abs(z[t][i]) > threshold]
-        flag[i] = bool(out)
-        terms_out.append(",".join(out) or None)
-    for t in terms:
-        table[f"{t}_z"] = z[t]
-    table["out_of_family"] = pd.array(
-        [bool(f) if k else None for f, k in zip(flag, known)], dtype="boolean"
-    )
-    table["out_of_family_terms"] = terms_out
-    return table
-
-
-def _robust_z(values: NDArray[np.float64], unc: NDArray[np.float64]) -> NDArray[np.float64]:
-    """z_i = (X_i − m) / √(σ_fleet² + u_i² + (π/2)s²/n) (module docs)."""
-    m = float(np.median(values))
-    s = _MAD_TO_SD * float(np.median(np.abs(values - m)))
-    fleet_var = max(s * s - float(np.median(unc * unc)), 0.0)
-    denom = np.sqrt(fleet_var + unc * unc + (math.pi / 2.0) * s * s / values.size)
-    dev = values - m
-    with np.errstate(divide="ignore", invalid="ignore"):
-        z = np.where(
-            denom > 0.0,
-            dev / np.where(denom > 0.0, denom, 1.0),
-            np.where(dev == 0.0, 0.0, np.sign(dev) * np.inf),
-        )
-    return np.asarray(z, dtype=np.float64)
-
-
-def _chi2_sf(x: float, dof: int) -> float:
-    """Upper tail ``P(χ²_ν > x)``: the core's regularised incomplete gamma ``Q(ν/2, x/2)``."""
-    return _core.stats.chi2_sf(x, float(dof))
-
-
-def _spread(
-    x: NDArray[np.float64], u: NDArray[np.float64], alpha: float, min_ratio: float
-) -> dict[str, Any]:
-    """The statistics of one term over the units that have it (see :func:`summary`)."""
-    med = float(np.median(x))
-    spread = _MAD_TO_SD * float(np.median(np.abs(x - med)))
-    good = np.isfinite(u) & (u > 0.0)
-    mean_u = float(np.sqrt(np.mean(u[good] ** 2))) if good.any() else math.nan
-    dof = int(good.sum()) - 1
-    chi2 = p = ratio = math.nan
-    if dof >= 1:
-        w = 1.0 / u[good] ** 2
-        xm = float(np.sum(w * x[good]) / np.sum(w))
-        chi2 = float(np.sum(w * (x[good] - xm) ** 2))
-        p = _chi2_sf(chi2, dof)
-        ratio = math.sqrt(chi2 / dof)
-    return {
-        "median": med,
-        "spread": spread,
-        "mean_uncertainty": mean_u,
-        "intrinsic_spread": math.sqrt(max(spread * spread - mean_u * mean_u, 0.0))
-        if math.isfinite(mean_u)
-        else math.nan,
-        "chi2": chi2,
-        "dof": dof if dof >= 1 else None,
-        "birge_ratio": ratio,
-        "p_value": p,
-        "spread_real": None if dof < 1 else bool(p < alpha and ratio >= min_ratio),
-    }
-
-
-def summary(
-    table: DataFrame, *, alpha: float = SPREAD_ALPHA, min_ratio: float = SPREAD_MIN_RATIO
-) -> DataFrame:
-    """Per axis and term: median, spread, mean uncertainty, and whether the spread is real.
-
-    Parameters
-    ----------
-    table : pandas.DataFrame
-        The result of :func:`analyse` (or its Parquet file read back).
-    alpha : float
-        Significance level of the homogeneity test.
-    min_ratio : float
-        Smallest Birge ratio that counts as a real spread (see Notes).
-
-    Returns
-    -------
-    pandas.DataFrame
-        One row per (axis, term) with any value: ``axis``, ``term`` (Q, N, B, K, R, or a
-        Gauss–Markov column such as ``GM1_sigma``), ``unit``, ``n`` (units
-        with the term), ``median``, ``spread`` (1.4826·MAD), ``mean_uncertainty`` (RMS of the
-        reported 1σ uncertainties), ``intrinsic_spread`` (``√max(spread² − mean_uncertainty²,
-        0)``), ``chi2``, ``dof``, ``birge_ratio`` (``√(χ²/dof)``), ``p_value``,
-        ``spread_real`` and ``n_out_of_family``.
-
-    Notes
-    -----
-    "Is the spread real?" is a homogeneity test: if every unit had the same true value, the
-    statistic ``χ² = Σ_i (X_i − X̄_w)²/u_i²`` about the weighted mean ``X̄_w = Σ X_i/u_i² /
-    Σ 1/u_i²`` would follow a chi-square law with ``n − 1`` degrees of freedom. The spread is
-    called real when ``p < alpha`` (exact upper tail, :func:`_chi2_sf`) **and** the
-    Birge ratio ``√(χ²/(n−1)) ≥ min_ratio``: the joint fit's uncertainties are themselves
-    right to about 15 %, so a scatter only slightly larger than them is not evidence of real
-    unit-to-unit differences however many units there are.
-    """
-    pd = _require("pandas")
-    alpha = positive_float("alpha", alpha)
-    out = []
-    ok = table[table["error"].isna()]
-    for axis, group in ok.groupby("axis", dropna=False, sort=False):
-        for t in term_columns(table):
-            values = group[t].to_numpy(dtype=np.float64)
-            unc = group[f"{t}_uncertainty"].to_numpy(dtype=np.float64)
-            have = np.isfinite(values)
-            if not have.any():
-                continue
-            stats = _spread(values[have], unc[have], alpha, min_ratio)
-            units = group[f"{t}_unit"].dropna()
-            flagged = (
-                group["out_of_family_terms"]
-                .dropna()
-                .map(lambda text, t=t: t in str(text).split(","))
-            )
-            out.append(
-                {
-                    "axis": axis,
-                    "term": t,
-                    "unit": None if units.empty else str(units.iloc[0]),
-                    "n": int(have.sum()),
-                    **stats,
-                    "n_out_of_family": int(flagged.sum()),
-                }
-            )
-    result = pd.DataFrame.from_records(
-        out,
-        columns=[
-            "axis",
-            "term",
-            "unit",
-            "n",
-            "median",
-            "spread",
-            "mean_uncertainty",
-            "intrinsic_spread",
-            "chi2",
-            "dof",
-            "birge_ratio",
-            "p_value",
-            "spread_real",
-            "n_out_of_family",
-        ],
-    )
-    result["dof"] = result["dof"].astype("Int64")
-    result["spread_real"] = result["spread_real"].astype("boolean")
-    return result
-
-
-def write_table(table: DataFrame, path: str | os.PathLike[str]) -> None:
-    """Write the fleet table as Parquet (pyarrow), atomically (temp file beside it, then rename).
-
-    The Allan curves ``adev_tau``/``adev`` become list columns; ``pandas.read_parquet`` reads
-    the file back.
-    """
-    from gyrobias.exports import atomic_binary
-
-    _require("pyarrow")
-    with atomic_binary(path) as fh:
-        table.to_parquet(fh, engine="pyarrow", index=False)

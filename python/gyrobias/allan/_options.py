@@ -1,0 +1,53 @@
+"""Options every Allan driver shares (types and names only; ranges are the core's checks)."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gyrobias._validation import as_float_array, integer, real, sample_rate, string
+from gyrobias.allan._types import _ESTIMATOR_OF_KIND, Kind
+
+
+def _options(
+    kind: Kind,
+    fs: float,
+    taus: str | ArrayLike,
+    per_decade: int,
+    data_type: str,
+    overlapping: bool,
+    confidence: float | None,
+) -> tuple[float, str, str, NDArray[np.float64] | None, float | None]:
+    """Normalised options: ``(fs, estimator, tau spec, explicit taus, confidence)``."""
+    fs, spec, explicit, _, confidence = _tau_options(fs, taus, per_decade, data_type, confidence)
+    if kind == "adev":
+        estimator = "overlapping" if overlapping else "non-overlapping"
+    else:
+        estimator = _ESTIMATOR_OF_KIND[kind]
+    return fs, estimator, spec, explicit, confidence
+
+
+def _tau_options(
+    fs: float,
+    taus: str | ArrayLike,
+    per_decade: int,
+    data_type: str,
+    confidence: float | None,
+) -> tuple[float, str, NDArray[np.float64] | None, int, float | None]:
+    """Types of the options every Allan driver shares: ``(fs, tau spec, explicit taus,
+    per_decade, confidence)``.
+
+    Only types and names are checked here; the ranges (``per_decade >= 1`` for log spacing,
+    ``0 < confidence < 1``, τ on the sample grid, ...) are the core's preconditions.
+    """
+    fs = sample_rate(fs)  # checked by the core before t0 = 1/fs is computed here
+    string("data_type", data_type)  # its value is parsed by the core (DataType::parse)
+    per_decade = integer("per_decade", per_decade)
+    checked = None if confidence is None else real("confidence", confidence)
+    explicit: NDArray[np.float64] | None = None
+    spec = "octave"
+    if isinstance(taus, str):
+        spec = taus  # parsed by the core (Taus::parse), whose ValueError names taus
+    else:
+        explicit = as_float_array("taus", taus, ndims=(1,))
+    return fs, spec, explicit, per_decade, checked

@@ -1,0 +1,392 @@
+"""The Allan-family result types: :class:`AllanResult` and :class:`DynamicAllanResult`.
+
+Value types only: this module imports no algorithm and no plotting module. ``.plot()`` is a
+one-line delegation to the generic :func:`gyrobias._generics.plot`, whose methods for these
+types are registered by :mod:`gyrobias.plotting`.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gyrobias import _generics
+
+__all__ = ["KINDS", "NOISE_NAMES", "AllanResult", "DynamicAllanResult", "Kind"]
+
+#: Power-law exponent α of the rate PSD (S(f) ∝ f^α) → gyro noise name (IEEE 952 terms).
+NOISE_NAMES: dict[int, str] = {
+    2: "white angle (quantisation)",
+    1: "flicker angle",
+    0: "white rate (angle random walk)",
+    -1: "flicker rate (bias instability)",
+    -2: "rate random walk",
+    -3: "flicker walk (rate ramp region)",
+    -4: "random run (rate ramp)",
+}
+
+Kind = Literal["adev", "mdev", "hdev", "totdev"]
+#: Every ``AllanResult.kind``.
+KINDS = ("adev", "mdev", "hdev", "totdev", "tdev", "mtotdev", "htotdev", "theo1", "theobr", "theoh")
+_ESTIMATOR_OF_KIND = {"mdev": "modified", "hdev": "hadamard", "totdev": "total"}
+
+
+_LONG_LABEL = {
+    "tdev": "TDEV (time deviation)",
+    "mtotdev": "MTOTDEV (modified total deviation)",
+    "htotdev": "HTOTDEV (Hadamard total deviation)",
+    "theo1": "THEO1 (Théo1 deviation)",
+    "theobr": "THEOBR (bias-removed Théo1 deviation)",
+    "theoh": "THEOH (hybrid ADEV / ThéoBR deviation)",
+}
+
+
+def _statistic_unit(units: str | None, kind: str, data_type: str) -> str | None:
+    """Unit of the statistic from the data unit: the rate unit (``deg`` angle → ``deg/s``), or
+    for TDEV the angle unit (``deg/s`` rate → ``deg``)."""
+    if units is None:
+        return None
+    if kind == "tdev":
+        if data_type == "angle":
+            return units
+        return units[:-2] if units.endswith("/s") else f"{units}·s"
+    return f"{units}/s" if data_type == "angle" else units
+
+
+def _label(kind: str, overlapping: bool) -> str:
+    if kind == "hdev":
+        return (
+            "OHDEV (overlapping Hadamard)"
+            if overlapping
+            else "HDEV (non-overlapping Hadamard, Stable32's HDEV)"
+        )
+    return _LONG_LABEL.get(kind, kind.upper())
+
+
+def _short_label(kind: str, overlapping: bool) -> str:
+    if kind == "hdev":
+        return "OHDEV" if overlapping else "HDEV(non-overlap)"
+    return _label(kind, overlapping).split(" (")[0]
+
+
+@dataclass(frozen=True)
+class AllanResult:
+    """One axis of an Allan-family analysis.
+
+    Attributes
+    ----------
+    taus : ndarray
+        Averaging times τ in seconds.
+    avar : ndarray
+        Variance estimates σ²(τ) in units of ``unit`` squared (``inf`` or 0 where σ² is beyond float64, for
+        data of extreme magnitude: ``adev`` stays exact there).
+    adev : ndarray
+        Deviations σ(τ) in ``unit`` (for ``kind="mdev"`` etc. the respective deviation).
+    deviation : ndarray or None
+        The deviations as computed by the core (what ``adev`` returns); ``None`` for results
+        built from variances alone (``adev`` is then ``√avar``).
+    n_terms : ndarray
+        Number of terms in each estimator sum.
+    ci_low, ci_high : ndarray or None
+        Confidence bounds of the *deviation* at level ``confidence`` (chi-square with ``edf``).
+    edf : ndarray or None
+        Equivalent degrees of freedom per τ.
+    alpha : ndarray or None
+        Identified power-law exponent of the rate PSD per τ (S ∝ f^α).
+    noise_type : tuple of str
+        Gyro name of the identified noise per τ (see :data:`NOISE_NAMES`); empty without CIs.
+    fs : float
+        Sample rate of the input in Hz.
+    unit : str or None
+        Unit of the deviation (the rate unit, e.g. ``"deg/s"``); ``None`` if not given.
+    data_type : {"rate", "angle"}
+        What the input samples were.
+    kind : {"adev", "mdev", "hdev", "totdev"}
+        Which deviation this is.
+    overlapping : bool
+        Overlapping estimator (``False`` only for the non-overlapping ADEV of [BP] eq. 2).
+    confidence : float or None
+        Confidence level of ``ci_low``/``ci_high``.
+    axis : str or None
+        Axis name (column name), if known.
+    """
+
+    taus: NDArray[np.float64]
+    avar: NDArray[np.float64]
+    n_terms: NDArray[np.int64]
+    fs: float
+    data_type: str
+    kind: str
+    overlapping: bool
+    unit: str | None = None
+    confidence: float | None = None
+    edf: NDArray[np.float64] | None = None
+    alpha: NDArray[np.int64] | None = None
+    ci_low: NDArray[np.float64] | None = None
+    ci_high: NDArray[np.float64] | None = None
+    axis: str | None = None
+    noise_type: tuple[str, ...] = field(default=())
+    factors: NDArray[np.int64] | None = None
+    deviation: NDArray[np.float64] | None = None
+
+    @classmethod
+    def _from_core(
+        cls,
+        raw: Mapping[str, Any],
+        *,
+        kind: str,
+        fs: float,
+        data_type: str,
+        overlapping: bool,
+        confidence: float | None,
+        units: str | None,
+        axis: str | None,
+    ) -> AllanResult:
+        """The one place an :class:`AllanResult` is built from the core's output for one axis.
+
+        ``raw`` is one of the binding's dictionaries (``gyrobias._core.allan``/``noise`` stubs):
+        ``Analysis`` (:func:`~gyrobias._core.allan.analyse`, ``analyse_batch``,
+        ``analyse_stream``: τ = m·t0), ``FamilyAnalysis`` (``family_analyse``: τ = tau_factor·t0,
+        the averaging factors kept for Théo1's τ = 0.75·m·t0) or ``WaveletVariance`` (GMWM's
+        Haar wavelet variance ν², shown as the Allan variance σ² = 2ν², Percival & Guttorp
+        1994). ``units`` is the data unit; the statistic's unit is derived from it.
+        """
+        t0 = 1.0 / fs
+        kw: dict[str, Any] = {}
+        if confidence is not None:
+            alpha = np.asarray(raw["alpha"]).astype(np.int64)
+            kw = {
+                "edf": np.asarray(raw["edf"], dtype=np.float64),
+                "alpha": alpha,
+                "ci_low": np.asarray(raw["deviation_low"], dtype=np.float64),
+                "ci_high": np.asarray(raw["deviation_high"], dtype=np.float64),
+                "noise_type": tuple(NOISE_NAMES.get(int(a), f"alpha={a}") for a in alpha),
+            }
+        m = np.asarray(raw["m"]).astype(np.int64)
+        if "n_coefficients" in raw:  # GMWM's wavelet variance
+            return cls(
+                taus=np.asarray(m * t0, dtype=np.float64),
+                avar=2.0 * np.asarray(raw["variance"], dtype=np.float64),
+                n_terms=np.asarray(raw["n_coefficients"]).astype(np.int64),
+                fs=fs,
+                data_type=data_type,
+                kind=kind,
+                overlapping=overlapping,
+                unit=_statistic_unit(units, kind, data_type),
+                axis=axis,
+            )
+        family = "tau_factor" in raw
+        return cls(
+            taus=(
+                np.asarray(raw["tau_factor"], dtype=np.float64) * t0
+                if family
+                else np.asarray(m * t0, dtype=np.float64)
+            ),
+            avar=np.asarray(raw["variance"], dtype=np.float64),
+            deviation=np.asarray(raw["deviation"], dtype=np.float64),
+            n_terms=np.asarray(raw["n_terms"]).astype(np.int64),
+            fs=fs,
+            data_type=data_type,
+            kind=kind,
+            overlapping=overlapping,
+            unit=_statistic_unit(units, kind, data_type),
+            confidence=confidence,
+            axis=axis,
+            factors=m if family else None,
+            **kw,
+        )
+
+    @property
+    def adev(self) -> NDArray[np.float64]:
+        """Deviation σ(τ) = √σ²(τ) in ``unit``.
+
+        Taken from ``deviation`` when the core gave it: computed before the data's scale was
+        restored, it stays finite for data of extreme magnitude whose variance over- or
+        underflows float64 (and equals ``√avar`` bit for bit otherwise).
+        """
+        if self.deviation is not None:
+            return self.deviation
+        return np.sqrt(self.avar)
+
+    @property
+    def m(self) -> NDArray[np.int64]:
+        """Averaging factors: m = τ·fs, except Théo1/ThéoBR points (τ = 0.75·m/fs, m even)."""
+        if self.factors is not None:
+            return self.factors
+        return np.rint(self.taus * self.fs).astype(np.int64)
+
+    @property
+    def label(self) -> str:
+        """Unambiguous name of the statistic, e.g. ``"OHDEV (overlapping Hadamard)"``."""
+        return _label(self.kind, self.overlapping)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (arrays as lists, units stated)."""
+        out: dict[str, Any] = {
+            "kind": self.kind,
+            "axis": self.axis,
+            "fs_hz": self.fs,
+            "data_type": self.data_type,
+            "overlapping": self.overlapping,
+            "unit": self.unit,
+            "tau_unit": "s",
+            "confidence": self.confidence,
+            "taus": self.taus.tolist(),
+            "deviation": self.adev.tolist(),
+            "variance": self.avar.tolist(),
+            "n_terms": self.n_terms.tolist(),
+        }
+        if self.edf is not None:
+            assert self.ci_low is not None and self.ci_high is not None and self.alpha is not None
+            out["edf"] = self.edf.tolist()
+            out["ci_low"] = self.ci_low.tolist()
+            out["ci_high"] = self.ci_high.tolist()
+            out["alpha"] = self.alpha.tolist()
+            out["noise_type"] = list(self.noise_type)
+        return out
+
+    def to_json(self, **kwargs: Any) -> str:
+        """:meth:`to_dict` as a JSON string."""
+        return json.dumps(self.to_dict(), **kwargs)
+
+    def table(self) -> str:
+        """A plain-text table: τ, deviation, confidence interval, EDF, noise type."""
+        unit = f" [{self.unit}]" if self.unit else ""
+        head = f"{'tau [s]':>12} {_short_label(self.kind, self.overlapping) + unit:>22}"
+        if self.ci_low is not None:
+            head += f" {'CI low':>12} {'CI high':>12} {'edf':>9}  noise"
+        lines = [head]
+        for i, tau in enumerate(self.taus):
+            row = f"{tau:12.6g} {self.adev[i]:22.6e}"
+            if self.ci_low is not None and self.ci_high is not None and self.edf is not None:
+                row += (
+                    f" {self.ci_low[i]:12.4e} {self.ci_high[i]:12.4e} {self.edf[i]:9.1f}"
+                    f"  {self.noise_type[i]}"
+                )
+            lines.append(row)
+        return "\n".join(lines)
+
+    def __str__(self) -> str:
+        name = f" axis {self.axis}" if self.axis else ""
+        return f"{self.label}{name} (fs = {self.fs:g} Hz, {self.data_type} data)\n{self.table()}"
+
+    def plot(
+        self, ax: Any = None, *, label: str | None = None, fit: Any = None, **kwargs: Any
+    ) -> Any:
+        """Log-log plot of the deviation with confidence bars (needs ``matplotlib``).
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw (a new figure otherwise).
+        label : str, optional
+            Legend entry.
+        fit : NoiseCoefficients or True, optional
+            Overlay a fitted noise model (model curve, per-term asymptotes and the labelled
+            read-off points); ``True`` fits one now with :func:`gyrobias.noise.fit`.
+        **kwargs
+            Passed to :func:`gyrobias.plotting.plot_allan`.
+
+        Returns the matplotlib ``Axes``.
+        """
+        return _generics.plot(self, ax, label=label, fit=fit, **kwargs)
+
+
+@dataclass(frozen=True)
+class DynamicAllanResult:
+    """A dynamic (time-resolved) Allan deviation: one overlapping ADEV curve per window.
+
+    Attributes
+    ----------
+    times : ndarray, shape (windows,)
+        Centre of each window in seconds from the first sample.
+    starts : ndarray, shape (windows,)
+        Index of each window's first sample.
+    taus : ndarray, shape (n_tau,)
+        Averaging times τ in seconds (common to all windows).
+    avar : ndarray, shape (windows, n_tau)
+        Overlapping Allan variance of each window in units of ``unit`` squared.
+    n_terms : ndarray, shape (n_tau,)
+        Terms of each window's sum.
+    window, step : int
+        Window length and window step in samples.
+    fs : float
+        Sample rate in Hz.
+    unit : str or None
+        Unit of the deviation (the rate unit).
+    data_type : {"rate", "angle"}
+        What the input samples were.
+    """
+
+    times: NDArray[np.float64]
+    starts: NDArray[np.int64]
+    taus: NDArray[np.float64]
+    avar: NDArray[np.float64]
+    n_terms: NDArray[np.int64]
+    window: int
+    step: int
+    fs: float
+    data_type: str
+    unit: str | None = None
+
+    @classmethod
+    def _from_core(
+        cls,
+        raw: Mapping[str, Any],
+        *,
+        fs: float,
+        window: int,
+        step: int,
+        data_type: str,
+        units: str | None,
+    ) -> DynamicAllanResult:
+        """The one place a :class:`DynamicAllanResult` is built from the core's ``DynamicAvar``
+        (:func:`gyrobias._core.allan.dynamic_avar`); ``units`` is the data unit."""
+        t0 = 1.0 / fs
+        starts = np.asarray(raw["starts"]).astype(np.int64)
+        return cls(
+            times=np.asarray((starts + window / 2.0) * t0, dtype=np.float64),
+            starts=starts,
+            taus=np.asarray(raw["m"]).astype(np.float64) * t0,
+            avar=np.asarray(raw["variance"], dtype=np.float64),
+            n_terms=np.asarray(raw["n_terms"]).astype(np.int64),
+            window=window,
+            step=step,
+            fs=fs,
+            data_type=data_type,
+            unit=_statistic_unit(units, "adev", data_type),
+        )
+
+    @property
+    def adev(self) -> NDArray[np.float64]:
+        """Deviation σ(t, τ) = √σ²(t, τ) in ``unit``, shape (windows, n_tau)."""
+        return np.sqrt(self.avar)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (arrays as nested lists, units stated)."""
+        return {
+            "kind": "dynamic_adev",
+            "fs_hz": self.fs,
+            "data_type": self.data_type,
+            "unit": self.unit,
+            "time_unit": "s",
+            "tau_unit": "s",
+            "window_samples": self.window,
+            "step_samples": self.step,
+            "times": self.times.tolist(),
+            "taus": self.taus.tolist(),
+            "deviation": self.adev.tolist(),
+            "n_terms": self.n_terms.tolist(),
+        }
+
+    def plot(self, ax: Any = None, **kwargs: Any) -> Any:
+        """Heat map of log10 σ(t, τ) over time and τ with a colour bar in ``unit`` (needs matplotlib).
+
+        ``kwargs`` go to :func:`gyrobias.plotting.plot_dynamic_allan`; returns the ``Axes``.
+        """
+        return _generics.plot(self, ax, **kwargs)

@@ -1,0 +1,220 @@
+"""Out-of-family scores and the fleet summary: robust z-scores (median/MAD), the weighted χ²
+homogeneity test and Birge ratio. (Numerical work due to move to the core, issue 24 item 3.)"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gyrobias import _core
+from gyrobias._validation import positive_float
+from gyrobias.fleet.table import (
+    _COUNTS,
+    TERMS,
+    DataFrame,
+    _columns,
+    _gm_columns,
+    _require,
+    term_columns,
+)
+
+#: ``|z|`` above which a term is out of family (Iglewicz & Hoaglin's modified-z cut-off).
+OUT_OF_FAMILY_THRESHOLD: float = 3.5
+#: Fewest units with a term (per axis) for a median/MAD comparison.
+MIN_UNITS: int = 5
+#: Significance level of the "is the spread real?" chi-square test in :func:`summary`.
+SPREAD_ALPHA: float = 0.01
+#: The spread must also exceed the uncertainties by this factor (Birge ratio) to count as real:
+#: the joint fit's uncertainties are calibrated to about 15 % (docs/explanations/identification.md, joint fit).
+SPREAD_MIN_RATIO: float = 1.2
+
+_MAD_TO_SD = 1.482602218505602  # 1 / Φ⁻¹(3/4)
+
+
+def _finish(pd: Any, rows: list[dict[str, Any]], threshold: float, n_gm: int = 0) -> DataFrame:
+    table = pd.DataFrame.from_records(rows, columns=_columns(n_gm))
+    terms = (*TERMS, *_gm_columns(n_gm))
+    for name in _COUNTS:
+        table[name] = table[name].astype("Int64")
+    for name in (
+        "fs",
+        "duration",
+        "longest_gap",
+        "chi2",
+        "chi2_reduced",
+        "p_value",
+        *terms,
+        *(f"{t}_uncertainty" for t in terms),
+    ):
+        table[name] = table[name].astype("float64")
+    z = {t: np.full(len(table), np.nan) for t in terms}
+    flag = np.zeros(len(table), dtype=bool)
+    known = np.zeros(len(table), dtype=bool)
+    ok = table["error"].isna().to_numpy()
+    for idx in table[ok].groupby("axis", dropna=False, sort=False).groups.values():
+        pos = table.index.get_indexer(idx)
+        for t in terms:
+            values = table[t].to_numpy()[pos]
+            unc = table[f"{t}_uncertainty"].to_numpy()[pos]
+            have = np.isfinite(values)
+            if have.sum() < MIN_UNITS:
+                continue
+            z[t][pos[have]] = _robust_z(
+                values[have], np.where(np.isfinite(unc[have]), unc[have], 0.0)
+            )
+            known[pos[have]] = True
+    terms_out = []
+    for i in range(len(table)):
+        out = [t for t in terms if np.isfinite(z[t][i]) and abs(z[t][i]) > threshold]
+        flag[i] = bool(out)
+        terms_out.append(",".join(out) or None)
+    for t in terms:
+        table[f"{t}_z"] = z[t]
+    table["out_of_family"] = pd.array(
+        [bool(f) if k else None for f, k in zip(flag, known)], dtype="boolean"
+    )
+    table["out_of_family_terms"] = terms_out
+    return table
+
+
+def _robust_z(values: NDArray[np.float64], unc: NDArray[np.float64]) -> NDArray[np.float64]:
+    """z_i = (X_i − m) / √(σ_fleet² + u_i² + (π/2)s²/n) (module docs)."""
+    m = float(np.median(values))
+    s = _MAD_TO_SD * float(np.median(np.abs(values - m)))
+    fleet_var = max(s * s - float(np.median(unc * unc)), 0.0)
+    denom = np.sqrt(fleet_var + unc * unc + (math.pi / 2.0) * s * s / values.size)
+    dev = values - m
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z = np.where(
+            denom > 0.0,
+            dev / np.where(denom > 0.0, denom, 1.0),
+            np.where(dev == 0.0, 0.0, np.sign(dev) * np.inf),
+        )
+    return np.asarray(z, dtype=np.float64)
+
+
+def _chi2_sf(x: float, dof: int) -> float:
+    """Upper tail ``P(χ²_ν > x)``: the core's regularised incomplete gamma ``Q(ν/2, x/2)``."""
+    return _core.stats.chi2_sf(x, float(dof))
+
+
+def _spread(
+    x: NDArray[np.float64], u: NDArray[np.float64], alpha: float, min_ratio: float
+) -> dict[str, Any]:
+    """The statistics of one term over the units that have it (see :func:`summary`)."""
+    med = float(np.median(x))
+    spread = _MAD_TO_SD * float(np.median(np.abs(x - med)))
+    good = np.isfinite(u) & (u > 0.0)
+    mean_u = float(np.sqrt(np.mean(u[good] ** 2))) if good.any() else math.nan
+    dof = int(good.sum()) - 1
+    chi2 = p = ratio = math.nan
+    if dof >= 1:
+        w = 1.0 / u[good] ** 2
+        xm = float(np.sum(w * x[good]) / np.sum(w))
+        chi2 = float(np.sum(w * (x[good] - xm) ** 2))
+        p = _chi2_sf(chi2, dof)
+        ratio = math.sqrt(chi2 / dof)
+    return {
+        "median": med,
+        "spread": spread,
+        "mean_uncertainty": mean_u,
+        "intrinsic_spread": math.sqrt(max(spread * spread - mean_u * mean_u, 0.0))
+        if math.isfinite(mean_u)
+        else math.nan,
+        "chi2": chi2,
+        "dof": dof if dof >= 1 else None,
+        "birge_ratio": ratio,
+        "p_value": p,
+        "spread_real": None if dof < 1 else bool(p < alpha and ratio >= min_ratio),
+    }
+
+
+def summary(
+    table: DataFrame, *, alpha: float = SPREAD_ALPHA, min_ratio: float = SPREAD_MIN_RATIO
+) -> DataFrame:
+    """Per axis and term: median, spread, mean uncertainty, and whether the spread is real.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The result of :func:`analyse` (or its Parquet file read back).
+    alpha : float
+        Significance level of the homogeneity test.
+    min_ratio : float
+        Smallest Birge ratio that counts as a real spread (see Notes).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (axis, term) with any value: ``axis``, ``term`` (Q, N, B, K, R, or a
+        Gauss–Markov column such as ``GM1_sigma``), ``unit``, ``n`` (units
+        with the term), ``median``, ``spread`` (1.4826·MAD), ``mean_uncertainty`` (RMS of the
+        reported 1σ uncertainties), ``intrinsic_spread`` (``√max(spread² − mean_uncertainty²,
+        0)``), ``chi2``, ``dof``, ``birge_ratio`` (``√(χ²/dof)``), ``p_value``,
+        ``spread_real`` and ``n_out_of_family``.
+
+    Notes
+    -----
+    "Is the spread real?" is a homogeneity test: if every unit had the same true value, the
+    statistic ``χ² = Σ_i (X_i − X̄_w)²/u_i²`` about the weighted mean ``X̄_w = Σ X_i/u_i² /
+    Σ 1/u_i²`` would follow a chi-square law with ``n − 1`` degrees of freedom. The spread is
+    called real when ``p < alpha`` (exact upper tail, :func:`_chi2_sf`) **and** the
+    Birge ratio ``√(χ²/(n−1)) ≥ min_ratio``: the joint fit's uncertainties are themselves
+    right to about 15 %, so a scatter only slightly larger than them is not evidence of real
+    unit-to-unit differences however many units there are.
+    """
+    pd = _require("pandas")
+    alpha = positive_float("alpha", alpha)
+    out = []
+    ok = table[table["error"].isna()]
+    for axis, group in ok.groupby("axis", dropna=False, sort=False):
+        for t in term_columns(table):
+            values = group[t].to_numpy(dtype=np.float64)
+            unc = group[f"{t}_uncertainty"].to_numpy(dtype=np.float64)
+            have = np.isfinite(values)
+            if not have.any():
+                continue
+            stats = _spread(values[have], unc[have], alpha, min_ratio)
+            units = group[f"{t}_unit"].dropna()
+            flagged = (
+                group["out_of_family_terms"]
+                .dropna()
+                .map(lambda text, t=t: t in str(text).split(","))
+            )
+            out.append(
+                {
+                    "axis": axis,
+                    "term": t,
+                    "unit": None if units.empty else str(units.iloc[0]),
+                    "n": int(have.sum()),
+                    **stats,
+                    # astype(bool): under pandas 3 an empty map result keeps the string
+                    # dtype, whose sum is "" (int("") fails)
+                    "n_out_of_family": int(flagged.astype(bool).sum()),
+                }
+            )
+    result = pd.DataFrame.from_records(
+        out,
+        columns=[
+            "axis",
+            "term",
+            "unit",
+            "n",
+            "median",
+            "spread",
+            "mean_uncertainty",
+            "intrinsic_spread",
+            "chi2",
+            "dof",
+            "birge_ratio",
+            "p_value",
+            "spread_real",
+            "n_out_of_family",
+        ],
+    )
+    result["dof"] = result["dof"].astype("Int64")
+    result["spread_real"] = result["spread_real"].astype("boolean")
+    return result

@@ -1,0 +1,323 @@
+"""Delimited text logs (CSV/TSV/whitespace, also ``.gz``/``.bz2``/``.xz``): pyarrow's streaming
+CSV reader when installed, :func:`numpy.loadtxt` otherwise; errors name the line and column."""
+
+from __future__ import annotations
+
+import bz2
+import gzip
+import lzma
+import re
+from collections.abc import Callable, Iterator, Sequence
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gyrobias.io._store import Sink, Store
+from gyrobias.io.columns import ColumnSpec, _select
+
+_OPENERS: dict[str, Any] = {".gz": gzip.open, ".bz2": bz2.open, ".xz": lzma.open}  # as np.loadtxt
+_INT_RE = re.compile(r"^[+-]?\d+$")
+_LOADTXT_CELL = re.compile(r"could not convert string '(.*)' to \w+ at row (\d+), column (\d+)")
+_LOADTXT_COLS = re.compile(r"number of columns changed from (\d+) to (\d+) at row (\d+)")
+_LOADTXT_INDEX = re.compile(r"invalid column index (\d+) at row (\d+) with (\d+) columns")
+
+
+def _content_lines(p: Path, skip_rows: int, comments: str) -> Iterator[tuple[int, str]]:
+    """(1-based line number, stripped text) of non-blank, non-comment lines after ``skip_rows``."""
+    opener = _OPENERS.get(p.suffix.lower(), open)
+    with opener(p, "rt", encoding="utf-8-sig", errors="replace") as fh:
+        for number, line in enumerate(fh, start=1):
+            if number <= skip_rows:
+                continue
+            text = line.strip()
+            if not text or (comments and text.startswith(comments)):
+                continue
+            yield number, text
+
+
+def _split(line: str, delimiter: str | None) -> list[str]:
+    return [f.strip().strip("\"'") for f in (line.split(delimiter) if delimiter else line.split())]
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _detect_delimiter(lines: list[str]) -> str | None:
+    """The first of ``;``, tab, ``,`` that occurs in every sample line, else ``None`` (whitespace).
+
+    ``;`` and tab come first: where they separate fields, a comma is a decimal separator
+    (which is then reported as a non-numeric cell), never the other way round. Lines with a
+    different number of fields are reported by the parser, naming the line.
+    """
+    for cand in (";", "\t", ","):
+        if all(cand in line for line in lines):
+            return cand
+    return None
+
+
+def _read_text(
+    p: Path,
+    columns: Sequence[ColumnSpec] | None,
+    time_column: ColumnSpec | Literal[False] | None,
+    time_unit: str,
+    delimiter: str | None,
+    skip_rows: int,
+    comments: str,
+    store: Store,
+    progress: Callable[[float], None] | None,
+) -> tuple[NDArray[np.float64], list[str], NDArray[Any] | None, str | None, Any]:
+    sample: list[tuple[int, str]] = []
+    for item in _content_lines(p, skip_rows, comments):
+        sample.append(item)
+        if len(sample) >= 20:
+            break
+    if not sample:
+        raise ValueError(f"{p.name}: the file is empty (no data rows)")
+    if delimiter is None:
+        delimiter = _detect_delimiter([s for _, s in sample])
+    first_fields = _split(sample[0][1], delimiter)
+    has_header = not all(_is_number(f) for f in first_fields)
+    header = first_fields if has_header else None
+    data_start = sample[1][0] if has_header and len(sample) > 1 else sample[0][0]
+    if has_header and len(sample) == 1:
+        raise ValueError(
+            f"{p.name}: the file has a header ({', '.join(first_fields)}) but no data rows"
+        )
+    n_cols = len(_split(sample[1 if has_header else 0][1], delimiter))
+    if header is not None and len(header) != n_cols:
+        raise ValueError(
+            f"{p.name}: the header has {len(header)} names but line {data_start} has {n_cols} fields"
+        )
+    idx, t_idx = _select(columns, time_column, header, n_cols, p.name)
+    names = [header[i] if header is not None else f"col{i}" for i in idx]
+    t_name = None if t_idx is None else (header[t_idx] if header is not None else f"col{t_idx}")
+
+    def line_of(row: int) -> int:
+        """File line (1-based) of data row ``row`` (0-based); scans the file, error path only."""
+        for k, (number, _) in enumerate(
+            item for item in _content_lines(p, skip_rows, comments) if item[0] >= data_start
+        ):
+            if k == row:
+                return number
+        return -1
+
+    usecols = ([t_idx] if t_idx is not None else []) + idx
+    first_data = _split(sample[1 if has_header else 0][1], delimiter)
+    int_time = t_idx is not None and bool(_INT_RE.match(first_data[t_idx])) and time_unit != "s"
+    if int_time and t_idx is not None:  # every sampled stamp must be an integer, not just the first
+        for number, text in sample:
+            fields = _split(text, delimiter)
+            if number >= data_start and len(fields) > t_idx and not _INT_RE.match(fields[t_idx]):
+                int_time = False
+    if delimiter is not None and len(delimiter) == 1 and p.suffix.lower() not in _OPENERS:
+        data_lines = [text for number, text in sample if number >= data_start]
+        mean_line = (sum(len(t) for t in data_lines) + len(data_lines)) / max(len(data_lines), 1)
+        estimated_rows = int(p.stat().st_size / max(mean_line, 1.0)) + 1
+        for as_int in (True, False) if int_time else (False,):
+            fast = _read_arrow(
+                p,
+                delimiter,
+                data_start,
+                n_cols,
+                t_idx,
+                idx,
+                as_int,
+                store,
+                progress,
+                estimated_rows,
+            )
+            if fast is not None:
+                return fast[1], names, fast[0], t_name, line_of
+    kw: dict[str, Any] = {
+        "delimiter": delimiter,
+        "skiprows": data_start - 1,
+        "comments": comments or None,
+        "usecols": usecols,
+        "ndmin": 2,
+        "encoding": "utf-8-sig",
+    }
+
+    def col_name(file_col: int) -> str:
+        """Name of 0-based file column ``file_col`` for messages."""
+        return f"'{header[file_col]}'" if header is not None else f"{file_col}"
+
+    if int_time:
+        # integer stamps (typically epoch nanoseconds, ~1e18) are read exactly as int64: as
+        # float64 they would carry a ±128 ns rounding error that shows up as jitter
+        dtype = [("t", np.int64)] + [(f"c{k}", np.float64) for k in range(len(idx))]
+        try:
+            rec = _loadtxt(p, kw, dtype, col_name, line_of, int_column=t_idx)
+        except _NotInteger:
+            int_time = False
+        else:
+            rec = rec.reshape(-1)
+            t_raw: NDArray[Any] | None = rec["t"].copy()
+            table = np.empty((len(rec), len(idx)))
+            for k in range(len(idx)):
+                table[:, k] = rec[f"c{k}"]
+            del rec
+            return table, names, t_raw, t_name, line_of
+    full = _loadtxt(p, kw, np.float64, col_name, line_of)
+    if t_idx is not None:
+        t_raw = full[:, 0].copy()
+        table = np.ascontiguousarray(full[:, 1:])
+    else:
+        t_raw = None
+        table = full
+    del full
+    return table, names, t_raw, t_name, line_of
+
+
+def _line_offset(p: Path, line: int) -> int:
+    """Byte offset of the start of 1-based ``line`` (counting lines as :func:`open` does)."""
+    offset = 0
+    with open(p, "rb") as fh:
+        for _ in range(line - 1):
+            chunk = fh.readline()
+            if not chunk:
+                break
+            offset += len(chunk)
+    return offset
+
+
+def _read_arrow(
+    p: Path,
+    delimiter: str,
+    data_start: int,
+    n_cols: int,
+    t_idx: int | None,
+    idx: Sequence[int],
+    int_time: bool,
+    store: Store,
+    progress: Callable[[float], None] | None,
+    estimated_rows: int,
+) -> tuple[NDArray[Any] | None, NDArray[np.float64]] | None:
+    """Parse the data rows with pyarrow's streaming CSV reader: (raw times, table), or ``None``.
+
+    ``None`` means "use numpy.loadtxt": pyarrow is missing, or it rejected the file (a bad
+    cell, a ragged row, a comment line, a non-integer time); loadtxt then either reads it or
+    reports the exact line and column. Nothing pyarrow reads differently from loadtxt is
+    accepted: empty cells and NA spellings are not missing values here, and the rows start at
+    the byte offset of the first data line (no row counting).
+    """
+    try:
+        import pyarrow as pa  # type: ignore[import-untyped, unused-ignore]
+        import pyarrow.csv as pacsv  # type: ignore[import-untyped, unused-ignore]
+    except ImportError:
+        return None
+    names = [f"c{i}" for i in range(n_cols)]
+    types = {names[i]: pa.float64() for i in idx}
+    if t_idx is not None:
+        types[names[t_idx]] = pa.int64() if int_time else pa.float64()
+    include = ([names[t_idx]] if t_idx is not None else []) + [names[i] for i in idx]
+    read_opts = pacsv.ReadOptions(column_names=names, block_size=1 << 22, use_threads=True)
+    parse_opts = pacsv.ParseOptions(delimiter=delimiter, ignore_empty_lines=True)
+    convert_opts = pacsv.ConvertOptions(
+        column_types=types,
+        include_columns=include,
+        null_values=[],
+        true_values=[],
+        false_values=[],
+        strings_can_be_null=False,
+        quoted_strings_can_be_null=False,
+    )
+    sink = store.sink(len(idx), estimated_rows)
+    # the raw stamps go to disk with the samples (a log larger than memory)
+    stamps = Sink(store, 1, sink.spilled, estimated_rows, np.int64 if int_time else np.float64)
+    try:
+        source = pa.OSFile(str(p), "r")  # plain reads: a mapping would count the file as resident
+        try:
+            source.seek(_line_offset(p, data_start))
+            reader = pacsv.open_csv(
+                source,
+                read_options=read_opts,
+                parse_options=parse_opts,
+                convert_options=convert_opts,
+            )
+            for batch in reader:
+                m = batch.num_rows
+                block = sink.reserve(m)
+                for k, i in enumerate(idx):
+                    block[:, k] = batch.column(names[i]).to_numpy()
+                sink.commit(m)
+                if t_idx is not None:
+                    stamps.reserve(m)[:, 0] = batch.column(names[t_idx]).to_numpy()
+                    stamps.commit(m)
+                if progress is not None:
+                    progress(min(sink.rows / estimated_rows, 0.99))
+        finally:
+            source.close()
+    except (pa.ArrowException, ValueError, OSError):
+        sink.finish()
+        return None
+    table = sink.finish()
+    if table.shape[0] == 0:
+        return None  # loadtxt reports the empty file in its words
+    if progress is not None:
+        progress(1.0)
+    t_raw = None
+    if t_idx is not None:
+        t_raw = stamps.finish().reshape(-1)
+    return t_raw, table
+
+
+class _NotInteger(Exception):
+    pass
+
+
+def _loadtxt(
+    p: Path,
+    kw: dict[str, Any],
+    dtype: Any,
+    col_name: Any,
+    line_of: Any,
+    int_column: int | None = None,
+) -> Any:
+    """np.loadtxt with its errors turned into messages naming the file line and column.
+
+    Raises ``_NotInteger`` when the ``int_column`` (0-based file column) holds a non-integer
+    number, so that the caller can re-read it as float.
+    """
+    try:
+        out = np.loadtxt(p, dtype=dtype, **kw)
+    except ValueError as exc:
+        msg = str(exc)
+        m = _LOADTXT_CELL.search(msg)
+        if m:
+            text, row, col = m.group(1), int(m.group(2)), int(m.group(3))
+            # numpy counts data rows from 0 (skipping comments) and file columns from 1
+            if int_column is not None and col == int_column + 1 and _is_number(text):
+                raise _NotInteger from None
+            what = "an empty cell" if not text.strip() else f"'{text}' (not a number)"
+            hint = ""
+            if re.fullmatch(r"[+-]?\d+,\d+", text.strip()):
+                hint = " (decimal commas are not supported)"
+            raise ValueError(
+                f"{p.name}: {what} in column {col_name(col - 1)} at line {line_of(row)}{hint}"
+            ) from None
+        m = _LOADTXT_COLS.search(msg)
+        if m:
+            raise ValueError(
+                f"{p.name}: line {line_of(int(m.group(3)))} has {m.group(2)} fields, "
+                f"the lines before it have {m.group(1)}"
+            ) from None
+        m = _LOADTXT_INDEX.search(msg)
+        if m:  # this numpy message counts rows from 1
+            raise ValueError(
+                f"{p.name}: line {line_of(int(m.group(2)) - 1)} has only {m.group(3)} fields"
+            ) from None
+        raise ValueError(f"{p.name}: {msg}") from None
+    except IndexError:
+        raise ValueError(
+            f"{p.name}: some line has fewer fields than the selected columns need"
+        ) from None
+    if len(out) == 0:
+        raise ValueError(f"{p.name}: the file is empty (no data rows)")
+    return out

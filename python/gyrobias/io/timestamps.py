@@ -1,0 +1,332 @@
+"""Timestamps: conversion to seconds, the sampling report (rate, jitter, gaps, duplicates),
+the ``sort``/``dedup`` repairs and gap filling. (Numerical analysis due to move to the core,
+issue 24 item 3.)"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gyrobias.io import _store
+from gyrobias.io._store import Store
+from gyrobias.io._types import SamplingReport
+
+#: Intervals longer than this multiple of the median interval count as gaps.
+GAP_FACTOR = 1.5
+#: A user-given ``fs`` differing from the timestamps' estimate by more than this (relative) is reported.
+FS_TOLERANCE = 0.01
+#: Relative jitter (s.d. of the regular intervals / median interval) above which a warning is given.
+JITTER_WARN = 0.01
+#: ``time_unit="auto"`` reads timestamps as nanoseconds when the median interval is at least this.
+NS_THRESHOLD = 1e3
+
+_PER_SECOND = {"s": 1.0, "ms": 1e3, "us": 1e6, "ns": 1e9}
+_TIME_UNITS = ("auto", "s", "ms", "us", "ns")
+
+
+def _time_seconds(
+    p: Path, t_raw: NDArray[Any], t_name: str, time_unit: str, line_of: Any, store: Store
+) -> tuple[NDArray[np.float64], NDArray[np.float64], float, str, bool]:
+    """Timestamps (finite, in order: see :func:`_repair`) → seconds since the first sample.
+
+    Returns ``(time, intervals, start, unit, guessed)``; ``time`` and ``intervals`` are
+    written block by block into arrays spilled with the samples (no full-length temporary).
+    """
+    n = len(t_raw)
+    unit = time_unit
+    guessed = False
+    if unit == "auto":
+        m = re.search(r"_(s|ms|us|ns)$", t_name.lower())
+        if m:
+            unit = m.group(1)
+        else:
+            steps = np.diff(t_raw)  # exact in int64 for integer stamps
+            positive = steps[steps > 0]
+            del steps
+            median = float(np.median(positive, overwrite_input=True)) if positive.size else 0.0
+            del positive
+            unit = "ns" if median >= NS_THRESHOLD else "s"
+            guessed = True
+    per_second = _PER_SECOND[unit]  # dividing by an exact power of ten rounds correctly
+    # Block by block into arrays that are spilled with the samples (store.vector).
+    # The intervals from the raw differences: exact for integer stamps, so a perfectly
+    # regular nanosecond log has exactly zero jitter.
+    first = t_raw[0]
+    intervals = store.vector(max(n - 1, 0))
+    # The raw stamps are the loader's own copy and not needed afterwards: the seconds overwrite
+    # them in place when they are 8-byte numbers (int64 or float64), one column less at peak.
+    in_place = t_raw.dtype in (np.dtype(np.int64), np.dtype(np.float64)) and t_raw.flags.writeable
+    time = t_raw.view(np.float64) if in_place else store.vector(n)
+    previous = None  # the raw stamp before the block (already overwritten in place)
+    for sl in _store.blocks(n):
+        chunk = t_raw[sl]
+        rel = chunk - first  # exact in int64 for integer stamps
+        last = chunk[-1]
+        if previous is not None:
+            intervals[sl.start - 1] = (chunk[0] - previous) / per_second
+        if chunk.size > 1:
+            steps = np.diff(chunk).astype(np.float64)
+            steps /= per_second
+            intervals[sl.start : sl.stop - 1] = steps
+        converted = rel.astype(np.float64) if rel.dtype != np.float64 else rel
+        converted /= per_second
+        time[sl] = converted
+        previous = last
+    return time, intervals, float(first) / per_second, unit, guessed
+
+
+def _std_in_place(x: NDArray[np.float64]) -> float:
+    """``np.std(x)`` computed in ``x`` itself (overwritten): the same operations in the same
+    order as NumPy's ``_var`` (sum / n, subtract, square, sum / n, sqrt), hence the same bits,
+    without its full-length temporary."""
+    mean = np.add.reduce(x) / x.size
+    x -= mean
+    np.multiply(x, x, out=x)
+    return math.sqrt(np.add.reduce(x) / x.size)
+
+
+def _sampling_report(
+    n: int,
+    time: NDArray[np.float64],
+    steps: NDArray[np.float64],
+    unit: str,
+    fs: float | None,
+    *,
+    unit_guessed: bool = False,
+    fixes: _Fixes | None = None,
+    source_format: str | None = None,
+    filling: bool = False,
+) -> SamplingReport:
+    fixes = fixes if fixes is not None else _Fixes()
+    warnings: list[str] = list(fixes.repairs)
+    duration = float(time[-1])
+    dup_rows = np.flatnonzero(steps == 0) + 1
+    positive = steps[steps > 0]
+    if positive.size == 0:
+        raise ValueError(
+            f"the time column does not advance ({n} samples, all with the same timestamp)"
+        )
+    mean_positive = float(np.mean(positive))
+    median = float(np.median(positive, overwrite_input=True))  # partitions in place: no copy
+    del positive
+    gap_mask = steps > GAP_FACTOR * median
+    gap_rows = np.flatnonzero(gap_mask) + 1
+    gap_durations = steps[gap_mask]
+    regular_mask = steps > 0
+    regular_mask &= ~gap_mask
+    del gap_mask
+    regular = steps[regular_mask]
+    del regular_mask
+    # the mean of the regular intervals: unaffected by gaps like the median, but not stuck on
+    # one quantised interval value; 9 significant digits drop the decimal-rounding noise of
+    # timestamps written as text (0.0100 → 100.00000000000213 Hz)
+    fs_est = float(f"{1.0 / (float(np.mean(regular)) if regular.size else mean_positive):.9g}")
+    jitter = _std_in_place(regular) / median if regular.size > 1 else 0.0
+    del regular
+    missing = int(np.sum(np.rint(gap_durations / median) - 1)) if gap_rows.size else 0
+
+    if gap_rows.size:
+        longest = int(np.argmax(gap_durations))
+        warnings.append(
+            f"{gap_rows.size} gap(s) in the timestamps (intervals > {GAP_FACTOR:g}× the median "
+            f"{median:.6g} s): longest {gap_durations[longest]:.6g} s before row {gap_rows[longest]} "
+            f"(t = {time[gap_rows[longest]]:.6g} s), ~{missing} sample(s) missing; "
+            + (
+                "filled with NaN rows (fill_gaps)"
+                if filling
+                else "the analysis treats the samples as uniformly spaced (fill_gaps=True / --fill-gaps marks them)"
+            )
+        )
+    if dup_rows.size:
+        warnings.append(
+            f"{dup_rows.size} repeated timestamp(s) (zero intervals), first at row {dup_rows[0]}"
+        )
+    if fixes.exact_duplicate_rows.size:
+        warnings.append(
+            f"{fixes.exact_duplicate_rows.size} sample(s) repeat the previous one exactly (same "
+            f"timestamp and values), first at row {fixes.exact_duplicate_rows[0]}; "
+            "repair='dedup' (--repair dedup) drops them"
+        )
+    if jitter > JITTER_WARN:
+        warnings.append(
+            f"sampling jitter {100 * jitter:.3g} % (s.d. of the intervals / median interval) "
+            f"exceeds {100 * JITTER_WARN:g} %"
+        )
+    if unit_guessed and unit == "s" and fs_est < 1.0:
+        warnings.append(
+            f"the timestamps, read as seconds, give fs = {fs_est:.6g} Hz; if they are milliseconds "
+            "or microseconds, pass time_unit (--time-unit)"
+        )
+    source = "timestamps"
+    if fs is not None:
+        source = "user"
+        if abs(fs - fs_est) > FS_TOLERANCE * fs_est:
+            warnings.append(
+                f"given fs = {fs:g} Hz disagrees with the timestamps ({fs_est:.6g} Hz) "
+                f"by {100 * abs(fs - fs_est) / fs_est:.3g} %; using fs = {fs:g} Hz"
+            )
+    return SamplingReport(
+        n_samples=n,
+        fs=fs if fs is not None else fs_est,
+        fs_source=source,
+        fs_estimated=fs_est,
+        median_interval=median,
+        jitter=jitter,
+        time_unit=unit,
+        duration=duration,
+        n_gaps=int(gap_rows.size),
+        gap_rows=gap_rows.astype(np.int64),
+        gap_durations=gap_durations.astype(np.float64),
+        missing_samples=missing,
+        n_duplicates=int(dup_rows.size),
+        duplicate_rows=dup_rows.astype(np.int64),
+        warnings=tuple(warnings),
+        n_out_of_order=int(fixes.out_of_order_rows.size),
+        out_of_order_rows=fixes.out_of_order_rows,
+        n_exact_duplicates=int(fixes.exact_duplicate_rows.size + fixes.dropped),
+        repairs=fixes.repairs,
+        source_format=source_format,
+    )
+
+
+@dataclass(frozen=True)
+class _Fixes:
+    """What :func:`_repair` found and changed."""
+
+    out_of_order_rows: NDArray[np.int64] = field(
+        default_factory=lambda: np.zeros(0, dtype=np.int64)
+    )
+    exact_duplicate_rows: NDArray[np.int64] = field(
+        default_factory=lambda: np.zeros(0, dtype=np.int64)
+    )
+    dropped: int = 0
+    repairs: tuple[str, ...] = ()
+
+
+def _take_rows(
+    table: NDArray[np.float64], rows: NDArray[np.int64], store: Store
+) -> NDArray[np.float64]:
+    """``table[rows]`` copied block by block into a store array."""
+    out = store.empty(len(rows), table.shape[1])
+    for sl in _store.blocks(len(rows)):
+        out[sl] = table[rows[sl]]
+    return out
+
+
+def _repair(
+    p: Path,
+    t_raw: NDArray[Any],
+    table: NDArray[np.float64],
+    t_name: str,
+    repairs: tuple[str, ...],
+    line_of: Any,
+    store: Store,
+) -> tuple[NDArray[Any], NDArray[np.float64], _Fixes]:
+    """Check the timestamps (finite, in order) and apply ``repair=``; never silently."""
+    if t_raw.dtype.kind == "f":
+        for sl in _store.blocks(len(t_raw)):  # block by block: a spilled column stays on disk
+            bad = np.flatnonzero(~np.isfinite(t_raw[sl]))
+            if bad.size:
+                row = sl.start + int(bad[0])
+                where = f"line {line_of(row)}" if line_of else f"row {row}"
+                raise ValueError(f"{p.name}: {t_raw[row]} in the time column '{t_name}' at {where}")
+    done: list[str] = []
+    back = _step_rows(t_raw, np.less)
+    if back.size:
+        row = int(back[0])
+        if "sort" not in repairs:
+            where = f"line {line_of(row)}" if line_of else f"row {row}"
+            raise ValueError(
+                f"{p.name}: timestamps out of order in '{t_name}' at {where} "
+                f"({t_raw[row]} after {t_raw[row - 1]}; {back.size} backward step(s) in all); "
+                "sort the log or fix its clock, or pass repair='sort' (--repair sort)"
+            )
+        order = np.argsort(t_raw, kind="stable")
+        t_raw = _take_stamps(t_raw, order, store)
+        table = _take_rows(table, order, store)
+        done.append(
+            f"sorted by timestamp: {back.size} sample(s) were earlier than the one before them, "
+            f"the first at row {row} (repair='sort')"
+        )
+    exact = np.zeros(0, dtype=np.int64)
+    cand = _step_rows(t_raw, np.equal)
+    if cand.size:
+        same = np.ones(cand.size, dtype=bool)
+        for sl in _store.blocks(cand.size):
+            c = cand[sl]
+            same[sl] = np.all(table[c] == table[c - 1], axis=1)
+        exact = cand[same].astype(np.int64)
+    dropped = 0
+    if exact.size and "dedup" in repairs:
+        keep = np.ones(len(t_raw), dtype=bool)
+        keep[exact] = False
+        rows = np.flatnonzero(keep)
+        t_raw = _take_stamps(t_raw, rows, store)
+        table = _take_rows(table, rows, store)
+        done.append(
+            f"dropped {exact.size} sample(s) repeating the previous one exactly (same timestamp "
+            f"and values), the first at row {exact[0]} (repair='dedup')"
+        )
+        dropped, exact = int(exact.size), np.zeros(0, dtype=np.int64)
+    return t_raw, table, _Fixes(back.astype(np.int64), exact, dropped, tuple(done))
+
+
+def _take_stamps(t_raw: NDArray[Any], rows: NDArray[np.intp], store: Store) -> NDArray[Any]:
+    """``t_raw[rows]`` in a new array of the store (spilled with the samples), block by block."""
+    out = store.vector(len(rows), t_raw.dtype.type)
+    for sl in _store.blocks(len(rows)):
+        out[sl] = t_raw[rows[sl]]
+    return out
+
+
+def _step_rows(t_raw: NDArray[Any], compare: Any) -> NDArray[np.intp]:
+    """Rows ``i ≥ 1`` with ``compare(t[i] − t[i−1], 0)``, found block by block.
+
+    Equal to ``np.flatnonzero(compare(np.diff(t_raw), 0)) + 1`` without a full-length
+    difference array (the stamps of a spilled log stay on disk).
+    """
+    found = []
+    for sl in _store.blocks(len(t_raw)):
+        lo = max(sl.start - 1, 0)
+        steps = np.diff(t_raw[lo : sl.stop])
+        found.append(np.flatnonzero(compare(steps, 0)) + lo + 1)
+    return np.concatenate(found) if found else np.zeros(0, dtype=np.intp)
+
+
+def _fill_gaps(
+    table: NDArray[np.float64], time: NDArray[np.float64], report: SamplingReport, store: Store
+) -> tuple[NDArray[np.float64], NDArray[np.float64], SamplingReport]:
+    """Insert ``round(gap / median) − 1`` NaN rows into each gap, with evenly spaced times."""
+    assert report.median_interval is not None
+    n, k = table.shape
+    missing = np.rint(report.gap_durations / report.median_interval).astype(np.int64) - 1
+    missing = np.maximum(missing, 0)
+    shift = np.zeros(n, dtype=np.int64)
+    shift[report.gap_rows] = missing
+    dest = np.arange(n, dtype=np.int64) + np.cumsum(shift)
+    total = n + int(missing.sum())
+    out = store.empty(total, k)
+    for sl in _store.blocks(total):
+        out[sl] = np.nan
+    for sl in _store.blocks(n):
+        out[dest[sl]] = table[sl]
+    new_time = store.vector(total)
+    new_time[dest] = time
+    for row, count in zip(report.gap_rows.tolist(), missing.tolist()):
+        t0, t1 = time[row - 1], time[row]
+        new_time[dest[row - 1] + 1 : dest[row]] = t0 + (t1 - t0) * np.arange(1, count + 1) / (
+            count + 1
+        )
+    note = f"inserted {int(missing.sum())} NaN row(s) for the samples missing in {report.n_gaps} gap(s) (fill_gaps)"
+    report = replace(
+        report,
+        filled_samples=int(missing.sum()),
+        repairs=(*report.repairs, note),
+    )
+    return out, new_time, report

@@ -1,0 +1,72 @@
+"""IEEE-952 noise coefficients of rate sensors: simulation, identification, units and exports.
+
+The five-term model of the Allan variance of a rate signal (IEEE Std 952-1997 Annex C,
+[NR] Table 1) is::
+
+    σ²(τ) = 3Q²/τ² + N²/τ + (0.664282·B)² + K²τ/3 + R²τ²/2
+
+with quantisation ``Q``, angle random walk ``N`` (ARW; velocity random walk VRW for an
+accelerometer), bias instability ``B`` (flicker rate noise, two-sided PSD ``B²/(2πf)``; the
+plateau factor is ``√(2 ln 2 / π) = 0.664282``), rate random walk ``K`` (RRW) and rate ramp ``R``.
+
+Coefficients are stored in the base units of the data: for a rate in ``u/s`` (u = deg or rad)
+``Q`` is in u, ``N`` in u/√s, ``B`` in u/s, ``K`` in u/s^1.5 and ``R`` in u/s².
+
+The package, by task:
+
+- **Coefficients** (:mod:`gyrobias.noise._types`, value types only): :class:`NoiseCoefficients`,
+  :class:`Term`, :class:`GaussMarkovTerm`, :class:`FitDiagnostics`, :data:`TERM_NAMES`,
+  :data:`FLICKER_FACTOR`.
+- **Simulation** (:mod:`gyrobias.noise.simulation`): :func:`simulate`.
+- **Identification** (:mod:`gyrobias.noise.fitting`, :mod:`gyrobias.noise.wavelet`): :func:`fit`
+  (joint weighted fit or IEEE read-off on an Allan curve), :func:`gmwm` (wavelet moments on the
+  raw data), :func:`gauss_markov_avar`.
+- **Datasheet values in** (:mod:`gyrobias.datasheet`): :func:`from_datasheet`, :class:`Datasheet`.
+- **Files out** (:mod:`gyrobias.noise.kalibr`): :func:`write_kalibr`; every other estimator
+  format is in :mod:`gyrobias.exports`.
+
+References
+----------
+.. [IEEE952] IEEE Std 952-1997, Annex C; IEEE Std 647-2006.
+.. [SP1065] W. J. Riley, "Handbook of Frequency Stability Analysis", NIST SP 1065 (2008).
+.. [NR] Xue et al., "Noise reduction of MEMS gyroscope based on direct modeling for an angular
+   rate signal", Micromachines 6 (2015) 266, Table 1.
+"""
+
+# Datasheet values in (issue 13): gyrobias.datasheet builds NoiseCoefficients from
+# gyrobias.noise._types, so importing it here closes no cycle.
+from gyrobias.datasheet import Datasheet, from_datasheet  # noqa: I001
+from gyrobias.noise._types import (
+    FLICKER_FACTOR,
+    TERM_NAMES,
+    FitDiagnostics,
+    GaussMarkovTerm,
+    NoiseCoefficients,
+    Term,
+)
+from gyrobias.noise._types import REJECT_P as REJECT_P
+from gyrobias.noise.fitting import fit, gauss_markov_avar
+from gyrobias.noise.kalibr import write_kalibr
+from gyrobias.noise.simulation import simulate
+from gyrobias.noise.wavelet import gmwm
+
+__all__ = [
+    # coefficients
+    "FLICKER_FACTOR",
+    "TERM_NAMES",
+    "FitDiagnostics",
+    "GaussMarkovTerm",
+    "NoiseCoefficients",
+    "Term",
+    # simulation
+    "simulate",
+    # identification
+    "fit",
+    "gauss_markov_avar",
+    "gmwm",
+    # datasheet values in
+    "Datasheet",
+    "from_datasheet",
+    # files out
+    "write_kalibr",
+]

@@ -1,0 +1,701 @@
+"""Noise-coefficient value types: :class:`Term`, :class:`GaussMarkovTerm`,
+:class:`FitDiagnostics`, :class:`NoiseCoefficients` (and the constants they use).
+
+Value types only: no fitting, plotting or export module is imported here. The convenience
+methods ``.plot()``, ``.export()``, ``.discrete()``, ``.conservative()`` and ``.to_kalibr()`` are
+one-line delegations to :mod:`gyrobias._generics`, whose methods the owning modules register.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gyrobias import _core, _files, _generics
+from gyrobias._validation import (
+    choice,
+)
+from gyrobias.units import CUSTOMARY, base_unit, parse_unit
+
+if TYPE_CHECKING:
+    from gyrobias.allan._types import AllanResult
+    from gyrobias.conservative import ConservativeCoefficients
+    from gyrobias.exports import DiscreteNoise
+
+__all__ = [
+    "FLICKER_FACTOR",
+    "REJECT_P",
+    "TERM_NAMES",
+    "FitDiagnostics",
+    "GaussMarkovTerm",
+    "NoiseCoefficients",
+    "Term",
+]
+
+#: Plateau factor of flicker rate noise in the Allan deviation: √(2 ln 2 / π) = 0.664282…
+#: (``gyrocore::noise::FLICKER_FACTOR``, the one definition every layer uses.)
+FLICKER_FACTOR: float = _core.noise.FLICKER_FACTOR
+
+_SYMBOLS = ("Q", "N", "B", "K", "R")
+_GM_SYMBOLS = ("GM", "GM2")
+
+#: p-value below which a fit is reported as rejected by its goodness-of-fit test.
+REJECT_P: float = 0.001
+
+#: Names of the terms for gyroscopes and accelerometers.
+TERM_NAMES: dict[str, dict[str, str]] = {
+    "gyro": {
+        "Q": "quantization noise",
+        "N": "angle random walk (ARW)",
+        "B": "bias instability",
+        "K": "rate random walk (RRW)",
+        "R": "rate ramp",
+    },
+    "accel": {
+        "Q": "velocity quantization",
+        "N": "velocity random walk (VRW)",
+        "B": "bias instability",
+        "K": "acceleration random walk",
+        "R": "acceleration ramp",
+    },
+}
+
+
+@dataclass(frozen=True)
+class Term:
+    """One noise coefficient with its standard uncertainty and unit, or why it is missing.
+
+    Attributes
+    ----------
+    symbol : {"Q", "N", "B", "K", "R"}
+        IEEE-952 symbol.
+    name : str
+        Long name (ARW / VRW etc. depending on the sensor).
+    value : float or None
+        The coefficient in ``unit``; ``None`` when the term is missing.
+    uncertainty : float or None
+        Standard (1σ) uncertainty in ``unit``.
+    unit : str or None
+        Unit of ``value`` and ``uncertainty`` (``None`` if the data unit is unknown).
+    tau_range : (float, float) or None
+        τ range in seconds of the Allan points that determined the term (read-off: the slope
+        region used; joint fit: where the term is ≥ 10 % of the fitted variance).
+    marker : (float, float) or None
+        (τ [s], σ [data unit]) of the read-off point on an Allan plot: on the term's asymptote at
+        τ = √3, 1, 3, √2 s for Q, N, K, R; at the minimum (σ = 0.664·B) for B.
+    missing : str or None
+        Why the term is missing (``value is None``).
+    """
+
+    symbol: str
+    name: str
+    value: float | None
+    uncertainty: float | None
+    unit: str | None
+    tau_range: tuple[float, float] | None = None
+    marker: tuple[float, float] | None = None
+    missing: str | None = None
+
+    @classmethod
+    def _from_core(cls, raw: Mapping[str, Any], name: str, unit: str | None) -> Term:
+        """The one place a :class:`Term` is built from the core's ``TermEstimate``."""
+        return cls(
+            symbol=raw["symbol"],
+            name=name,
+            value=raw["value"],
+            uncertainty=raw["uncertainty"],
+            unit=unit,
+            tau_range=raw["tau_range"],
+            marker=raw["marker"],
+            missing=raw["missing"],
+        )
+
+    @property
+    def present(self) -> bool:
+        """True when the term was identified."""
+        return self.value is not None
+
+    def to(self, unit: str) -> Term:
+        """This term converted to ``unit`` (e.g. ``"deg/h"``, ``"rad/s/√Hz"``).
+
+        Raises
+        ------
+        ValueError
+            Unknown unit (the message lists the valid symbols and customary units), a unit of
+            another dimension, or a term whose data unit is unknown.
+        """
+        if self.unit is None:
+            raise ValueError(
+                f"term {self.symbol} has no unit (the data unit was not given): pass units= to the "
+                "Allan analysis or unit= to gyrobias.noise.fit"
+            )
+        target = parse_unit(unit)
+        source = parse_unit(self.unit)
+        if target.dims != source.dims:
+            raise ValueError(
+                f"cannot express {self.symbol} ({self.name}, in {self.unit}) in {unit!r}: different "
+                f"dimensions; customary units for it: "
+                + ", ".join(
+                    sorted(
+                        {
+                            s[self.symbol]
+                            for k in CUSTOMARY.values()
+                            for s in k.values()
+                            if self.symbol in s
+                        }
+                    )
+                )
+            )
+        f = source.factor / target.factor
+        return replace(
+            self,
+            value=None if self.value is None else self.value * f,
+            uncertainty=None if self.uncertainty is None else self.uncertainty * f,
+            unit=unit,
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {
+            "symbol": self.symbol,
+            "name": self.name,
+            "value": self.value,
+            "uncertainty": self.uncertainty,
+            "unit": self.unit,
+            "tau_range_s": None if self.tau_range is None else list(self.tau_range),
+            "missing": self.missing,
+        }
+
+    def __str__(self) -> str:
+        unit = f" {self.unit}" if self.unit else ""
+        if self.value is None:
+            return f"{self.symbol} ({self.name}): missing — {self.missing}"
+        if self.uncertainty is None:  # datasheet values and conservative sets carry none
+            return f"{self.symbol} ({self.name}) = {self.value:.4g}{unit}"
+        return f"{self.symbol} ({self.name}) = {self.value:.4g} ± {self.uncertainty:.2g}{unit}"
+
+
+@dataclass(frozen=True)
+class GaussMarkovTerm:
+    """A first-order Gauss–Markov (exponentially correlated) rate term.
+
+    The process has autocovariance ``σ² exp(−|t|/T)`` and the Allan variance
+    ``σ²(τ) = (σ²T²/τ²)(2τ/T − 3 + 4e^{−τ/T} − e^{−2τ/T})`` (IEEE Std 952-1997 Annex C).
+
+    Attributes
+    ----------
+    sigma : Term
+        Standard deviation σ of the process (rate unit of the data, e.g. deg/s).
+    correlation_time : Term
+        Correlation time T in seconds (the bias correlation time of an INS filter's
+        first-order Gauss–Markov state).
+    tau_range : (float, float) or None
+        τ range (s) of the Allan points where the term is ≥ 10 % of the fitted variance.
+    missing : str or None
+        Why the term is missing.
+    """
+
+    sigma: Term
+    correlation_time: Term
+    tau_range: tuple[float, float] | None = None
+    missing: str | None = None
+
+    @classmethod
+    def _from_core(
+        cls, raw: Mapping[str, Any], index: int, rate_unit: str | None
+    ) -> GaussMarkovTerm:
+        """The one place a :class:`GaussMarkovTerm` is built from the core's ``GaussMarkovTerm``
+        (the ``index``-th component: symbol ``GM``, ``GM2``, …)."""
+        symbol = "GM" if index == 0 else f"GM{index + 1}"
+        rng = (
+            None
+            if raw["tau_range"] is None
+            else (float(raw["tau_range"][0]), float(raw["tau_range"][1]))
+        )
+        return cls(
+            sigma=Term(
+                symbol,
+                "Gauss–Markov σ",
+                raw["sigma"],
+                raw["sigma_uncertainty"],
+                rate_unit,
+                rng,
+                None,
+                raw["missing"],
+            ),
+            correlation_time=Term(
+                symbol,
+                "Gauss–Markov correlation time",
+                raw["correlation_time"],
+                raw["correlation_time_uncertainty"],
+                "s",
+                rng,
+                None,
+                raw["missing"],
+            ),
+            tau_range=rng,
+            missing=raw["missing"],
+        )
+
+    @property
+    def present(self) -> bool:
+        """True when the term was identified."""
+        return self.sigma.value is not None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {
+            "sigma": self.sigma.to_dict(),
+            "correlation_time": self.correlation_time.to_dict(),
+            "tau_range_s": None if self.tau_range is None else list(self.tau_range),
+            "missing": self.missing,
+        }
+
+    def __str__(self) -> str:
+        if not self.present:
+            return f"{self.sigma.symbol} (Gauss–Markov): missing — {self.missing}"
+        tc = self.correlation_time
+        spread = f" ± {tc.uncertainty:.2g}" if tc.uncertainty is not None else ""
+        return f"{self.sigma} with correlation time {tc.value:.4g}{spread} s"
+
+
+@dataclass(frozen=True)
+class FitDiagnostics:
+    """Goodness of fit of an identification and what it left out.
+
+    Attributes
+    ----------
+    chi2 : float
+        Generalised chi-square ``zᵀR⁻¹z`` of the standardised log-ratio residuals ``z`` with the
+        model correlation ``R`` of the Allan estimates (see :func:`fit`, Notes).
+    dof : int
+        Degrees of freedom (points used − fitted parameters).
+    p_value : float
+        Probability of a χ² at least this large if the model were right (NaN without degrees of
+        freedom). Below 0.001 the fit is rejected and :attr:`warnings` says so.
+    residuals : ndarray
+        Standardised residual of each Allan point (about N(0, 1) if the model holds; NaN where
+        the point was excluded).
+    taus : ndarray
+        τ (s) of each residual.
+    tau_range : (float, float)
+        τ range (s) of the points used.
+    excluded : tuple of (float, float, str)
+        Excluded τ ranges (s) with the reason.
+    warnings : tuple of str
+        Plain sentences about anything to know before trusting the numbers.
+    """
+
+    chi2: float
+    dof: int
+    p_value: float
+    residuals: NDArray[np.float64] = field(repr=False, compare=False)
+    taus: NDArray[np.float64] = field(repr=False, compare=False)
+    tau_range: tuple[float, float]
+    excluded: tuple[tuple[float, float, str], ...] = ()
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def passed(self) -> bool:
+        """True unless the goodness-of-fit test rejects the model (p < 0.001)."""
+        return not (self.p_value < REJECT_P)
+
+    @classmethod
+    def _from_core(cls, raw: Mapping[str, Any], taus: NDArray[np.float64]) -> FitDiagnostics:
+        """The one place :class:`FitDiagnostics` are built from the core's ``Diagnostics``."""
+        return cls(
+            chi2=float(raw["chi2"]),
+            dof=int(raw["dof"]),
+            p_value=float(raw["p_value"]),
+            residuals=np.asarray(raw["residuals"], dtype=np.float64),
+            taus=np.asarray(taus, dtype=np.float64).copy(),
+            tau_range=(float(raw["tau_range"][0]), float(raw["tau_range"][1])),
+            excluded=tuple((float(a), float(b), str(r)) for a, b, r in raw["excluded"]),
+            warnings=tuple(str(w) for w in raw["warnings"]),
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (NaN residuals become ``None``)."""
+        return {
+            "chi2": self.chi2,
+            "dof": self.dof,
+            "p_value": None if not np.isfinite(self.p_value) else self.p_value,
+            "passed": self.passed,
+            "tau_range_s": list(self.tau_range),
+            "residuals": [None if not np.isfinite(v) else float(v) for v in self.residuals],
+            "taus_s": [float(t) for t in self.taus],
+            "excluded": [
+                {"tau_low_s": a, "tau_high_s": b, "reason": r} for a, b, r in self.excluded
+            ],
+            "warnings": list(self.warnings),
+        }
+
+    def summary(self) -> str:
+        """Plain-text lines: the test, the excluded ranges and the warnings."""
+        verdict = "passed" if self.passed else "REJECTED"
+        lines = [
+            f"  goodness of fit: χ² = {self.chi2:.4g}, ν = {self.dof}, p = {self.p_value:.3g} ({verdict})"
+        ]
+        for a, b, r in self.excluded:
+            lines.append(f"  excluded τ {a:.3g}–{b:.3g} s: {r}")
+        for w in self.warnings:
+            lines.append(f"  WARNING: {w}")
+        return "\n".join(lines)
+
+    def __str__(self) -> str:
+        return self.summary()
+
+
+@dataclass(frozen=True)
+class NoiseCoefficients:
+    """IEEE-952 noise coefficients identified from one Allan curve.
+
+    Attributes
+    ----------
+    Q, N, B, K, R : Term
+        Quantisation, angle (velocity) random walk, bias instability, rate (acceleration) random
+        walk and rate ramp. Values in the base units of the data unless converted with
+        :meth:`to`.
+    method : {"joint", "ieee"}
+        Identification method.
+    data_unit : str or None
+        Unit of the rate data (``"deg/s"``, ``"rad/s"``, ``"m/s^2"``, …).
+    sensor : {"gyro", "accel"} or None
+        Derived from ``data_unit``.
+    fs : float
+        Sample rate of the data in Hz.
+    axis : str or None
+        Axis name.
+    tau_range : (float, float)
+        τ range (s) of the Allan points the identification used.
+    edf_source : str
+        Where the weights' EDF came from: ``"noise identification"`` (the Allan result's EDF)
+        or ``"SP1065 simple approximation"``.
+    chi2, dof : float or None, int or None
+        Weighted residual sum of squares and degrees of freedom of the joint fit.
+    squared : tuple of float or None
+        Fitted Q², N², B², K², R² in base units (joint fit), used to draw the model.
+    gauss_markov : tuple of GaussMarkovTerm
+        First-order Gauss–Markov terms (``terms`` containing ``"GM"``/``"GM2"``), sorted by
+        correlation time.
+    diagnostics : FitDiagnostics or None
+        Goodness of fit, excluded τ ranges and warnings (always set by :func:`fit` and
+        :func:`gmwm`; ``None`` only for coefficients that did not come from data).
+    allan : AllanResult or None
+        The curve the coefficients came from (for plotting).
+    """
+
+    Q: Term
+    N: Term
+    B: Term
+    K: Term
+    R: Term
+    method: str
+    data_unit: str | None
+    sensor: str | None
+    fs: float
+    tau_range: tuple[float, float]
+    edf_source: str
+    axis: str | None = None
+    chi2: float | None = None
+    dof: int | None = None
+    squared: tuple[float, float, float, float, float] | None = None
+    gauss_markov: tuple[GaussMarkovTerm, ...] = ()
+    diagnostics: FitDiagnostics | None = None
+    allan: AllanResult | None = field(default=None, repr=False, compare=False)
+
+    @classmethod
+    def _from_core(
+        cls,
+        raw: Mapping[str, Any],
+        diagnostics: Mapping[str, Any],
+        taus: NDArray[np.float64],
+        *,
+        method: str,
+        data_unit: str | None,
+        sensor: str | None,
+        fs: float,
+        axis: str | None,
+        edf_source: str,
+        allan: AllanResult | None,
+    ) -> NoiseCoefficients:
+        """The one place :class:`NoiseCoefficients` are built from the core's output.
+
+        ``raw`` is the binding's ``JointFit`` or ``Gmwm`` (terms, Gauss–Markov components,
+        χ², fitted squares, τ range) or ``ReadOff`` (terms only: the τ range is then the
+        curve's, ``taus[0]``…``taus[-1]``); ``diagnostics`` the matching ``Diagnostics``.
+        """
+        names = TERM_NAMES[sensor or "gyro"]
+        built = {
+            d["symbol"]: Term._from_core(
+                d,
+                names[d["symbol"]],
+                None if data_unit is None else base_unit(data_unit, d["symbol"]),
+            )
+            for d in raw["terms"]
+        }
+        rate_unit = None if data_unit is None else base_unit(data_unit, "B")
+        joint = "chi2" in raw
+        return cls(
+            Q=built["Q"],
+            N=built["N"],
+            B=built["B"],
+            K=built["K"],
+            R=built["R"],
+            method=method,
+            data_unit=data_unit,
+            sensor=sensor,
+            fs=fs,
+            axis=axis,
+            edf_source=edf_source,
+            allan=allan,
+            tau_range=tuple(raw["tau_range"]) if joint else (float(taus[0]), float(taus[-1])),
+            chi2=float(raw["chi2"]) if joint else None,
+            dof=int(raw["dof"]) if joint else None,
+            squared=tuple(float(v) for v in raw["squared"]) if joint else None,  # type: ignore[arg-type]
+            gauss_markov=tuple(
+                GaussMarkovTerm._from_core(g, k, rate_unit)
+                for k, g in enumerate(raw.get("gauss_markov", ()))
+            ),
+            diagnostics=FitDiagnostics._from_core(diagnostics, taus),
+        )
+
+    @property
+    def terms(self) -> tuple[Term, Term, Term, Term, Term]:
+        """(Q, N, B, K, R)."""
+        return (self.Q, self.N, self.B, self.K, self.R)
+
+    def __getitem__(self, symbol: str) -> Term:
+        return {"Q": self.Q, "N": self.N, "B": self.B, "K": self.K, "R": self.R}[
+            choice("symbol", symbol, _SYMBOLS)
+        ]
+
+    @property
+    def quantization(self) -> Term:
+        """Q."""
+        return self.Q
+
+    @property
+    def arw(self) -> Term:
+        """N (angle random walk; VRW for an accelerometer)."""
+        return self.N
+
+    @property
+    def bias_instability(self) -> Term:
+        """B."""
+        return self.B
+
+    @property
+    def rrw(self) -> Term:
+        """K (rate random walk)."""
+        return self.K
+
+    @property
+    def rate_ramp(self) -> Term:
+        """R."""
+        return self.R
+
+    def to(self, system: str | Mapping[str, str] = "ieee") -> NoiseCoefficients:
+        """Coefficients converted to customary units.
+
+        Parameters
+        ----------
+        system : {"ieee", "si", "kalibr", "base"} or mapping
+            ``"ieee"``: gyro Q deg, N deg/√h, B deg/h, K deg/h^1.5, R deg/h²; accelerometer
+            Q m/s, N m/s/√h, B mg, K m/s/h^1.5, R m/s/h². ``"si"`` (= ``"kalibr"``): gyro rad,
+            rad/s/√Hz, rad/s, rad/s²/√Hz, rad/s²; accelerometer m/s, m/s²/√Hz, m/s², m/s³/√Hz,
+            m/s³. ``"base"``: the data's base units. A mapping such as
+            ``{"N": "deg/√h", "B": "deg/h"}`` converts only the terms it names.
+
+        Raises
+        ------
+        ValueError
+            Unknown system or unit string (listing the valid ones), unknown data unit.
+        """
+        if isinstance(system, str):
+            choice("system", system, ("ieee", "si", "kalibr", "base"))
+            if self.data_unit is None or self.sensor is None:
+                raise ValueError(
+                    "the data unit is unknown: pass units= to the Allan analysis (e.g. 'deg/s') "
+                    "or unit= to gyrobias.noise.fit"
+                )
+            if system == "base":
+                mapping = {s: base_unit(self.data_unit, s) for s in _SYMBOLS}
+            else:
+                mapping = CUSTOMARY[self.sensor][system]
+        else:
+            mapping = dict(system)
+            for key in mapping:
+                choice("system key", key, _SYMBOLS)
+        conv = {s: self[s].to(mapping[s]) if s in mapping else self[s] for s in _SYMBOLS}
+        gm = self.gauss_markov
+        if "B" in mapping:  # σ of a Gauss–Markov term has the dimension of B (a rate)
+            gm = tuple(
+                replace(g, sigma=g.sigma.to(mapping["B"])) if g.sigma.unit is not None else g
+                for g in gm
+            )
+        return replace(
+            self, Q=conv["Q"], N=conv["N"], B=conv["B"], K=conv["K"], R=conv["R"], gauss_markov=gm
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary with units and conventions stated."""
+        return {
+            "method": self.method,
+            "axis": self.axis,
+            "sensor": self.sensor,
+            "data_unit": self.data_unit,
+            "fs_hz": self.fs,
+            "tau_range_s": list(self.tau_range),
+            "edf_source": self.edf_source,
+            "chi2": self.chi2,
+            "dof": self.dof,
+            "model": "sigma^2(tau) = 3Q^2/tau^2 + N^2/tau + (0.664282 B)^2 + K^2 tau/3 + R^2 tau^2/2"
+            " + sum_k sigma_k^2 T_k^2/tau^2 (2 tau/T_k - 3 + 4 exp(-tau/T_k) - exp(-2 tau/T_k))",
+            "psd_convention": "two-sided (IEEE 952): white rate noise of per-sample std s at period t0 has N = s*sqrt(t0)",
+            "uncertainty": "standard (1 sigma)",
+            "terms": {t.symbol: t.to_dict() for t in self.terms},
+            "gauss_markov": [g.to_dict() for g in self.gauss_markov],
+            "diagnostics": None if self.diagnostics is None else self.diagnostics.to_dict(),
+        }
+
+    def to_json(self, path: str | os.PathLike[str] | None = None, **kwargs: Any) -> str:
+        """:meth:`to_dict` as JSON; also written to ``path`` when given."""
+        kwargs.setdefault("indent", 2)
+        text = json.dumps(self.to_dict(), **kwargs)
+        if path is not None:
+            _files.atomic_write(path, text + "\n")
+        return text
+
+    def summary(self) -> str:
+        """A plain-text table of the coefficients with uncertainties, units and τ ranges."""
+        sensor = self.sensor or "sensor"
+        axis = f" axis {self.axis}" if self.axis else ""
+        lines = [
+            f"Noise coefficients{axis} ({sensor}, {self.method} identification, "
+            f"τ {self.tau_range[0]:.3g}–{self.tau_range[1]:.3g} s, EDF: {self.edf_source})"
+        ]
+        names = TERM_NAMES.get(self.sensor or "gyro", TERM_NAMES["gyro"])
+        for t in self.terms:
+            label = f"  {t.symbol}  {names[t.symbol]:<27}"
+            if t.value is None:
+                lines.append(f"{label} missing: {t.missing}")
+                continue
+            unc = f"{t.uncertainty:.2g}" if t.uncertainty is not None else "?"
+            rng = f"  (τ {t.tau_range[0]:.3g}–{t.tau_range[1]:.3g} s)" if t.tau_range else ""
+            if t.uncertainty is not None and t.value < 2.0 * t.uncertainty:
+                rng += "  not significant (< 2σ)"
+            lines.append(f"{label} {t.value:12.5g} ± {unc:<8} {t.unit or '':<12}{rng}")
+        for g in self.gauss_markov:
+            label = f"  {g.sigma.symbol:<3}{'Gauss–Markov σ, T':<26}"
+            if not g.present:
+                lines.append(f"{label} missing: {g.missing}")
+                continue
+            t = g.correlation_time
+            lines.append(
+                f"{label} {g.sigma.value:12.5g} ± {g.sigma.uncertainty or float('nan'):<8.2g} "
+                f"{g.sigma.unit or '':<12}  T = {t.value:.4g} ± {t.uncertainty or float('nan'):.2g} s"
+            )
+        if self.diagnostics is not None:
+            lines.append(self.diagnostics.summary())
+        return "\n".join(lines)
+
+    def __str__(self) -> str:
+        return self.summary()
+
+    def to_kalibr(
+        self,
+        path: str | os.PathLike[str],
+        *,
+        update_rate: float | None = None,
+        rostopic: str = "/imu0",
+    ) -> str:
+        """Write a Kalibr ``imu.yaml`` with this axis' coefficients (see :func:`write_kalibr`)."""
+        return _generics.to_kalibr(self, path, update_rate=update_rate, rostopic=rostopic)
+
+    # Estimator parameters (issue 13): thin delegations to gyrobias.conservative/exports.
+    def conservative(
+        self, confidence: float = 0.95, *, terms: Iterable[str] | None = None
+    ) -> ConservativeCoefficients:
+        """Coefficients whose model overbounds the curve's upper confidence bound at every τ.
+
+        See :func:`gyrobias.conservative.conservative` (Lethander & Taylor 2023).
+        """
+        return _generics.conservative(self, confidence, terms=terms)  # type: ignore[no-any-return]
+
+    def export(
+        self,
+        fmt: str,
+        path: str | os.PathLike[str] | None = None,
+        *,
+        accel: NoiseCoefficients | Sequence[NoiseCoefficients] | None = None,
+        rate: float | None = None,
+        rostopic: str = "/imu0",
+    ) -> str:
+        """Write an estimator parameter file (kalibr, openvins, vins, orbslam3, liosam, matlab, json).
+
+        See :func:`gyrobias.exports.export`.
+        """
+        return _generics.export(self, fmt, path, accel=accel, rate=rate, rostopic=rostopic)
+
+    def discrete(self, rate: float) -> DiscreteNoise:
+        """Per-sample noise parameters at ``rate`` Hz (see :func:`gyrobias.exports.discrete`)."""
+        return _generics.discrete(self, rate)  # type: ignore[no-any-return]
+
+    def model(self, taus: Any) -> tuple[NDArray[np.float64], dict[str, NDArray[np.float64]]]:
+        """Model Allan deviation at ``taus`` and each term's asymptote (data units).
+
+        For the read-off, the model is built from the identified coefficients (missing terms
+        count as zero).
+        """
+        t = np.ascontiguousarray(np.asarray(taus, dtype=np.float64))
+        squared = self._squared_base()
+        total, parts = _core.noise.model(squared, t)
+        out = {s: np.sqrt(p) for s, p in zip(_SYMBOLS, parts)}
+        gm = self._gauss_markov_base()
+        if gm:
+            for g, v in zip(self.gauss_markov, _core.noise.gauss_markov_variance(gm, t)):
+                total = total + v
+                out[g.sigma.symbol] = np.sqrt(v)
+        return np.sqrt(total), out
+
+    def _gauss_markov_base(self) -> list[tuple[float, float]]:
+        base = self.to("base") if self.data_unit is not None else self
+        return [
+            (float(g.sigma.value) ** 2, float(g.correlation_time.value))
+            for g in base.gauss_markov
+            if g.sigma.value is not None and g.correlation_time.value is not None
+        ]
+
+    def _squared_base(self) -> list[float]:
+        if self.squared is not None:
+            return list(self.squared)
+        base = self.to("base") if self.data_unit is not None else self
+        return [0.0 if t.value is None else float(t.value) ** 2 for t in base.terms]
+
+    def plot(
+        self, ax: Any = None, *, allan: AllanResult | None = None, show_data: bool = True
+    ) -> Any:
+        """Draw the fitted model, each term's asymptote and the labelled read-off points.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Axes to draw on (a new figure otherwise).
+        allan : AllanResult, optional
+            The Allan curve to draw beneath (defaults to the one the coefficients came from).
+        show_data : bool
+            Draw the Allan deviation points (set False when the caller has drawn them).
+
+        Returns
+        -------
+        matplotlib Axes
+            Drawn by :func:`gyrobias.plotting.plot_noise_model`.
+        """
+        return _generics.plot(self, ax, allan=allan, show_data=show_data)

@@ -1,0 +1,336 @@
+"""Identification of the IEEE-952 coefficients from an Allan curve: the joint weighted fit and
+the IEEE read-off (:func:`fit`), and the Gauss–Markov Allan variance."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, overload
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gyrobias import _core
+from gyrobias._validation import (
+    as_float_array,
+    boolean,
+    choice,
+    integer,
+    real,
+)
+from gyrobias.noise._types import (
+    _GM_SYMBOLS,
+    _SYMBOLS,
+    NoiseCoefficients,
+)
+from gyrobias.units import sensor_kind
+
+if TYPE_CHECKING:
+    from gyrobias.allan import AllanResult
+
+
+def gauss_markov_avar(sigma: float, correlation_time: float, taus: Any) -> NDArray[np.float64]:
+    """Allan variance of a first-order Gauss–Markov rate process.
+
+    Parameters
+    ----------
+    sigma : float
+        Standard deviation σ of the process (rate unit u, e.g. deg/s).
+    correlation_time : float
+        Correlation time T in seconds (autocovariance ``σ² exp(−|t|/T)``).
+    taus : array_like
+        Averaging times τ in seconds.
+
+    Returns
+    -------
+    ndarray
+        ``σ²_A(τ) = (σ²T²/τ²)(2τ/T − 3 + 4e^{−τ/T} − e^{−2τ/T})`` in u².
+
+    Notes
+    -----
+    From the angle-increment variance ``V(t) = 2σ²T(t − T(1 − e^{−t/T}))`` and
+    ``σ²_A(τ) = (4V(τ) − V(2τ))/(2τ²)`` (IEEE Std 952-1997 Annex C). Limits: white noise
+    ``2σ²T/τ`` for τ ≫ T, random walk ``(2σ²/T)·τ/3`` for τ ≪ T; the maximum is ≈ (0.618 σ)² at
+    τ ≈ 1.89 T. Evaluated without cancellation (power series for τ < T/2).
+
+    Examples
+    --------
+    >>> import gyrobias
+    >>> v = gyrobias.noise.gauss_markov_avar(1.0, 10.0, [1e4])
+    >>> round(float(v[0]) * 1e4 / (2 * 10.0), 4)  # 1 − 3T/(2τ) of the white noise 2σ²T/τ
+    0.9985
+    """
+    tau = as_float_array("taus", np.atleast_1d(np.asarray(taus, dtype=np.float64)), ndims=(1,))
+    return _core.noise.gauss_markov_avar(
+        real("sigma", sigma), real("correlation_time", correlation_time), tau
+    )
+
+
+def _edf_source(result: AllanResult) -> str:
+    return "noise identification" if result.edf is not None else "SP1065 simple approximation"
+
+
+@overload
+def fit(
+    allan: AllanResult,
+    *,
+    method: str = ...,
+    terms: Iterable[str] = ...,
+    tau_range: tuple[float, float] | None = ...,
+    regions: Mapping[str, tuple[float, float]] | None = ...,
+    slope_tolerance: float = ...,
+    min_points: int = ...,
+    unit: str | None = ...,
+    correlation_time: tuple[float, float] | None = ...,
+    auto_range: bool = ...,
+) -> NoiseCoefficients: ...
+
+
+@overload
+def fit(
+    allan: Sequence[AllanResult],
+    *,
+    method: str = ...,
+    terms: Iterable[str] = ...,
+    tau_range: tuple[float, float] | None = ...,
+    regions: Mapping[str, tuple[float, float]] | None = ...,
+    slope_tolerance: float = ...,
+    min_points: int = ...,
+    unit: str | None = ...,
+    correlation_time: tuple[float, float] | None = ...,
+    auto_range: bool = ...,
+) -> tuple[NoiseCoefficients, ...]: ...
+
+
+def fit(
+    allan: AllanResult | Sequence[AllanResult],
+    *,
+    method: str = "joint",
+    terms: Iterable[str] = _SYMBOLS,
+    tau_range: tuple[float, float] | None = None,
+    regions: Mapping[str, tuple[float, float]] | None = None,
+    slope_tolerance: float = 0.1,
+    min_points: int = 3,
+    unit: str | None = None,
+    correlation_time: tuple[float, float] | None = None,
+    auto_range: bool = True,
+) -> NoiseCoefficients | tuple[NoiseCoefficients, ...]:
+    """Identify the IEEE-952 noise coefficients from an Allan-deviation result.
+
+    Parameters
+    ----------
+    allan : AllanResult or sequence of AllanResult
+        Overlapping or non-overlapping Allan result(s) of rate (or angle) data
+        (``gyrobias.allan.adev``). A sequence gives a tuple, one per axis.
+    method : {"joint", "ieee"}
+        ``"joint"``: weighted non-negative least squares of the model (the better estimator).
+        ``"ieee"``: IEEE-952 read-off from fixed-slope lines on the detected slope regions and B
+        from the minimum.
+    terms : iterable of {"Q", "N", "B", "K", "R", "GM", "GM2"}
+        Terms to identify; the others are reported missing ("not requested"). ``"GM"`` adds a
+        first-order Gauss–Markov term, ``"GM2"`` a second one (joint fit only).
+    tau_range : (float, float), optional
+        Only use Allan points with τ in this range (seconds) for the joint fit; turns the
+        automatic range selection off.
+    regions : mapping, optional
+        ``"ieee"`` only: explicit τ range per term (e.g. ``{"N": (0.02, 2.0)}``) overriding
+        the automatic slope-region detection.
+    slope_tolerance : float
+        ``"ieee"``: allowed deviation of the local log-log slope from the term's slope.
+    min_points : int
+        ``"ieee"``: minimum number of consecutive points of a detected region.
+    unit : str, optional
+        Rate unit of the data when the Allan result does not carry one (``"deg/s"``, ``"rad/s"``,
+        ``"m/s^2"``, ``"g"``, …).
+    correlation_time : (float, float), optional
+        Search range (s) of the Gauss–Markov correlation times; default: the τ range of the
+        points used. It must lie inside the data's τ range.
+    auto_range : bool
+        Joint fit without ``tau_range``: exclude long-τ points with fewer than 3 EDF and, while
+        the goodness-of-fit test rejects the model (p < 0.01), systematic departures at the
+        ends of the curve (Notes). ``False`` fits every point.
+
+    Returns
+    -------
+    NoiseCoefficients or tuple of NoiseCoefficients
+        With :attr:`NoiseCoefficients.diagnostics` (goodness of fit, excluded ranges, warnings)
+        and, for ``"GM"`` terms, :attr:`NoiseCoefficients.gauss_markov`.
+
+    Raises
+    ------
+    ValueError
+        Not an Allan-deviation result (the model is the Allan variance's), constant data
+        (σ = 0 everywhere), fewer than 3 usable points in the fit range, unknown terms, units
+        or methods, a region that contains no τ, a Gauss–Markov term with ``method="ieee"`` or
+        a ``correlation_time`` range outside the data's τ range.
+
+    Notes
+    -----
+    Model: ``σ²(τ) = 3Q²/τ² + N²/τ + (0.664282·B)² + K²τ/3 + R²τ²/2`` plus, per Gauss–Markov
+    term of standard deviation σ and correlation time T,
+    ``(σ²T²/τ²)(2τ/T − 3 + 4e^{−τ/T} − e^{−2τ/T})`` (IEEE Std 952-1997 Annex C; white noise
+    ``N² = 2σ²T`` for τ ≫ T, random walk ``K² = 2σ²/T`` for τ ≪ T).
+
+    *Joint*: linear in ``c = (Q², N², B², K², R², σ_k²) ≥ 0`` for fixed correlation times, which
+    are profiled out (grid and golden-section search in ln T). Weights ``w_i = edf_i/(2σ_i⁴)``
+    (the variance of a chi-square estimate with ``edf_i`` degrees of freedom), with σ_i² the
+    fitted model after the first pass (iteratively reweighted). Exact NNLS over all subsets of
+    terms. Uncertainties from the sandwich covariance with the model correlation between Allan
+    estimates at different τ, inflated by ``max(1, χ²/ν)``, and ``u(√c) = u(c)/(2√c)``. The
+    EDFs are the Allan result's own (``confidence=`` given) or SP1065's simple
+    approximations for the locally dominant noise type.
+
+    *Goodness of fit* (both methods): the log-ratio residuals
+    ``r_i = ln(σ̂²_i/σ²_i) − (ψ(ν_i/2) − ln(ν_i/2))`` (ψ the digamma function) are standardised by
+    ``√ψ'(ν_i/2)`` (``σ̂²/σ² ~ χ²_ν/ν``), and ``χ² = zᵀR⁻¹z`` with ``R`` the model correlation of
+    the estimates is referred to the chi-square law with ``points − parameters`` degrees of
+    freedom. p < 0.001 is reported in ``diagnostics.warnings`` and in the printed summary.
+
+    *Automatic τ range* (joint, default): long-τ points with EDF < 3 are excluded; then, while
+    p < 0.01, the leading run of points with ``z < −2`` (the curve bends below the −½ line at
+    short τ: a sensor's anti-alias/decimation filter correlates the samples) or the trailing
+    run with ``z > 2`` (drift) is excluded and the model refitted, keeping at least half of the
+    points. ``diagnostics.excluded`` says what was dropped and why.
+
+    *IEEE read-off*: local slopes by central differences in log-log; the longest run of points
+    within ``slope_tolerance`` of −1, −½, +½, +1 is fitted with a line of that fixed slope and
+    read at τ = √3, 1, 3, √2 s for Q, N, K, R; ``B = min σ / 0.664282`` when the minimum lies
+    inside the curve. Uncertainty: the relative standard deviation ``1/√(2·edf)`` of the most
+    precise point used. The read-off of B is biased high where the neighbouring asymptotes
+    still contribute at the minimum (SPEC §3: 3.6 instead of 3 deg/h on an 8 h log). Its
+    diagnostics test the read-off model on every point.
+
+    References
+    ----------
+    IEEE Std 952-1997 Annex C; NIST SP 1065 §5 (EDF); [NR] Table 1.
+
+    Examples
+    --------
+    >>> import gyrobias
+    >>> rate = gyrobias.noise.simulate(360_000, 100.0, arw=0.2 / 60, bias_instability=3 / 3600, seed=1)
+    >>> r = gyrobias.allan.adev(rate, 100.0, confidence=None, units="deg/s")
+    >>> c = gyrobias.noise.fit(r).to("ieee")
+    >>> round(c.N.value, 2), c.N.unit
+    (0.2, 'deg/√h')
+    >>> c.diagnostics.passed
+    True
+    """
+    if not hasattr(allan, "avar"):
+        if isinstance(allan, (str, bytes)) or not isinstance(allan, Sequence):
+            raise TypeError(
+                f"allan must be an AllanResult or a sequence of them, got {type(allan).__name__}"
+            )
+        return tuple(
+            fit(
+                a,
+                method=method,
+                terms=terms,
+                tau_range=tau_range,
+                regions=regions,
+                slope_tolerance=slope_tolerance,
+                min_points=min_points,
+                unit=unit,
+                correlation_time=correlation_time,
+                auto_range=auto_range,
+            )
+            for a in allan
+        )
+    result: AllanResult = allan  # type: ignore[assignment]
+    method = choice("method", method, ("joint", "ieee"))
+    if result.kind != "adev":
+        raise ValueError(
+            f"allan must be an Allan-deviation result (kind 'adev'); the five-term model does not "
+            f"hold for kind {result.kind!r}"
+        )
+    term_list = [str(t) for t in terms] if not isinstance(terms, str) else [terms]
+    # The symbols are parsed by the core (noise::parse_model_terms), whose message names terms.
+    data_unit = unit if unit is not None else result.unit
+    sensor: str | None = None
+    if data_unit is not None:
+        sensor = sensor_kind(data_unit)
+    if tau_range is not None:  # low < high: the core's check
+        lo, hi = (real("tau_range", v) for v in tau_range)
+        tau_range = (lo, hi)
+    if correlation_time is not None:
+        try:
+            t_lo, t_hi = (float(v) for v in correlation_time)
+        except (TypeError, ValueError):
+            raise TypeError(
+                f"correlation_time must be a pair (low, high) of seconds, got {correlation_time!r}"
+            ) from None
+        correlation_time = (t_lo, t_hi)
+    auto_range = boolean("auto_range", auto_range)
+    taus = np.ascontiguousarray(result.taus, dtype=np.float64)
+    variance = np.ascontiguousarray(result.avar, dtype=np.float64)
+    # Integer arrays: converted by the binding, which names m / n_terms if an element is
+    # negative, too large or not an integer (a cast to uint64 here would wrap -1 silently).
+    m = result.m
+    n_terms = result.n_terms
+    edf = None if result.edf is None else np.ascontiguousarray(result.edf, dtype=np.float64)
+    raw: Mapping[str, Any]
+    if method == "joint":
+        if regions is not None:
+            raise ValueError(
+                "regions applies to method='ieee' only; use tau_range for the joint fit"
+            )
+        raw = _core.noise.fit(
+            taus,
+            variance,
+            m,
+            n_terms,
+            result.overlapping,
+            edf,
+            term_list,
+            tau_range,
+            correlation_time,
+            auto_range,
+        )
+        diagnostics_raw = raw["diagnostics"]
+    else:
+        if any(t in _GM_SYMBOLS for t in term_list):
+            raise ValueError(
+                "Gauss–Markov terms ('GM', 'GM2') need method='joint' (or gyrobias.noise.gmwm)"
+            )
+        # slope_tolerance > 0 and min_points >= 1 are the core's checks.
+        slope_tolerance = real("slope_tolerance", slope_tolerance)
+        min_points = integer("min_points", min_points)
+        region_list: list[tuple[float, float] | None] = [None] * 5
+        for key, rng in (regions or {}).items():
+            choice("regions key", key, _SYMBOLS)
+            lo, hi = (float(v) for v in rng)
+            region_list[_SYMBOLS.index(key)] = (lo, hi)
+        raw = _core.noise.read_off(
+            taus,
+            variance,
+            m,
+            n_terms,
+            result.overlapping,
+            edf,
+            term_list,
+            region_list,
+            slope_tolerance,
+            int(min_points),
+        )
+        read = [0.0 if d["value"] is None else float(d["value"]) ** 2 for d in raw["terms"]]
+        diagnostics_raw = _core.noise.diagnose(
+            taus,
+            variance,
+            m,
+            n_terms,
+            result.overlapping,
+            edf,
+            read,
+            [],
+            sum(v > 0.0 for v in read),
+        )
+    return NoiseCoefficients._from_core(
+        raw,
+        diagnostics_raw,
+        taus,
+        method=method,
+        data_unit=data_unit,
+        sensor=sensor,
+        fs=result.fs,
+        axis=result.axis,
+        edf_source=_edf_source(result),
+        allan=result,
+    )

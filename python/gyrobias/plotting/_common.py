@@ -1,0 +1,62 @@
+"""Shared by the plotting modules: statistic names, the matplotlib import, atomic saving."""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+from gyrobias._files import atomic_binary
+
+_SYMBOL = {"adev": "σ(τ)", "mdev": "Mod σ(τ)", "hdev": "Hadamard σ(τ)", "totdev": "Tot σ(τ)"}
+_NAME = {"adev": "Allan", "mdev": "modified Allan", "hdev": "Hadamard", "totdev": "total"}
+# The rest of the Allan family (issue 15).
+_SYMBOL.update(
+    {
+        "tdev": "σ_x(τ)",
+        "mtotdev": "Mod σ_total(τ)",
+        "htotdev": "Hadamard σ_total(τ)",
+        "theo1": "Théo1 σ(τ)",
+        "theobr": "ThéoBR σ(τ)",
+        "theoh": "ThéoH σ(τ)",
+    }
+)
+_NAME.update(
+    {
+        "tdev": "time",
+        "mtotdev": "modified total",
+        "htotdev": "Hadamard total",
+        "theo1": "Théo1",
+        "theobr": "bias-removed Théo1",
+        "theoh": "hybrid ThéoH",
+    }
+)
+
+
+def _require_matplotlib() -> Any:
+    try:
+        import matplotlib
+    except ImportError as exc:
+        raise ImportError(
+            "plotting needs matplotlib, which is not installed; install it with "
+            'pip install "gyrobias[plot]" (or pip install matplotlib)'
+        ) from exc
+    return matplotlib
+
+
+def _sensor_title(unit: str | None) -> str:
+    """Panel title of a unit's results: ``"gyroscope [rad/s]"``, ``"accelerometer [m/s^2]"``."""
+    from gyrobias.units import sensor_kind
+
+    try:
+        kind = sensor_kind(unit or "")
+    except ValueError:
+        return f"[{unit}]" if unit else "no unit"
+    return f"{'gyroscope' if kind == 'gyro' else 'accelerometer'} [{unit}]"
+
+
+def _save_atomically(fig: Any, path: str | os.PathLike[str], dpi: int) -> None:
+    """``fig.savefig`` through :func:`gyrobias._files.atomic_binary` (a temporary file beside
+    ``path``, renamed over it); the image format comes from the suffix, as ``savefig(path)``."""
+    suffix = os.path.splitext(os.fspath(path))[1][1:].lower()
+    with atomic_binary(path) as fh:
+        fig.savefig(fh, dpi=dpi, format=suffix or None)

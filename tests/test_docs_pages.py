@@ -1,0 +1,125 @@
+"""Every code example of the documentation pages and of the README runs and prints what it says.
+
+Each ```python block of ``docs/**/*.md`` is in doctest form (``>>>``) and runs here with the
+same runner the docs build uses (and each ``gyrobias …`` line of a ```bash run block runs through
+the CLI and must exit with 0) (docs/_ext/mdexamples.py: one namespace per page, a fresh
+temporary working directory). The README's Python example and its ``gyrobias`` command lines
+run on a small simulated ROS bag written beside them. The gallery scripts are executed by the
+docs build (sphinx-gallery), not here.
+"""
+
+from __future__ import annotations
+
+import re
+import shlex
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+sys.path.insert(0, str(DOCS / "_ext"))
+
+import mdexamples  # noqa: E402
+
+GENERATED = {"cli.md"}
+PAGES = sorted(
+    p
+    for p in DOCS.rglob("*.md")
+    if "_build" not in p.parts
+    and "auto_examples" not in p.parts
+    and p.relative_to(DOCS).as_posix() not in GENERATED
+)
+
+
+@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.relative_to(DOCS).as_posix())
+def test_page_examples_run(page: Path) -> None:
+    result = mdexamples.run_file(page)
+    assert result.failures == [], "\n\n".join(f"line {ln}:\n{r}" for ln, r in result.failures)
+
+
+@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.relative_to(DOCS).as_posix())
+def test_every_python_block_is_an_executed_example(page: Path) -> None:
+    """A ```python block without ``>>>`` would be shown but never run: not allowed."""
+    text = page.read_text(encoding="utf-8")
+    blocks = re.findall(r"^```python\n(.*?)^```", text, flags=re.S | re.M)
+    assert all(b.lstrip().startswith(">>>") for b in blocks)
+
+
+def test_the_runner_reports_a_wrong_output() -> None:
+    """The runner can fail: a wrong expected output and an exception are both reported."""
+    text = "```python\n>>> 1 + 1\n3\n>>> 1 / 0\n```\n"
+    result = mdexamples.run_text(text, "bad.md")
+    assert [ln for ln, _ in result.failures] == [2, 4]
+    assert result.attempted == 2
+
+
+def test_the_runner_runs_bash_run_blocks_and_reports_a_failing_command() -> None:
+    text = (
+        "```bash\ngyrobias allan shown-only.csv\n```\n"  # shown, not run
+        "```bash run\ngyrobias --version\ngyrobias allan missing.csv  # no such file\n```\n"
+    )
+    assert mdexamples.commands(text) == [
+        (5, "gyrobias --version"),
+        (6, "gyrobias allan missing.csv"),
+    ]
+    result = mdexamples.run_text(text, "cli.md")
+    assert result.attempted == 2
+    assert [ln for ln, _ in result.failures] == [6]
+    assert "exit code 2" in result.failures[0][1]
+
+
+def _write_bag(directory: Path) -> None:
+    """A 2-minute, 200 Hz ROS1 bag of a white-noise IMU (gyro in rad/s, accel in m/s²)."""
+    from tests.test_bags import regular, write_bag
+
+    n, fs = 24_000, 200.0
+    rng = np.random.default_rng(5)
+    data = np.empty((n, 6))
+    data[:, :3] = rng.normal(0.0, 2e-3 * np.sqrt(fs), (n, 3))
+    data[:, 3:] = rng.normal(0.0, 3e-2 * np.sqrt(fs), (n, 3))
+    data[:, 5] += 9.81
+    write_bag(directory / "imu", "ros1", regular(n, fs), data)
+
+
+def test_readme_python_examples_run() -> None:
+    pytest.importorskip("rosbags")
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert mdexamples.extract(text), "the README has no Python example"
+    result = mdexamples.run_text(text, "README.md", setup=_write_bag)
+    assert result.failures == [], "\n\n".join(f"line {ln}:\n{r}" for ln, r in result.failures)
+
+
+def test_readme_command_lines_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every ``gyrobias …`` line of the README's shell blocks runs (exit 0) on the bag."""
+    pytest.importorskip("rosbags")
+    from gyrobias.cli import main
+
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    blocks = re.findall(r"^```(?:bash|console|sh)\n(.*?)^```", text, flags=re.S | re.M)
+    lines = [
+        ln.strip() for b in blocks for ln in b.splitlines() if ln.strip().startswith("gyrobias ")
+    ]
+    assert lines, "the README has no gyrobias command line"
+    _write_bag(tmp_path)
+    monkeypatch.chdir(tmp_path)
+    for line in lines:
+        argv = shlex.split(line.split(" #")[0])[1:]
+        if argv[:1] == ["demo"]:
+            argv += ["--hours", "0.05", "--outdir", str(tmp_path / "demo")]
+        assert main([*argv, "--no-progress"] if argv[0] == "allan" else argv) == 0, line
+
+
+def test_readme_test_command_is_the_one_ci_runs() -> None:
+    """The README's test command is, verbatim, the one ``.ci/run`` runs (no drift between them)."""
+    ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8").splitlines()
+    commands = [
+        ln.strip() for ln in ci if ln.strip().startswith("python -m pip install") and "pytest" in ln
+    ]
+    assert commands, ".ci/run has no pip install + pytest command"
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    blocks = re.findall(r"^```bash\n(.*?)^```", readme, flags=re.S | re.M)
+    lines = {ln.strip() for b in blocks for ln in b.splitlines()}
+    assert [c for c in commands if c not in lines] == []
