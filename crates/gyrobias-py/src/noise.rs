@@ -327,7 +327,10 @@ fn fit<'py>(
     d.set_item("chi2", fit.chi2)?;
     d.set_item("dof", fit.dof)?;
     d.set_item("tau_range", fit.tau_range)?;
-    d.set_item("used", fit.used.iter().map(|&u| u as u64).collect::<Vec<_>>())?;
+    d.set_item(
+        "used",
+        fit.used.iter().map(|&u| u as u64).collect::<Vec<_>>(),
+    )?;
     d.set_item("edf", fit.edf.clone().into_pyarray(py))?;
     d.set_item("diagnostics", diagnostics_dict(py, &fit.diagnostics)?)?;
     Ok(d)

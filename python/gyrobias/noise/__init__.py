@@ -22,8 +22,9 @@ The package, by task:
   (joint weighted fit or IEEE read-off on an Allan curve), :func:`gmwm` (wavelet moments on the
   raw data), :func:`gauss_markov_avar`.
 - **Datasheet values in** (:mod:`gyrobias.datasheet`): :func:`from_datasheet`, :class:`Datasheet`.
-- **Files out** (:mod:`gyrobias.noise.kalibr`): :func:`write_kalibr`; every other estimator
-  format is in :mod:`gyrobias.exports`.
+- **Files out**: every estimator format, Kalibr's included, is written by
+  :func:`gyrobias.exports.export` (``gyrobias.exports.write_kalibr`` is its keyword form for
+  Kalibr; ``gyrobias.noise.write_kalibr``, a second Kalibr writer, is gone).
 
 References
 ----------
@@ -46,7 +47,6 @@ from gyrobias.noise._types import (
 )
 from gyrobias.noise._types import REJECT_P as REJECT_P
 from gyrobias.noise.fitting import fit, gauss_markov_avar
-from gyrobias.noise.kalibr import write_kalibr
 from gyrobias.noise.simulation import simulate
 from gyrobias.noise.wavelet import gmwm
 
@@ -67,6 +67,14 @@ __all__ = [
     # datasheet values in
     "Datasheet",
     "from_datasheet",
-    # files out
-    "write_kalibr",
 ]
+
+
+def __getattr__(name: str) -> object:
+    if name == "write_kalibr":
+        raise AttributeError(
+            "gyrobias.noise.write_kalibr was removed (one Kalibr writer): use "
+            "gyrobias.exports.export(coefficients, 'kalibr', path) or "
+            "gyrobias.exports.write_kalibr(path, gyro=..., accel=...), the same file"
+        )
+    raise AttributeError(f"module 'gyrobias.noise' has no attribute {name!r}")

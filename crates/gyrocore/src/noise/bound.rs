@@ -240,9 +240,11 @@ mod tests {
         let curve = curve_of(&taus, &var, &m, &terms);
         let k = Term::RateRandomWalk;
         let name = |r: Result<UpperBound>| match r {
-            Err(Error::InvalidParameter { name, .. }) => name,
-            Err(Error::ShapeMismatch { name, .. }) => name,
-            Err(Error::TooShort { name, .. }) => name,
+            Err(
+                Error::InvalidParameter { name, .. }
+                | Error::ShapeMismatch { name, .. }
+                | Error::TooShort { name, .. },
+            ) => name,
             other => panic!("{other:?}"),
         };
         assert_eq!(
@@ -254,8 +256,14 @@ mod tests {
             "confidence"
         );
         assert_eq!(name(upper_bound(&curve, &[], &[], k, 0.9)), "used");
-        assert_eq!(name(upper_bound(&curve, &[0, 2], &[3.0, 3.0], k, 0.9)), "used");
-        assert_eq!(name(upper_bound(&curve, &[0, 7], &[3.0, 3.0], k, 0.9)), "used");
+        assert_eq!(
+            name(upper_bound(&curve, &[0, 2], &[3.0, 3.0], k, 0.9)),
+            "used"
+        );
+        assert_eq!(
+            name(upper_bound(&curve, &[0, 7], &[3.0, 3.0], k, 0.9)),
+            "used"
+        );
         assert_eq!(name(upper_bound(&curve, &[0, 1], &[3.0], k, 0.9)), "edf");
         assert_eq!(
             name(upper_bound(&curve, &[0, 1], &[3.0, -1.0], k, 0.9)),
