@@ -217,7 +217,13 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ),
     (
         "composition",
-        ("gyrobias.thermal", "gyrobias.fleet", "gyrobias.plotting", "gyrobias.report"),
+        (
+            "gyrobias.thermal",
+            "gyrobias.fleet",
+            "gyrobias.plotting",
+            "gyrobias.report",
+            "gyrobias.codegen",
+        ),
     ),
     ("applications", ("gyrobias", "gyrobias.cli", "gyrobias.__main__")),
 ]

@@ -166,6 +166,9 @@ def _public_api_calls(tmp_path: Path) -> None:
     t = np.sort(rng.uniform(0.0, 10.0, 200))
     gyrobias.lssa(t, np.sin(2.0 * np.pi * t) + rng.normal(size=200))
     gyrobias.fit_ar1(np.cumsum(rng.normal(size=500)) * 0.01 + rng.normal(size=500), 10.0)
+    kf = gyrobias.FixedGainKalman(200.0, arw=0.08, rrw=7e-4, bandwidth=10.0)
+    kf.to_c(tmp_path / "c", dtype="q31")  # codegen.kalman_q31
+    gyrobias.FractionalKalmanPredictor().compile(8, 4).to_c(tmp_path / "c", dtype="q31")  # dot_q31
 
 
 def test_binding_dicts_match_their_stubs(spied: list[tuple[str, str, Any]], tmp_path: Path) -> None:

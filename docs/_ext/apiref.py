@@ -132,6 +132,11 @@ GROUPS: list[tuple[str, str, list[str]]] = [
         ["gyrobias.fir"],
     ),
     (
+        "C code generation",
+        "C99 for the fixed-gain filter, the FIR and the compiled predictor (float64, float32, Q31).",
+        ["gyrobias.codegen"],
+    ),
+    (
         "Spectral analysis",
         "Least-squares spectra of unequally spaced data, Welch PSD, noise density.",
         ["gyrobias.spectral"],

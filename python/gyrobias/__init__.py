@@ -21,6 +21,8 @@ unit-aware Python interfaces:
 - :mod:`gyrobias.datasheet`, :mod:`gyrobias.conservative`, :mod:`gyrobias.exports` — datasheet
   values in, conservative (overbounding) sets, estimator files (Kalibr, OpenVINS, VINS, ORB-SLAM3,
   LIO-SAM, MATLAB, JSON) and discrete-time parameters; ``gyrobias report`` for the HTML page.
+- :mod:`gyrobias.codegen` — C99 (float64, float32, Q31) for the fixed-gain Kalman filter, the FIR
+  and the compiled predictor, bit-exact or with a stated Q31 error bound.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
 - :mod:`gyrobias.fleet`, :mod:`gyrobias.plotting` — many logs at once on Dask; every plot.
 """
@@ -32,6 +34,7 @@ unit-aware Python interfaces:
 # docs/architecture.md.
 from gyrobias import (
     allan,
+    codegen,
     conservative,
     datasheet,
     exports,
@@ -70,6 +73,7 @@ __all__ = [
     "adev",
     "allan",
     "avar",
+    "codegen",
     "conservative",
     "datasheet",
     "exports",

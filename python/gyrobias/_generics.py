@@ -5,7 +5,7 @@ their kin are one-line delegations to the generic functions here
 (:func:`functools.singledispatch`). The module that owns a behaviour registers its method for
 each value type when it is imported — :mod:`gyrobias.plotting` registers ``plot``,
 :mod:`gyrobias.exports` ``export``/``export_all``/``discrete``, :mod:`gyrobias.conservative`
-``conservative``, :mod:`gyrobias.exports.kalibr` ``to_kalibr`` — much as R packages register S3 methods when their namespace loads. The
+``conservative``, :mod:`gyrobias.exports.kalibr` ``to_kalibr``, :mod:`gyrobias.codegen` ``to_c`` — much as R packages register S3 methods when their namespace loads. The
 value types thus import no behaviour module and the dependency points one way (behaviour →
 types). ``import gyrobias`` (run before any ``gyrobias.*`` submodule) imports every registering
 module, so the methods are always in place.
@@ -19,7 +19,7 @@ import os
 from functools import singledispatch
 from typing import Any
 
-__all__ = ["conservative", "discrete", "export", "export_all", "plot", "to_kalibr"]
+__all__ = ["conservative", "discrete", "export", "export_all", "plot", "to_c", "to_kalibr"]
 
 
 def _missing(verb: str, obj: object) -> TypeError:
@@ -62,3 +62,9 @@ def conservative(obj: object, confidence: float = 0.95, **kwargs: Any) -> Any:
 def to_kalibr(obj: object, path: str | os.PathLike[str], **kwargs: Any) -> str:
     """Write a Kalibr ``imu.yaml`` for ``obj`` (method registered by :mod:`gyrobias.exports.kalibr`)."""
     raise _missing("to_kalibr", obj)
+
+
+@singledispatch
+def to_c(obj: object, path: str | os.PathLike[str], **kwargs: Any) -> Any:
+    """Write ``obj`` as C99 (methods registered by :mod:`gyrobias.codegen`)."""
+    raise _missing("to_c", obj)

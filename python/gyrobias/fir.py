@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gyrobias import _core
+from gyrobias import _core, _generics
 from gyrobias._validation import as_float_array, count, integer, real, string
 
 __all__ = ["FrequencyResponse", "KaiserLowpass", "apply", "kaiser_lowpass", "stream"]
@@ -148,6 +148,16 @@ class KaiserLowpass:
     ) -> NDArray[np.float64]:
         """Filter ``x`` with this filter; see :func:`apply`."""
         return apply(self.taps, x, zero_phase=zero_phase, axis=axis, padtype=padtype, padlen=padlen)
+
+    def to_c(
+        self, path: Any, *, name: str = "gyro_fir", dtype: Any = "float32", **options: Any
+    ) -> Any:
+        """Write this filter as streaming C99 (``<name>.h``, ``<name>.c`` in directory ``path``).
+
+        ``dtype`` is ``"float64"``, ``"float32"`` or ``"q31"``; CMSIS-DSP coefficient arrays are
+        included. See :mod:`gyrobias.codegen`; returns its :class:`~gyrobias.codegen.GeneratedC`.
+        """
+        return _generics.to_c(self, path, name=name, dtype=dtype, **options)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain-Python representation (taps as a list)."""
@@ -317,8 +327,13 @@ def apply(
 
 
 def stream(
-    taps: ArrayLike, x: ArrayLike, state: ArrayLike | None = None, *, axis: int = -1
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    taps: ArrayLike,
+    x: ArrayLike,
+    state: ArrayLike | None = None,
+    *,
+    axis: int = -1,
+    dtype: Any = np.float64,
+) -> tuple[NDArray[Any], NDArray[Any]]:
     """Causal filtering of one chunk of a stream, with the filter state in and out.
 
     Parameters
@@ -333,6 +348,10 @@ def stream(
         (zero history, like ``scipy.signal.lfilter`` without ``zi``).
     axis : int
         Axis of time in ``x``.
+    dtype : {np.float64, np.float32}
+        Arithmetic. ``np.float32`` rounds the taps, ``x`` and ``state`` to float32 and runs the
+        float64 kernel's operations in the same order in float32: equal bit for bit to the C
+        from :meth:`KaiserLowpass.to_c` with ``dtype="float32"``.
 
     Returns
     -------
@@ -357,6 +376,11 @@ def stream(
     >>> bool(np.array_equal(np.r_[y1, y2], fir.stream(f.taps, x)[0]))
     True
     """
+    single = dtype is np.float32 or (isinstance(dtype, (str, np.dtype)) and dtype == "float32")
+    if not single and not (
+        dtype is np.float64 or (isinstance(dtype, (str, np.dtype)) and dtype == "float64")
+    ):
+        raise ValueError(f"dtype must be np.float64 or np.float32, got {dtype!r}")
     h = as_float_array("taps", taps)
     arr = np.asarray(x)
     if arr.ndim == 0:
@@ -370,7 +394,7 @@ def stream(
         raise ValueError(f"axis {axis!r} is out of range for an array of {arr.ndim} dimensions")
     moved = np.moveaxis(arr, axis, -1)
     shape = moved.shape
-    rows = np.ascontiguousarray(moved.reshape(-1, shape[-1]))
+    rows = moved.reshape(-1, shape[-1])
     width = h.size - 1
     if state is None:
         st = np.zeros((rows.shape[0], width))
@@ -378,6 +402,17 @@ def stream(
         st = np.asarray(state, dtype=np.float64)
         if st.shape != (*shape[:-1], width):
             raise ValueError(f"state must have shape {(*shape[:-1], width)}, got {st.shape}")
-        st = np.ascontiguousarray(st.reshape(rows.shape[0], width))
-    y, new_state = _core.fir.filter_stream_rows(h, rows, st)
+        st = st.reshape(rows.shape[0], width)
+    y: NDArray[Any]
+    new_state: NDArray[Any]
+    if single:
+        y, new_state = _core.fir.filter_stream_rows_f32(
+            h.astype(np.float32),
+            np.ascontiguousarray(rows, dtype=np.float32),
+            np.ascontiguousarray(st, dtype=np.float32),
+        )
+    else:
+        y, new_state = _core.fir.filter_stream_rows(
+            h, np.ascontiguousarray(rows, dtype=np.float64), np.ascontiguousarray(st)
+        )
     return np.moveaxis(y.reshape(shape), -1, axis), new_state.reshape(*shape[:-1], width)

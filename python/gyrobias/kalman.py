@@ -39,7 +39,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gyrobias import _core
+from gyrobias import _core, _generics
 from gyrobias._validation import as_float_array, integer, real, string
 
 __all__ = [
@@ -403,6 +403,7 @@ class FixedGainKalman:
         *,
         state: KalmanState | None = None,
         out: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+        dtype: Any = np.float64,
     ) -> FilterResult:
         """Filter ``z`` and return the rate and bias estimates with the new state.
 
@@ -417,6 +418,11 @@ class FixedGainKalman:
             Preallocated C-contiguous float64 arrays of the shape of ``z`` receiving the rate
             and bias estimates (returned as ``rate`` and ``bias``); reusing them across calls
             avoids allocation when streaming. They must not overlap each other or ``z``.
+        dtype : {np.float64, np.float32}
+            Arithmetic. ``np.float32`` rounds ``z``, the coefficients and the state to float32
+            and performs the float64 path's operations in the same order in float32 (the
+            initial state too): the outputs (float32) equal the C from
+            :meth:`to_c` with ``dtype="float32"`` bit for bit. ``out`` is float64 only.
 
         Returns
         -------
@@ -434,6 +440,10 @@ class FixedGainKalman:
         TypeError
             Non-numeric ``z`` or a ``state`` that is not a :class:`KalmanState`.
         """
+        if dtype is np.float32 or (isinstance(dtype, (str, np.dtype)) and dtype == "float32"):
+            return self._filter_f32(z, state, out)
+        if not (dtype is np.float64 or (isinstance(dtype, (str, np.dtype)) and dtype == "float64")):
+            raise ValueError(f"dtype must be np.float64 or np.float32, got {dtype!r}")
         if (
             type(z) is np.ndarray
             and z.dtype == np.float64
@@ -457,6 +467,46 @@ class FixedGainKalman:
             rate, bias = out
         new_state = self._core.filter_into(data, rate, bias, state)
         return FilterResult(rate, bias, new_state)
+
+    def _filter_f32(self, z: ArrayLike, state: KalmanState | None, out: object) -> FilterResult:
+        if out is not None:
+            raise ValueError("out must be None with dtype=np.float32 (out arrays are float64)")
+        if (
+            type(z) is np.ndarray
+            and z.dtype == np.float32
+            and 1 <= z.ndim <= 2
+            and z.size
+            and z.flags.c_contiguous
+        ):
+            data = z  # nothing to convert (the core checks the values)
+        else:
+            data = np.ascontiguousarray(as_float_array("z", z, ndims=(1, 2)), dtype=np.float32)
+        if state is None:
+            first = data[0] if data.ndim == 2 else data[:1]
+            if self._x0 is None:
+                rate0, bias0 = first.tolist(), [0.0] * first.size
+            else:
+                x0 = np.broadcast_to(self._x0, (first.size, 2)).astype(np.float32)
+                rate0, bias0 = x0[:, 0].tolist(), x0[:, 1].tolist()
+            if not np.all(np.isfinite(first)):
+                axis = int(np.flatnonzero(~np.isfinite(first))[0])
+                raise ValueError(f"z has a non-finite value (NaN or inf) at sample 0 axis {axis}")
+            state = self._core.initial_state_f32(rate0, bias0)
+        else:
+            self._check_state_type(state)
+        rate, bias, new_state = self._core.filter_f32(data, state)
+        return FilterResult(rate, bias, new_state)  # type: ignore[arg-type]
+
+    def to_c(
+        self, path: Any, *, name: str = "gyro_kf", dtype: Any = "float32", **options: Any
+    ) -> Any:
+        """Write this filter as C99 (``<name>.h``, ``<name>.c`` in the directory ``path``).
+
+        ``dtype`` is ``"float64"``, ``"float32"`` or ``"q31"`` (option ``full_scale``, u/s,
+        states the Q31 error in the rate's unit). See :mod:`gyrobias.codegen`; returns its
+        :class:`~gyrobias.codegen.GeneratedC`.
+        """
+        return _generics.to_c(self, path, name=name, dtype=dtype, **options)
 
     @staticmethod
     def _check_state_type(state: object) -> None:

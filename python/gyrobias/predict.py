@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gyrobias import _core
+from gyrobias import _core, _generics
 from gyrobias._validation import (
     as_float_array,
     choice,
@@ -233,6 +233,16 @@ class CompiledPredictor:
     def offset(self) -> NDArray[np.float64]:
         """w0, shape (h,) (nonzero only for a proper mean prior)."""
         return self._inner.offset  # type: ignore[no-any-return]
+
+    def to_c(
+        self, path: Any, *, name: str = "gyro_pred", dtype: Any = "float32", **options: Any
+    ) -> Any:
+        """Write ``ŷ = W·y + w0`` over a sliding window as C99 (``<name>.h``/``.c`` in ``path``).
+
+        ``dtype`` is ``"float64"``, ``"float32"`` or ``"q31"``. See :mod:`gyrobias.codegen`;
+        returns its :class:`~gyrobias.codegen.GeneratedC`.
+        """
+        return _generics.to_c(self, path, name=name, dtype=dtype, **options)
 
     def predict(self, batch: Any, *, n_threads: int | None = None) -> Prediction:
         """Forecast every window of ``batch`` (shape (windows, k) or (k,))."""

@@ -96,9 +96,33 @@ fn filter_stream_rows<'py>(
     ))
 }
 
+/// Float32 causal filtering of one stream chunk per row: returns (output rows, new state
+/// rows) (`gyrocore::fir::filter_stream_rows_f32`).
+#[pyfunction]
+#[pyo3(signature = (taps, x, state))]
+#[allow(clippy::needless_pass_by_value, clippy::type_complexity)]
+fn filter_stream_rows_f32<'py>(
+    py: Python<'py>,
+    taps: PyReadonlyArray1<'py, f32>,
+    x: PyReadonlyArray2<'py, f32>,
+    state: PyReadonlyArray2<'py, f32>,
+) -> PyResult<(Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>)> {
+    let (rows, n) = (x.shape()[0], x.shape()[1]);
+    let width = state.shape()[1];
+    let h = c_order(&taps);
+    let data = c_order(&x);
+    let mut hist = c_order(&state).into_owned();
+    let out = core(py.detach(|| fir::filter_stream_rows_f32(&h, &data, rows, &mut hist)))?;
+    Ok((
+        out.into_pyarray(py).reshape([rows, n])?,
+        hist.into_pyarray(py).reshape([rows, width])?,
+    ))
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(kaiser_lowpass, m)?)?;
     m.add_function(wrap_pyfunction!(filter_rows, m)?)?;
     m.add_function(wrap_pyfunction!(frequency_response, m)?)?;
-    m.add_function(wrap_pyfunction!(filter_stream_rows, m)?)
+    m.add_function(wrap_pyfunction!(filter_stream_rows, m)?)?;
+    m.add_function(wrap_pyfunction!(filter_stream_rows_f32, m)?)
 }

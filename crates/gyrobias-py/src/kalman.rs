@@ -133,6 +133,53 @@ impl FixedGainKalman {
         Ok(KalmanState(core(self.inner.initial_state(&rate0, &bias0))?))
     }
 
+    /// `(p, g1, g2, 1 − p)` as the kernels use them
+    /// (`gyrocore::kalman::FixedGainKalman::kernel_coefficients`).
+    fn kernel_coefficients(&self) -> (f64, f64, f64, f64) {
+        let [p, g1, g2, k] = self.inner.kernel_coefficients();
+        (p, g1, g2, k)
+    }
+
+    /// The state before the first sample, computed in float32 arithmetic
+    /// (`gyrocore::kalman::FixedGainKalman::initial_state_in::<f32>`).
+    #[allow(clippy::needless_pass_by_value)]
+    fn initial_state_f32(&self, rate0: Vec<f32>, bias0: Vec<f32>) -> PyResult<KalmanState> {
+        Ok(KalmanState(core(
+            self.inner.initial_state_in(&rate0, &bias0),
+        )?))
+    }
+
+    /// Float32 filtering of a (samples,) or (samples × axes) float32 array `z` from `state`
+    /// into new float32 arrays; returns (rate, bias, new state)
+    /// (`gyrocore::kalman::FixedGainKalman::filter_into_f32`).
+    #[allow(clippy::needless_pass_by_value, clippy::type_complexity)]
+    fn filter_f32<'py>(
+        &self,
+        py: Python<'py>,
+        z: PyReadonlyArrayDyn<'py, f32>,
+        state: &KalmanState,
+    ) -> PyResult<(
+        Bound<'py, PyArrayDyn<f32>>,
+        Bound<'py, PyArrayDyn<f32>>,
+        KalmanState,
+    )> {
+        let n_axes = axes_of(z.shape())?;
+        let shape = z.shape().to_vec();
+        let data = c_order(&z);
+        let mut rate = vec![0.0_f32; data.len()];
+        let mut bias = vec![0.0_f32; data.len()];
+        let mut next = state.0.clone();
+        core(py.detach(|| {
+            self.inner
+                .filter_into_f32(&data, n_axes, &mut next, &mut rate, &mut bias)
+        }))?;
+        Ok((
+            rate.into_pyarray(py).reshape(shape.clone())?,
+            bias.into_pyarray(py).reshape(shape)?,
+            KalmanState(next),
+        ))
+    }
+
     /// The default state before the first row of a (samples,) or (samples × axes) array `z`:
     /// `[z₀, 0]` per axis (`gyrocore::kalman::FixedGainKalman::initial_state_from_first_sample`).
     #[allow(clippy::needless_pass_by_value)]

@@ -15,6 +15,7 @@
 
 mod allan;
 mod array;
+mod codegen;
 mod count;
 mod error;
 mod fir;
@@ -51,6 +52,7 @@ fn submodule(
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     error::register(m)?;
     submodule(m, "allan", allan::register)?;
+    submodule(m, "codegen", codegen::register)?;
     submodule(m, "fir", fir::register)?;
     submodule(m, "spectral", spectral::register)?;
     submodule(m, "thermal", thermal::register)?;

@@ -39,6 +39,7 @@ use rayon::prelude::*;
 use rustfft::FftPlanner;
 use rustfft::num_complex::Complex;
 
+use crate::float::{Float, first_non_finite};
 use crate::{Error, Result, validate};
 
 /// Largest filter length [`kaiser_lowpass`] designs (a transition band narrower than
@@ -325,15 +326,19 @@ fn convolve_fft(taps: &[f64], input: &[f64], out: &mut [f64], fft_len: usize) {
     );
 }
 
-/// Direct convolution, blocked over the output.
-fn convolve_direct(taps: &[f64], input: &[f64], out: &mut [f64]) {
+/// Direct convolution, blocked over the output. Generic so that the float32 stream performs
+/// the float64 one's operations in the same order: for each output, starting from 0,
+/// `acc += (((h[k]·x[n−k] + h[k+1]·x[n−k−1]) + …) + h[k+7]·x[n−k−7])` for `k = 0, 8, 16, …`
+/// while 8 taps remain, then `acc += h[k]·x[n−k]` for the remaining taps one by one (this is
+/// the order the generated C follows).
+fn convolve_direct<T: Float>(taps: &[T], input: &[T], out: &mut [T]) {
     let nt = taps.len();
     out.par_chunks_mut(BLOCK)
         .enumerate()
         .for_each(|(b, block)| {
             let start = b * BLOCK;
             let len = block.len();
-            block.fill(0.0);
+            block.fill(T::ZERO);
             // Register blocking: 8 taps per sweep over the block (one load/store of the output
             // per 8 multiply-adds); every output is independent, so the sweep vectorises.
             let src = |k: usize| &input[start + nt - 1 - k..start + nt - 1 - k + len];
@@ -467,10 +472,16 @@ fn filter_checked(taps: &[f64], x: &[f64], mode: Mode, out: &mut [f64]) {
 ///
 /// Errors: empty or non-finite `taps`/`x`/`history`; `history.len() != N − 1`.
 pub fn filter_stream(taps: &[f64], x: &[f64], history: &mut [f64]) -> Result<Vec<f64>> {
+    filter_stream_in(taps, x, history)
+}
+
+/// [`filter_stream`] in `T` arithmetic (`f32` or `f64`), with the same operations in the same
+/// order (see [`filter_stream_rows_f32`]).
+pub fn filter_stream_in<T: Float>(taps: &[T], x: &[T], history: &mut [T]) -> Result<Vec<T>> {
     validate::min_len("taps", taps.len(), 1)?;
-    validate::finite("taps", taps)?;
-    validate::finite("x", x)?;
-    validate::finite("state", history)?;
+    finite_in("taps", taps)?;
+    finite_in("x", x)?;
+    finite_in("state", history)?;
     let nt = taps.len();
     if history.len() != nt - 1 {
         return Err(Error::ShapeMismatch {
@@ -485,10 +496,17 @@ pub fn filter_stream(taps: &[f64], x: &[f64], history: &mut [f64]) -> Result<Vec
     let mut input = Vec::with_capacity(nt - 1 + x.len());
     input.extend_from_slice(history);
     input.extend_from_slice(x);
-    let mut out = vec![0.0; x.len()];
+    let mut out = vec![T::ZERO; x.len()];
     convolve_direct(taps, &input, &mut out);
     history.copy_from_slice(&input[input.len() - (nt - 1)..]);
     Ok(out)
+}
+
+fn finite_in<T: Float>(name: &'static str, x: &[T]) -> Result<()> {
+    match first_non_finite(x) {
+        Some(index) => Err(Error::NonFinite { name, index }),
+        None => Ok(()),
+    }
 }
 
 /// [`filter_stream`] of each of the `n_rows` contiguous rows of `data` (row-major,
@@ -504,8 +522,31 @@ pub fn filter_stream_rows(
     n_rows: usize,
     history: &mut [f64],
 ) -> Result<Vec<f64>> {
+    filter_stream_rows_in(taps, data, n_rows, history)
+}
+
+/// [`filter_stream_rows`] in float32 arithmetic: the taps are rounded to `f32` by the caller
+/// and every product and sum is rounded to `f32`, in the order of the float64 kernel (8-tap
+/// groups summed left to right and added to the accumulator, then the remaining taps one by
+/// one). The generated float32 C (`gyrobias.codegen`) performs exactly these operations, so it
+/// reproduces this function bit for bit.
+pub fn filter_stream_rows_f32(
+    taps: &[f32],
+    data: &[f32],
+    n_rows: usize,
+    history: &mut [f32],
+) -> Result<Vec<f32>> {
+    filter_stream_rows_in(taps, data, n_rows, history)
+}
+
+fn filter_stream_rows_in<T: Float>(
+    taps: &[T],
+    data: &[T],
+    n_rows: usize,
+    history: &mut [T],
+) -> Result<Vec<T>> {
     validate::min_len("taps", taps.len(), 1)?;
-    validate::finite("taps", taps)?;
+    finite_in("taps", taps)?;
     if n_rows == 0 || data.len() % n_rows != 0 {
         return Err(Error::ShapeMismatch {
             name: "x",
@@ -525,13 +566,13 @@ pub fn filter_stream_rows(
             ),
         });
     }
-    validate::finite("x", data)?;
-    validate::finite("state", history)?;
+    finite_in("x", data)?;
+    finite_in("state", history)?;
     let n = data.len() / n_rows;
     let mut out = Vec::with_capacity(data.len());
     for r in 0..n_rows {
         let state = &mut history[r * width..(r + 1) * width];
-        out.extend(filter_stream(taps, &data[r * n..(r + 1) * n], state)?);
+        out.extend(filter_stream_in(taps, &data[r * n..(r + 1) * n], state)?);
     }
     Ok(out)
 }

@@ -70,6 +70,7 @@
 
 use nalgebra::{Matrix2, RowVector2, Vector2};
 
+use crate::float::{Float, first_non_finite};
 use crate::validate;
 use crate::{Error, Result};
 
@@ -460,9 +461,25 @@ impl FixedGainKalman {
         Ok(())
     }
 
+    /// The coefficients `[p, g1, g2, 1 − p]` of the recursion as the kernels use them
+    /// (`u ← p·u + z`, `ω̂ = g1·u + c`, `b̂ = g2·u − c`, `u₀ = (ω̂₀ + b̂₀)/(1 − p)`), with
+    /// `g2 = (1 − p) − g1` computed in float64; the float32 kernel rounds each to `f32` once.
+    /// Generated C uses exactly these values.
+    pub fn kernel_coefficients(&self) -> [f64; 4] {
+        let c = Coefficients::<f64>::of(self);
+        [c.p, c.g1, c.g2, c.k]
+    }
+
     /// The state before the first sample for initial estimates `X₀ = [ω₀, b₀]` per axis
     /// (`rate[a] = ω₀`, `bias[a] = b₀` of axis `a`).
     pub fn initial_state(&self, rate: &[f64], bias: &[f64]) -> Result<KalmanState> {
+        self.initial_state_in(rate, bias)
+    }
+
+    /// [`initial_state`](Self::initial_state) computed in `T` arithmetic (`u = (ω₀ + b₀)/(1 − p)`,
+    /// `c = ω₀ − g1·u`, each operation rounded to `T`): for `f32` this is the state the float32
+    /// kernel ([`filter_into_f32`](Self::filter_into_f32)) and the generated float32 C start from.
+    pub fn initial_state_in<T: Float>(&self, rate: &[T], bias: &[T]) -> Result<KalmanState> {
         if rate.len() != bias.len() || rate.is_empty() {
             return Err(Error::ShapeMismatch {
                 name: "x0",
@@ -473,23 +490,36 @@ impl FixedGainKalman {
                 ),
             });
         }
-        validate::finite("x0", rate)?;
-        validate::finite("x0", bias)?;
-        let (g1, k) = (self.g[0], self.one_minus_pole);
-        let level: Vec<f64> = rate.iter().zip(bias).map(|(w, b)| (w + b) / k).collect();
-        let offset: Vec<f64> = rate.iter().zip(&level).map(|(w, u)| w - g1 * u).collect();
+        if let Some(i) = first_non_finite(rate).or_else(|| first_non_finite(bias)) {
+            return Err(Error::NonFinite {
+                name: "x0",
+                index: i,
+            });
+        }
+        let c = Coefficients::<T>::of(self);
+        let level: Vec<T> = rate
+            .iter()
+            .zip(bias)
+            .map(|(&w, &b)| (w + b) / c.k)
+            .collect();
+        let offset: Vec<T> = rate
+            .iter()
+            .zip(&level)
+            .map(|(&w, &u)| w - c.g1 * u)
+            .collect();
         if level.iter().chain(&offset).any(|v| !v.is_finite()) {
             return Err(Error::invalid(
                 "x0",
                 "the initial estimates overflow the filter's scaled level (values too large \
-                 for float64)",
+                 for the floating-point format)",
             ));
         }
+        let wide = |v: &[T]| v.iter().map(|x| x.to_f64()).collect::<Vec<f64>>();
         Ok(KalmanState {
-            level,
-            offset,
-            rate: rate.to_vec(),
-            bias: bias.to_vec(),
+            level: wide(&level),
+            offset: wide(&offset),
+            rate: wide(rate),
+            bias: wide(bias),
             gain: self.g.into(),
             samples: 0,
         })
@@ -545,21 +575,13 @@ impl FixedGainKalman {
     /// `ω̂ = g1·u + c`, `b̂ = (1 − p − g1)·u − c`.
     pub fn estimates(&self, state: &KalmanState) -> Result<(Vec<f64>, Vec<f64>)> {
         self.check_state(state, state.n_axes())?;
-        let c = self.coefficients();
+        let c = Coefficients::<f64>::of(self);
         Ok(state
             .level
             .iter()
             .zip(&state.offset)
             .map(|(&u, &off)| (c.g1 * u + off, c.g2 * u - off))
             .unzip())
-    }
-
-    fn coefficients(&self) -> Coefficients {
-        Coefficients {
-            p: self.pole,
-            g1: self.g[0],
-            g2: self.one_minus_pole - self.g[0],
-        }
     }
 
     /// Filters `z` (C-order samples × `n_axes`) from `state`, writing the rate and bias estimates
@@ -576,6 +598,34 @@ impl FixedGainKalman {
         state: &mut KalmanState,
         rate: &mut [f64],
         bias: &mut [f64],
+    ) -> Result<()> {
+        self.filter_into_generic(z, n_axes, state, rate, bias)
+    }
+
+    /// [`filter_into`](Self::filter_into) in float32 arithmetic: the coefficients `p`, `g1`,
+    /// `g2 = (1 − p) − g1` and the state's `u`, `c` rounded to `f32` once, then exactly the
+    /// operations of the float64 kernel (`u ← p·u + z`, `ω̂ = g1·u + c`, `b̂ = g2·u − c`), each
+    /// rounded to `f32`. This is the reference the generated float32 C equals bit for bit; a
+    /// state from [`initial_state_in::<f32>`](Self::initial_state_in) or from this function
+    /// holds `f32` values exactly, so chunked float32 filtering equals one-shot filtering.
+    pub fn filter_into_f32(
+        &self,
+        z: &[f32],
+        n_axes: usize,
+        state: &mut KalmanState,
+        rate: &mut [f32],
+        bias: &mut [f32],
+    ) -> Result<()> {
+        self.filter_into_generic(z, n_axes, state, rate, bias)
+    }
+
+    fn filter_into_generic<T: Float>(
+        &self,
+        z: &[T],
+        n_axes: usize,
+        state: &mut KalmanState,
+        rate: &mut [T],
+        bias: &mut [T],
     ) -> Result<()> {
         if n_axes == 0 {
             return Err(Error::invalid("z", "must have at least one axis"));
@@ -597,20 +647,21 @@ impl FixedGainKalman {
         if z.is_empty() {
             return Ok(());
         }
-        let mut level = state.level.clone();
-        let c = self.coefficients();
-        let off = &state.offset;
+        let mut level: Vec<T> = state.level.iter().map(|&v| T::from_f64(v)).collect();
+        let c = Coefficients::<T>::of(self);
+        let off: Vec<T> = state.offset.iter().map(|&v| T::from_f64(v)).collect();
+        let off = &off[..];
         match n_axes {
-            1 => run_fixed::<1>(&c, z, &mut level, off, rate, bias),
-            2 => run_fixed::<2>(&c, z, &mut level, off, rate, bias),
-            3 => run_fixed::<3>(&c, z, &mut level, off, rate, bias),
-            4 => run_fixed::<4>(&c, z, &mut level, off, rate, bias),
+            1 => run_fixed::<_, 1>(&c, z, &mut level, off, rate, bias),
+            2 => run_fixed::<_, 2>(&c, z, &mut level, off, rate, bias),
+            3 => run_fixed::<_, 3>(&c, z, &mut level, off, rate, bias),
+            4 => run_fixed::<_, 4>(&c, z, &mut level, off, rate, bias),
             _ => run_dynamic(&c, z, &mut level, off, rate, bias),
         }
         // A NaN/inf in z makes the level non-finite from there on (p > 0), so checking the
         // final state finds every bad stream without a second pass over the data.
         if level.iter().any(|v| !v.is_finite()) {
-            return Err(match z.iter().position(|v| !v.is_finite()) {
+            return Err(match first_non_finite(z) {
                 Some(i) => Error::invalid(
                     "z",
                     format!(
@@ -622,15 +673,15 @@ impl FixedGainKalman {
                 ),
                 None => Error::invalid(
                     "z",
-                    "the filter overflowed (values too large for float64); the filter state is \
-                     unchanged",
+                    "the filter overflowed (values too large for the floating-point format); \
+                     the filter state is unchanged",
                 ),
             });
         }
         let last = z.len() - n_axes;
-        state.level = level;
-        state.rate.copy_from_slice(&rate[last..]);
-        state.bias.copy_from_slice(&bias[last..]);
+        state.level = level.iter().map(|v| v.to_f64()).collect();
+        state.rate = rate[last..].iter().map(|v| v.to_f64()).collect();
+        state.bias = bias[last..].iter().map(|v| v.to_f64()).collect();
         state.samples = state.samples.saturating_add((z.len() / n_axes) as u64);
         Ok(())
     }
@@ -649,12 +700,25 @@ impl FixedGainKalman {
     }
 }
 
-/// Coefficients of the recursion in its scaled-level form.
-struct Coefficients {
-    p: f64,
-    g1: f64,
-    /// `1 − p − g1` (equals `g2`).
-    g2: f64,
+/// Coefficients of the recursion in its scaled-level form, rounded once to `T`.
+struct Coefficients<T> {
+    p: T,
+    g1: T,
+    /// `1 − p − g1` (equals `g2`), computed in f64 then rounded.
+    g2: T,
+    /// `1 − p` (the scale of the level `u = s/(1 − p)`).
+    k: T,
+}
+
+impl<T: Float> Coefficients<T> {
+    fn of(f: &FixedGainKalman) -> Self {
+        Coefficients {
+            p: T::from_f64(f.pole),
+            g1: T::from_f64(f.g[0]),
+            g2: T::from_f64(f.one_minus_pole - f.g[0]),
+            k: T::from_f64(f.one_minus_pole),
+        }
+    }
 }
 
 /// The per-sample update for one axis; identical arithmetic in every kernel so that any axis
@@ -667,22 +731,22 @@ struct Coefficients {
 /// rounding in `ω̂`.
 #[allow(clippy::inline_always)] // the loop body of every kernel: identical code, no call
 #[inline(always)]
-fn step(c: &Coefficients, z: f64, u: &mut f64, offset: f64) -> (f64, f64) {
+fn step<T: Float>(c: &Coefficients<T>, z: T, u: &mut T, offset: T) -> (T, T) {
     *u = c.p * *u + z;
     (c.g1 * *u + offset, c.g2 * *u - offset)
 }
 
-fn run_fixed<const N: usize>(
-    c: &Coefficients,
-    z: &[f64],
-    level: &mut [f64],
-    offset: &[f64],
-    rate: &mut [f64],
-    bias: &mut [f64],
+fn run_fixed<T: Float, const N: usize>(
+    c: &Coefficients<T>,
+    z: &[T],
+    level: &mut [T],
+    offset: &[T],
+    rate: &mut [T],
+    bias: &mut [T],
 ) {
     // Loop-carried values live in local arrays (registers), not behind the slices.
-    let mut u = [0.0; N];
-    let mut off = [0.0; N];
+    let mut u = [T::ZERO; N];
+    let mut off = [T::ZERO; N];
     u.copy_from_slice(level);
     off.copy_from_slice(offset);
     for ((zr, rr), br) in z
@@ -699,13 +763,13 @@ fn run_fixed<const N: usize>(
     level.copy_from_slice(&u);
 }
 
-fn run_dynamic(
-    c: &Coefficients,
-    z: &[f64],
-    level: &mut [f64],
-    offset: &[f64],
-    rate: &mut [f64],
-    bias: &mut [f64],
+fn run_dynamic<T: Float>(
+    c: &Coefficients<T>,
+    z: &[T],
+    level: &mut [T],
+    offset: &[T],
+    rate: &mut [T],
+    bias: &mut [T],
 ) {
     let n = level.len();
     for ((zr, rr), br) in z

@@ -22,8 +22,10 @@
 #![forbid(unsafe_code)]
 
 pub mod allan;
+pub mod codegen;
 pub mod error;
 pub mod fir;
+pub mod float;
 pub mod fractional;
 pub mod kalman;
 pub mod noise;

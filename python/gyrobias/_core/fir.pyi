@@ -5,7 +5,13 @@ from typing import TypedDict, type_check_only
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["filter_rows", "filter_stream_rows", "frequency_response", "kaiser_lowpass"]
+__all__ = [
+    "filter_rows",
+    "filter_stream_rows",
+    "filter_stream_rows_f32",
+    "frequency_response",
+    "kaiser_lowpass",
+]
 
 @type_check_only
 class KaiserLowpass(TypedDict):
@@ -31,3 +37,6 @@ def frequency_response(
 def filter_stream_rows(
     taps: NDArray[np.float64], x: NDArray[np.float64], state: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+def filter_stream_rows_f32(
+    taps: NDArray[np.float32], x: NDArray[np.float32], state: NDArray[np.float32]
+) -> tuple[NDArray[np.float32], NDArray[np.float32]]: ...

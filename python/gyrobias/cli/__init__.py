@@ -26,6 +26,8 @@ SUBCOMMANDS: list[str] = [
     "gyrobias.cli.demo",
     "gyrobias.cli.predict",
     "gyrobias.cli.filter",
+    "gyrobias.cli.kalman",
+    "gyrobias.cli.fir",
     "gyrobias.cli.thermal",
     "gyrobias.cli.fleet",
     "gyrobias.cli.report",

@@ -5,6 +5,9 @@ Example::
     gyrobias filter gyro.csv --fs 200 --bandwidth 10 --arw 0.08 --rrw 7e-4 -o filtered.csv
     gyrobias filter imu.bag --columns gyro --bandwidth 10 --arw 0.0014 -o filtered.npy
 
+``--emit-c DIR`` also writes the designed filter as C99 (``gyrobias kalman design`` does that
+without a log; see ``docs/guides/embedded_c.md``).
+
 ``--arw`` is in u/√s and ``--rrw`` in u/s^1.5, u being the angle unit of the log's rates
 (``--arw-unit deg/sqrt(h)`` and ``--rrw-unit deg/h^1.5`` accept the customary units for logs in
 deg/s). The output (CSV or .npy) has, for every channel, the rate estimate and the bias estimate
@@ -22,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from gyrobias.cli import _emit
 from gyrobias.cli._common import add_read_arguments, read_log, require_fs
 from gyrobias.kalman import (
     FixedGainKalman,
@@ -54,6 +58,7 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
         "-o", "--output", type=Path, help="output file (.csv or .npy); default: summary only"
     )
     add_read_arguments(p)
+    _emit.add_emit_arguments(p, "gyro_kf")
     p.set_defaults(func=run)
     return p
 
@@ -76,6 +81,8 @@ def run(args: argparse.Namespace) -> int:
         bandwidth=args.bandwidth,
         form=args.form,
     )
+    if args.emit_c is not None:  # before filtering: a bad name or path fails fast
+        _emit.emit(kf, args)
     rate, bias = kf.filter(z)
     print(describe(kf))
     print(f"{z.shape[0]} samples x {z.shape[1]} channels from {args.log}")
