@@ -208,8 +208,8 @@ def _write_exports(
                     "refuses them",
                     file=sys.stderr,
                 )
-        except (ValueError, OSError) as exc:
-            raise SystemExit(f"gyrobias: error: --export {fmt}: {exc}") from None
+        except ValueError as exc:  # one line "gyrobias: error: ...", exit 2 (cli.main)
+            raise ValueError(f"--export {fmt}: {exc}") from None
 
 
 _TRUE_KEYS = {

@@ -137,13 +137,16 @@ def _value(group: list[NoiseCoefficients], symbol: str, kind: str, fmt: str | No
     best = max(values)
     if not bounded:
         return best
-    detail = "; ".join(f"axis {a}: <= {v:.3e} {unit} at {lvl}" for a, lvl, v in bounded)
-    if fmt is not None and _STRICT.get():
+    ascii_unit = unit.replace("²", "^2").replace("³", "^3").replace("√Hz", "sqrt(Hz)")
+    detail = "; ".join(
+        f"axis {_one_line(a)}: <= {v:.3e} {ascii_unit} at {lvl}" for a, lvl, v in bounded
+    )
+    if _STRICT.get():
+        need = f"required by the {fmt} format but " if fmt is not None else ""
         raise ValueError(
-            f"{label} {symbol} ({_NAMES[symbol]}): required by the {fmt} format but only bounded "
-            f"from above by the data ({detail}; the log does not show the term); strict=True "
-            "refuses upper bounds: identify it from a longer log or give it with "
-            "gyrobias.noise.from_datasheet"
+            f"{label} {symbol} ({_NAMES[symbol]}): {need}only bounded from above by the data "
+            f"({detail}; the log does not show the term); strict=True refuses upper bounds: "
+            "identify it from a longer log or give it with gyrobias.noise.from_datasheet"
         )
     if max(v for _, _, v in bounded) < best:
         return best  # an identified axis is larger than every bound: the value is an estimate
@@ -567,7 +570,8 @@ def export(
     rostopic : str
         Topic written by kalibr and openvins.
     strict : bool
-        Refuse (ValueError) a term the format requires that the data only bound from above.
+        Refuse (ValueError) to write any term (N, K; B for matlab and json) that the data only
+        bound from above.
         Default: write the bound (:attr:`gyrobias.noise.Term.upper_bound`) in its place, marked
         ``UPPER BOUND, not an estimate`` in a comment on its line (MATLAB: a ``%`` line; JSON:
         ``"upper_bound": true`` and a ``"note"``) and in the file's header.
