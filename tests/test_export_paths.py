@@ -16,8 +16,8 @@ import yaml
 
 import gyrobias
 from gyrobias.cli import main
-from gyrobias.report import build_report
 from gyrobias.exports import DEFAULT_FILENAMES, FORMATS
+from gyrobias.report import build_report
 
 FS = 100.0
 N = 120_000
