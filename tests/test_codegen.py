@@ -391,3 +391,71 @@ def test_cli_emits_c(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None
     err = capsys.readouterr().err
     assert err.startswith("gyrobias: error: name must not be a C keyword") and err.count("\n") == 1
     assert not (out / "while.c").exists()
+
+
+# --- properties of the Q31 design (gyrocore::codegen) --------------------------------------------
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    taps=st.lists(
+        st.floats(-3.0, 3.0, allow_nan=False).filter(lambda v: abs(v) > 1e-6),
+        min_size=1,
+        max_size=300,
+    )
+)
+def test_dot_q31_shift_is_the_largest_safe_one(taps: list[float]) -> None:
+    """The common shift keeps every |H| ≤ 2³¹ − 1 and the int64 accumulator (Σ|H|·2³¹ plus the
+    rounding constant) below 2⁶³, and one more bit would break one of the two; the stated
+    coefficient error is Σ|H·2⁻ⁿ − h| exactly."""
+    w = np.array([taps])
+    d = gyrobias._core.codegen.dot_q31(w, np.empty(0), 1.0)
+    n, q = d["shift"], np.array(d["values"], dtype=object)
+
+    def safe(shift: int) -> bool:
+        vals = [round(v * 2**shift) for v in taps]  # exact scaling; a tie is immaterial here
+        return (
+            max(abs(v) for v in vals) <= 2**31 - 1
+            and sum(abs(v) for v in vals) * 2**31 + 2 ** (shift - 1) < 2**63
+        )
+
+    assert 1 <= n <= 62 and safe(n)
+    assert n == 62 or not safe(n + 1)
+    for v, h in zip(q, taps, strict=True):
+        assert abs(v - h * 2**n) <= 0.5  # round to nearest
+    err = sum(abs(int(v) / 2**n - h) for v, h in zip(q, taps, strict=True))
+    assert d["coefficient_error"] == pytest.approx(err, rel=1e-12, abs=1e-300)
+
+
+@settings(max_examples=6, deadline=None)
+@given(
+    fs=st.sampled_from([100.0, 400.0, 1000.0, 3200.0]),
+    bw_frac=st.floats(0.002, 0.3),
+    arw=st.floats(1e-4, 0.1),
+    rrw=st.sampled_from([0.0, 1e-6, 1e-4, 1e-2]),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_random_designs_compile_exact_and_within_bound(
+    fs: float, bw_frac: float, arw: float, rrw: float, seed: int
+) -> None:
+    """Property over designs: float32 C equals Python float32 bit for bit, and Q31 C stays
+    within its bound, for a random filter on a random walk plus white noise."""
+    import tempfile
+
+    try:
+        kf = FixedGainKalman(fs, arw=arw, rrw=rrw, bandwidth=bw_frac * fs)
+    except ValueError:  # an unreachable bandwidth for this noise: not a codegen case
+        return
+    rng = np.random.default_rng(seed)
+    z = np.cumsum(rng.normal(0.0, 0.01, 3000)) + rng.normal(0.0, 0.3, 3000)
+    with tempfile.TemporaryDirectory() as tmp:
+        wd = Path(tmp)
+        g32 = kf.to_c(wd, name="p32", dtype="float32")
+        rate, _, _ = _kalman_c(build(g32, "kalman", wd), z, np.float32, wd)
+        assert _same_bits(rate, kf.filter(z.astype(np.float32), dtype=np.float32).rate)
+        gq = kf.to_c(wd, name="pq", dtype="q31")
+        zq = _to_q31(0.9 * z / np.abs(z).max())
+        rq, bq, _ = _kalman_c(build(gq, "kalman", wd), zq, np.int32, wd)
+        ref = kf.filter(zq / 2.0**31)
+        assert np.abs(rq / 2.0**31 - ref.rate).max() <= gq.q31["error_bound"][0]
+        assert np.abs(bq / 2.0**31 - ref.bias).max() <= gq.q31["error_bound"][1]

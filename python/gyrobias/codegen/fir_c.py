@@ -105,6 +105,7 @@ def emit(
             "holds it NaN/inf; afterwards the output is exact again (finite memory).",
         ]
         elem = 4 if dtype == "float32" else 8
+    block_init, block_body = _block(name, name.upper(), n, dtype, t, info.get("shift", 0))
     pre = preamble(f"streaming FIR low-pass, {dtype}", name, [*_design_lines(f), *extra], note)
     up = name.upper()
     guard = f"{up}_H"
@@ -132,7 +133,8 @@ void {name}_init({name}_state *s);
 /* One input sample; returns the output sample. */
 {t} {name}_step({name}_state *s, {t} x);
 
-/* n samples; y may equal x (in place). */
+/* n samples; y may equal x (in place). Same results as n calls of step(), four outputs at a
+ * time; uses (N + 3) samples of stack ({(n + 3) * elem} bytes). */
 void {name}_process({name}_state *s, const {t} *x, {t} *y, size_t n);
 
 /* CMSIS-DSP coefficient arrays (time-reversed taps). */
@@ -188,27 +190,90 @@ void {name}_init({name}_state *s)
     s->pos = 0u;
 }}
 
-{t} {name}_step({name}_state *s, {t} x)
+static void {name}_push({name}_state *s, {t} x)
 {{
-    const {t} *w;
     unsigned int pos = s->pos == 0u ? {up}_NUM_TAPS - 1u : s->pos - 1u;
     s->buf[pos] = x;
     s->buf[pos + {up}_NUM_TAPS] = x;
     s->pos = pos;
-    w = &s->buf[pos]; /* w[k] = x[n - k] */
+}}
+
+{t} {name}_step({name}_state *s, {t} x)
+{{
+    const {t} *w;
+    {name}_push(s, x);
+    w = &s->buf[s->pos]; /* w[k] = x[n - k] */
 {body}
 }}
 
 void {name}_process({name}_state *s, const {t} *x, {t} *y, size_t n)
 {{
-    size_t i;
-    for (i = 0; i < n; ++i) {{
+    /* Four outputs at a time from a stack copy of the window (r: newest first; output b reads
+     * r + 3 - b): four independent sums, each with exactly step()'s operations in step()'s
+     * order, so the results are the same bits; the rest sample by sample. */
+    {t} r[{n} - 1 + 4];
+    size_t i = 0;
+    unsigned int j, k;
+    while (i + 4u <= n) {{
+        const {t} *w = &s->buf[s->pos];
+{block_init}
+        for (j = 0; j < {up}_NUM_TAPS - 1u; ++j) {{
+            r[4 + j] = w[j];
+        }}
+        r[0] = x[i + 3];
+        r[1] = x[i + 2];
+        r[2] = x[i + 1];
+        r[3] = x[i];
+        k = 0;
+{block_body}
+        for (j = 0; j < 4u; ++j) {{
+            {name}_push(s, r[3 - j]); /* from r: y may be x */
+        }}
+        i += 4;
+    }}
+    for (; i < n; ++i) {{
         y[i] = {name}_step(s, x[i]);
     }}
 }}
 """
     h, c = write_pair(directory, name, header, source)
     return GeneratedC(h, c, name, dtype, 2 * n * elem + 4, info)
+
+
+def _block(name: str, up: str, n: int, dtype: str, t: str, shift: int) -> tuple[str, str]:
+    """The four-output block of ``process``: accumulator declarations and the sums."""
+    ind = " " * 8
+    if dtype == "q31":
+        init = f"{ind}int64_t a0 = 0, a1 = 0, a2 = 0, a3 = 0;"
+        sums = "\n".join(
+            f"{ind}    a{b} += (int64_t){name}_taps[k] * (int64_t)r[{3 - b} + k];" for b in range(4)
+        )
+        outs = "\n".join(
+            f"{ind}y[i + {b}] = {name}_sat32({name}_rshift(a{b}, {shift}u));" for b in range(4)
+        )
+        body = f"""{ind}for (; k < {up}_NUM_TAPS; ++k) {{
+{sums}
+{ind}}}
+{outs}"""
+        return init, body
+    zero = "0.0f" if dtype == "float32" else "0.0"
+    init = f"{ind}{t} a0 = {zero}, a1 = {zero}, a2 = {zero}, a3 = {zero};"
+    groups = n // 8
+    parts = []
+    if groups:
+        group_sums = "\n".join(
+            f"{ind}    a{b} += "
+            + f"\n{ind}          + ".join(
+                f"{name}_taps[k + {j}] * r[{3 - b} + k + {j}]" for j in range(8)
+            )
+            + ";"
+            for b in range(4)
+        )
+        parts.append(f"{ind}for (; k < {8 * groups}u; k += 8u) {{\n{group_sums}\n{ind}}}")
+    rest = "\n".join(f"{ind}    a{b} += {name}_taps[k] * r[{3 - b} + k];" for b in range(4))
+    parts.append(f"{ind}for (; k < {up}_NUM_TAPS; ++k) {{\n{rest}\n{ind}}}")
+    parts.append("\n".join(f"{ind}y[i + {b}] = a{b};" for b in range(4)))
+    return init, "\n".join(parts)
 
 
 def _cmsis_arrays(name: str, taps: np.ndarray) -> str:
