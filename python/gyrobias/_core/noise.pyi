@@ -88,9 +88,9 @@ class JointFit(TypedDict):
     chi2: float
     dof: int
     tau_range: tuple[float, float]
+    diagnostics: Diagnostics
     used: list[int]
     edf: NDArray[np.float64]
-    diagnostics: Diagnostics
 
 @type_check_only
 class WaveletVariance(TypedDict):
@@ -102,8 +102,18 @@ class WaveletVariance(TypedDict):
     n_coefficients: NDArray[np.uint64]
 
 @type_check_only
-class Gmwm(JointFit):
-    """GMWM fit: the joint-fit fields plus the wavelet moments and the model selection."""
+class Gmwm(TypedDict):
+    """GMWM fit: the joint-fit fields (without ``used``/``edf``) plus the wavelet moments and
+    the model selection."""
+
+    terms: list[TermEstimate]
+    squared: list[float]
+    gauss_markov: list[GaussMarkovTerm]
+    gauss_markov_squared: list[tuple[float, float]]
+    chi2: float
+    dof: int
+    tau_range: tuple[float, float]
+    diagnostics: Diagnostics
 
     wavelet: WaveletVariance
     selected: list[str]

@@ -218,7 +218,7 @@ def _header(
 ) -> list[str]:
     sources = sorted({c.method for c in g + a})
     lines = [
-        f"{comment} {fmt} IMU noise parameters written by gyrobias (from: {', '.join(sources)} coefficients)",
+        f"{comment} {fmt} IMU noise model written by gyrobias (from: {', '.join(sources)} coefficients)",
         f"{comment} N, K: IEEE-952 coefficients (two-sided densities); see the convention table of the gyrobias docs (Estimator parameters).",
     ]
     if any(c[s].bounded for c in g + a for s in ("N", "K")):
@@ -280,7 +280,7 @@ def _render_kalibr(
 ) -> str:
     f = _rate(rate, g + a, "kalibr", True)
     assert f is not None
-    lines = _header("Kalibr imu.yaml", g, a)
+    lines = _header("Kalibr", g, a)
     lines.append(
         "# Kalibr discretises with update_rate: sigma_d = sigma*sqrt(rate), sigma_bd = sigma_b/sqrt(rate)."
     )

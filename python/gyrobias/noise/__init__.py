@@ -23,8 +23,8 @@ The package, by task:
   raw data), :func:`gauss_markov_avar`.
 - **Datasheet values in** (:mod:`gyrobias.datasheet`): :func:`from_datasheet`, :class:`Datasheet`.
 - **Files out**: every estimator format, Kalibr's included, is written by
-  :func:`gyrobias.exports.export` (``gyrobias.exports.write_kalibr`` is its keyword form for
-  Kalibr; ``gyrobias.noise.write_kalibr``, a second Kalibr writer, is gone).
+  :func:`gyrobias.exports.export`; ``write_kalibr`` (here and in :mod:`gyrobias.exports`) is
+  its keyword form for Kalibr, the same code.
 
 References
 ----------
@@ -33,6 +33,8 @@ References
 .. [NR] Xue et al., "Noise reduction of MEMS gyroscope based on direct modeling for an angular
    rate signal", Micromachines 6 (2015) 266, Table 1.
 """
+
+from typing import Any
 
 # Datasheet values in (issue 13): gyrobias.datasheet builds NoiseCoefficients from
 # gyrobias.noise._types, so importing it here closes no cycle.
@@ -67,14 +69,18 @@ __all__ = [
     # datasheet values in
     "Datasheet",
     "from_datasheet",
+    # files out (gyrobias.exports.write_kalibr, resolved by __getattr__ below)
+    "write_kalibr",
 ]
 
 
-def __getattr__(name: str) -> object:
+def __getattr__(name: str) -> Any:
+    """``write_kalibr``: the one Kalibr writer, :func:`gyrobias.exports.write_kalibr` (the
+    keyword form of ``gyrobias.exports.export(..., "kalibr")``), looked up on first use — the
+    exports package builds on these coefficient types, so ``gyrobias.noise`` cannot import it
+    while it loads."""
     if name == "write_kalibr":
-        raise AttributeError(
-            "gyrobias.noise.write_kalibr was removed (one Kalibr writer): use "
-            "gyrobias.exports.export(coefficients, 'kalibr', path) or "
-            "gyrobias.exports.write_kalibr(path, gyro=..., accel=...), the same file"
-        )
+        from gyrobias.exports.kalibr import write_kalibr
+
+        return write_kalibr
     raise AttributeError(f"module 'gyrobias.noise' has no attribute {name!r}")
