@@ -241,12 +241,12 @@ def test_allan_npy_needs_fs(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
         ),
         (
             ["allan", "{log}", "--confidence", "1.5"],
-            "confidence: must lie strictly between 0 and 1",
+            "--confidence must be a number strictly between 0 and 1, got '1.5'",
         ),
-        (["allan", "{log}", "--fs", "-3"], "invalid fs: must be finite and > 0"),
+        (["allan", "{log}", "--fs", "-3"], "--fs must be finite and > 0, got '-3'"),
         (
             ["allan", "{log}", "--per-decade", "0", "--taus", "log"],
-            "invalid per_decade: must be >= 1",
+            "--per-decade must be an integer >= 1, got '0'",
         ),
         (["allan", "{bad}"], "'x' (not a number) in column 'gy' at line 3"),
         (["allan", "{log}", "--time-column", "t", "--no-time-column"], "contradict"),

@@ -20,7 +20,10 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-PACKAGE = Path(__file__).resolve().parent.parent / "python" / "gyrobias"
+import gyrobias
+
+# The package under test, wherever it is imported from (the source tree or an installed wheel).
+PACKAGE = Path(gyrobias.__file__).resolve().parent
 
 
 def _module_name(path: Path, root: Path = PACKAGE) -> str:

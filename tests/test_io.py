@@ -428,9 +428,9 @@ def test_constant_time_column(tmp_path: Path) -> None:
     ("kwargs", "pattern"),
     [
         ({"time_unit": "min"}, "time_unit must be one of"),
-        ({"fs": 0.0}, "invalid fs: must be finite and > 0"),
-        ({"fs": float("nan")}, "invalid fs: must be finite and > 0"),
-        ({"skip_rows": -1}, "skip_rows must be an integer >= 0"),
+        ({"fs": 0.0}, "fs must be finite and > 0"),
+        ({"fs": float("nan")}, "fs must be finite and > 0"),
+        ({"skip_rows": -1}, "skip_rows must be an integer from 0"),
     ],
 )
 def test_bad_options(tmp_path: Path, kwargs: dict[str, object], pattern: str) -> None:

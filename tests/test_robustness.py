@@ -469,7 +469,7 @@ def test_binding_counts_are_named_value_errors() -> None:
             (lambda v: _core.spectral.critical_value(v, 1, 0.05), "n"),
             (lambda v: _core.fir.filter_rows(_TAPS, np.ones((1, 9)), True, "odd", v), "padlen"),
         ]:
-            with pytest.raises(ValueError, match=f"invalid {name}: must be an integer"):
+            with pytest.raises(ValueError, match=f"{name} must be an integer"):
                 call(value)
     with pytest.raises(TypeError, match="^n must be an integer, got float"):
         _core.fractional.weights(0.4, 2.5)  # type: ignore[arg-type]

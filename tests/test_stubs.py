@@ -23,7 +23,8 @@ import pytest
 import gyrobias
 from gyrobias import _core
 
-STUBS = Path(__file__).resolve().parent.parent / "python" / "gyrobias" / "_core"
+# The stubs shipped with the package under test (the source tree or an installed wheel).
+STUBS = Path(gyrobias.__file__).resolve().parent / "_core"
 
 
 class _TypedDict:

@@ -25,6 +25,9 @@ unit-aware Python interfaces:
   and the compiled predictor, bit-exact or with a stated Q31 error bound.
 - :mod:`gyrobias.io` — reading gyro logs (CSV/TSV/NPY) with sampling checks.
 - :mod:`gyrobias.fleet`, :mod:`gyrobias.plotting` — many logs at once on Dask; every plot.
+
+``gyrobias.__version__`` is the version of the compiled core, set once in the workspace's
+``Cargo.toml`` (the wheel, ``gyrobias --version`` and the CHANGELOG's release use the same).
 """
 
 # The package façade: it imports the science modules and every module that registers the

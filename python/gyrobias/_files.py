@@ -7,7 +7,9 @@ A leaf module (it imports nothing from gyrobias), so every layer can use it.
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
+import stat
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
@@ -23,22 +25,42 @@ def atomic_binary(path: str | os.PathLike[str]) -> Iterator[BinaryIO]:
 
     A reader never sees a half-written file, and a failure (an exception in the block, an
     interrupted run) leaves no file at ``path`` — or the existing one untouched — and no
-    temporary file. The file gets the target's mode if it exists, else the umask's.
+    temporary file. The file gets the target's mode if it exists, else the umask's. A target
+    that is a device or a FIFO (``/dev/null``) is written in place, never replaced; a directory
+    is an ``IsADirectoryError`` naming it.
     """
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path must be a str or os.PathLike, got {type(path).__name__}")
     target = Path(os.fspath(path))
     directory = target.parent if str(target.parent) else Path(".")
     try:
-        mode = target.stat().st_mode & 0o777
-    except FileNotFoundError:
+        st_mode = target.stat().st_mode
+    except (FileNotFoundError, NotADirectoryError):
         umask = os.umask(0)
         os.umask(umask)
         mode = 0o666 & ~umask
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
+    else:
+        if stat.S_ISDIR(st_mode):
+            raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), str(target))
+        if not stat.S_ISREG(st_mode):
+            # A device or FIFO (/dev/null, /dev/stdout, a pipe): written in place. Renaming a
+            # temporary file over it would replace the device node itself.
+            with open(target, "wb") as fh:
+                yield fh
+            return
+        mode = st_mode & 0o777
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
+    except OSError as exc:
+        raise _naming(exc, target) from None
     try:
         with os.fdopen(fd, "wb") as fh:
             yield fh
         os.chmod(tmp, mode)  # mkstemp creates 0600; keep the target's (or the umask's) mode
-        os.replace(tmp, target)
+        try:
+            os.replace(tmp, target)
+        except OSError as exc:
+            raise _naming(exc, target) from None
     except BaseException:
         try:
             os.unlink(tmp)
@@ -47,12 +69,21 @@ def atomic_binary(path: str | os.PathLike[str]) -> Iterator[BinaryIO]:
         raise
 
 
+def _naming(exc: OSError, target: Path) -> OSError:
+    """``exc`` about the caller's ``target`` (not the hidden temporary file beside it)."""
+    if exc.errno is None:
+        return OSError(f"cannot write '{target}': {exc}")
+    return type(exc)(exc.errno, exc.strerror, str(target))
+
+
 def atomic_write(path: str | os.PathLike[str], text: str) -> Path:
     """Write ``text`` (UTF-8) to ``path`` through a temporary file beside it and ``os.replace``
     (:func:`atomic_binary`).
 
     A reader never sees a half-written file, and a failure leaves an existing file untouched.
     """
+    if not isinstance(text, str):
+        raise TypeError(f"text must be a str, got {type(text).__name__}")
     with atomic_binary(path) as fh:
         fh.write(text.encode("utf-8"))
     return Path(os.fspath(path))

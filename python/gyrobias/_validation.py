@@ -8,12 +8,25 @@ lengths, parameter ranges) are checked by the core itself.
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _core
+
+
+def asarray(name: str, value: Any) -> NDArray[Any]:
+    """``np.asarray(value)``, with NumPy's error for ragged input ("setting an array element with
+    a sequence") turned into a ``ValueError`` naming ``name``."""
+    try:
+        return np.asarray(value)
+    except (ValueError, TypeError) as exc:
+        raise ValueError(
+            f"{name} must be a rectangular array of numbers, got a ragged or mixed sequence "
+            f"({type(value).__name__})"
+        ) from exc
 
 
 def as_float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> NDArray[np.float64]:
@@ -29,7 +42,7 @@ def as_float_array(name: str, value: Any, ndims: tuple[int, ...] = (1,)) -> NDAr
     ValueError
         If the number of dimensions is not in ``ndims`` or the array is empty.
     """
-    arr = np.asarray(value)
+    arr = asarray(name, value)
     if arr.dtype.kind not in "iuf":
         raise TypeError(
             f"{name} must be a real numeric array (int or float), got dtype {arr.dtype}"
@@ -139,6 +152,62 @@ def positive_float(name: str, value: Any) -> float:
     if not np.isfinite(v) or v <= 0.0:
         raise ValueError(f"{name} must be finite and > 0, got {value!r}")
     return v
+
+
+def non_negative_float(name: str, value: Any) -> float:
+    """``value`` as a finite float ≥ 0, else ``ValueError``/``TypeError`` naming ``name``.
+
+    For the magnitudes the Python layer computes with itself (unit conversions of densities and
+    variances): the range is the core's check (``gyrocore::validate::non_negative``), called
+    before Python computes; only the type is checked here.
+    """
+    return _core.validate.non_negative(name, real(name, value))
+
+
+def finite_result(name: str, value: Any, result: float) -> float:
+    """``result`` (computed from the argument ``name`` = ``value``) if it is finite, else
+    ``ValueError``: the argument is too large (or small) for the computation in float64."""
+    if not np.isfinite(result):
+        raise ValueError(f"{name} must give a finite result in float64, got {value!r}")
+    return result
+
+
+def callback(name: str, value: Any) -> Any:
+    """``value`` if it is ``None`` or callable, else ``TypeError`` naming ``name`` (checked
+    before any work starts, not when the callback is first called)."""
+    if value is not None and not callable(value):
+        raise TypeError(f"{name} must be callable or None, got {type(value).__name__}")
+    return value
+
+
+def pair(name: str, value: Any) -> tuple[float, float]:
+    """``value`` as two real numbers ``(low, high)``; ``TypeError``/``ValueError`` naming ``name``
+    for anything else (a scalar, a string, three numbers: never silently the first two)."""
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__"):
+        raise TypeError(f"{name} must be a pair (low, high) of numbers, got {type(value).__name__}")
+    if len(value) != 2:
+        raise ValueError(f"{name} must be a pair (low, high) of numbers, got {len(value)} values")
+    return real(name, value[0]), real(name, value[1])
+
+
+_ROS_NAME = re.compile(r"[~/A-Za-z][A-Za-z0-9_/]*")
+
+
+def ros_topic(name: str, value: Any) -> str:
+    """``value`` if it is a ROS graph name (``/imu0``, ``~raw``, ``imu/data``), else an error.
+
+    A topic is written verbatim into YAML files (Kalibr, OpenVINS, …): restricting it to the
+    characters ROS allows in names (letters, digits, ``_`` and ``/``, starting with a letter,
+    ``/`` or ``~``) is what keeps ``"a\nb: c"`` from adding a key ``b`` to the file.
+    """
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be a ROS topic name (a string), got {type(value).__name__}")
+    if not _ROS_NAME.fullmatch(value):
+        raise ValueError(
+            f"{name} must be a ROS topic name (letters, digits, '_' and '/', starting with a "
+            f"letter, '/' or '~'), got {value!r}"
+        )
+    return value
 
 
 def choice(name: str, value: Any, options: tuple[str, ...]) -> str:

@@ -34,7 +34,7 @@ from typing import TYPE_CHECKING, Any
 from gyrobias import _core, _generics
 from gyrobias._validation import choice, positive_float
 from gyrobias.noise._types import TERM_NAMES, NoiseCoefficients, Term
-from gyrobias.units import CUSTOMARY, base_unit, parse_unit, sensor_kind
+from gyrobias.units import CUSTOMARY, _parse_unit, base_unit, sensor_kind
 
 if TYPE_CHECKING:
     from gyrobias.exports import DiscreteNoise
@@ -318,12 +318,12 @@ def from_datasheet(
         number, unit = _split_value(name, value, units, sensor, symbol)
         target = base_unit(data_units[sensor], symbol)
         try:
-            parsed = parse_unit(unit)
+            parsed = _parse_unit(unit)
         except ValueError as exc:
             raise ValueError(
                 f"{name}: {exc}; valid units for {name}: {_EXAMPLES[sensor][symbol]}"
             ) from None
-        want = parse_unit(target)
+        want = _parse_unit(target)
         if parsed.dims != want.dims:
             raise ValueError(
                 f"{name}: unit {unit!r} is not a {sensor} {_WHAT[symbol]}; valid units for {name}: "

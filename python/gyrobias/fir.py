@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core, _generics
-from gyrobias._validation import as_float_array, count, integer, real, string
+from gyrobias._validation import as_float_array, asarray, count, integer, real, string
 
 __all__ = ["FrequencyResponse", "KaiserLowpass", "apply", "kaiser_lowpass", "stream"]
 
@@ -302,7 +302,7 @@ def apply(
     depends on this edge convention; in the interior it does not.
     """
     h = as_float_array("taps", taps)
-    arr = np.asarray(x)
+    arr = asarray("x", x)
     if arr.ndim == 0:
         raise ValueError("x must have at least one dimension")
     arr = as_float_array("x", arr, ndims=(arr.ndim,))
@@ -322,7 +322,16 @@ def apply(
     rows = np.ascontiguousarray(moved.reshape(-1, shape[-1]))
     # padlen is converted by the binding (which refuses a negative one) and ignored by the core
     # unless zero_phase.
-    out = _core.fir.filter_rows(h, rows, bool(zero_phase), padtype, padlen)
+    try:
+        out = _core.fir.filter_rows(h, rows, bool(zero_phase), padtype, padlen)
+    except ValueError as exc:
+        if str(exc).startswith("x is too short") and arr.ndim > 1:
+            # the core sees rows: say which axis of the caller's array was too short
+            raise ValueError(
+                f"{exc} along axis={axis} of x (shape {arr.shape}): filter along the axis of "
+                "time (axis=-1 by default)"
+            ) from None
+        raise
     return np.moveaxis(out.reshape(shape), -1, axis)
 
 
@@ -382,7 +391,7 @@ def stream(
     ):
         raise ValueError(f"dtype must be np.float64 or np.float32, got {dtype!r}")
     h = as_float_array("taps", taps)
-    arr = np.asarray(x)
+    arr = asarray("x", x)
     if arr.ndim == 0:
         raise ValueError("x must have at least one dimension")
     arr = as_float_array("x", arr, ndims=(arr.ndim,))
@@ -399,7 +408,7 @@ def stream(
     if state is None:
         st = np.zeros((rows.shape[0], width))
     else:
-        st = np.asarray(state, dtype=np.float64)
+        st = as_float_array("state", state, ndims=tuple(range(1, 33)))
         if st.shape != (*shape[:-1], width):
             raise ValueError(f"state must have shape {(*shape[:-1], width)}, got {st.shape}")
         st = st.reshape(rows.shape[0], width)

@@ -32,7 +32,7 @@ References
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -40,7 +40,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core, _generics
-from gyrobias._validation import as_float_array, integer, real, string
+from gyrobias._validation import (
+    as_float_array,
+    asarray,
+    finite_result,
+    integer,
+    non_negative_float,
+    real,
+    string,
+)
 
 __all__ = [
     "FilterResult",
@@ -62,24 +70,34 @@ Form = Literal["standard", "paper"]
 # --- unit helpers ---------------------------------------------------------------------------
 
 
+def _converted(name: str, value: float, convert: Callable[[float], float]) -> float:
+    # A variance or density: finite and >= 0 (the core's check; bools are refused as types),
+    # and the converted value must be finite too.
+    v = non_negative_float(name, value)
+    return finite_result(name, value, convert(v))
+
+
 def q_omega_from_deg_per_hour(q_omega: float) -> float:
-    """[NR]'s per-step ``q_ω`` in (°/h)² → (°/s)² (divide by 3600²)."""
-    return float(q_omega) / 3600.0**2
+    """[NR]'s per-step ``q_ω`` in (°/h)² → (°/s)² (divide by 3600²).
+
+    ``q_omega`` must be finite and ≥ 0 (a variance): ``ValueError`` naming it otherwise.
+    """
+    return _converted("q_omega", q_omega, lambda v: v / 3600.0**2)
 
 
 def q_omega_to_deg_per_hour(q_omega: float) -> float:
-    """Per-step ``q_ω`` in (°/s)² → (°/h)², the unit [NR] quotes."""
-    return float(q_omega) * 3600.0**2
+    """Per-step ``q_ω`` in (°/s)² → (°/h)², the unit [NR] quotes (``q_omega`` finite, ≥ 0)."""
+    return _converted("q_omega", q_omega, lambda v: v * 3600.0**2)
 
 
 def arw_from_deg_per_sqrt_hour(arw: float) -> float:
-    """ARW in °/√h → °/√s (divide by 60)."""
-    return float(arw) / 60.0
+    """ARW in °/√h → °/√s (divide by 60; ``arw`` finite and ≥ 0)."""
+    return _converted("arw", arw, lambda v: v / 60.0)
 
 
 def rrw_from_deg_per_hour_1p5(rrw: float) -> float:
-    """RRW in °/h^1.5 → °/s^1.5 (divide by 216000)."""
-    return float(rrw) / 216000.0
+    """RRW in °/h^1.5 → °/s^1.5 (divide by 216000; ``rrw`` finite and ≥ 0)."""
+    return _converted("rrw", rrw, lambda v: v / 216000.0)
 
 
 # --- design functions -----------------------------------------------------------------------
@@ -370,7 +388,7 @@ class FixedGainKalman:
 
     def frequency_response(self, freqs: ArrayLike) -> NDArray[np.complex128]:
         """Complex response ``g1/(1 − p e^{−j2πf/fs})`` of ``z → ω̂`` at ``freqs`` (Hz)."""
-        f = np.asarray(freqs)
+        f = asarray("freqs", freqs)
         shape = f.shape
         flat = as_float_array("freqs", f.reshape(-1) if f.ndim != 1 else f)
         re, im = self._core.frequency_response(flat)

@@ -30,6 +30,7 @@ from gyrobias._validation import (
     count,
     integer,
     real,
+    string,
 )
 
 __all__ = [
@@ -54,8 +55,8 @@ def _n_threads(n_threads: int | None) -> int:
     if n_threads is None:
         return 0
     n = integer("n_threads", n_threads)
-    if n == 0:
-        raise ValueError("n_threads must be a positive integer or None, got 0")
+    if n <= 0:
+        raise ValueError(f"n_threads must be a positive integer or None, got {n}")
     return n
 
 
@@ -129,28 +130,56 @@ def moving_average(y: Any, horizon: int) -> NDArray[np.float64]:
     return out[0] if one else out
 
 
-def integrated_error(y: Any, yhat: Any) -> NDArray[np.float64] | float:
-    """Integrated error ``IE = Σ_j (y_j − ŷ_j)`` (data minus prediction) along the last axis."""
+def _errors(y: Any, yhat: Any) -> NDArray[np.float64]:
+    """``y − ŷ`` of two same-shaped finite arrays; a ``ValueError`` naming the argument for a
+    non-finite value (which would make the statistic NaN or ∞) or a difference that overflows."""
     a = as_float_array("y", y, ndims=(1, 2))
     b = as_float_array("yhat", yhat, ndims=(1, 2))
     if a.shape != b.shape:
         raise ValueError(f"y and yhat must have the same shape, got {a.shape} and {b.shape}")
-    out = np.sum(a - b, axis=-1)
+    for name, v in (("y", a), ("yhat", b)):
+        bad = np.flatnonzero(~np.isfinite(v))
+        if bad.size:
+            raise ValueError(
+                f"{name} must be finite, got {v.flat[bad[0]]} at flat index {int(bad[0])}"
+            )
+    with np.errstate(over="ignore"):
+        d = a - b
+    if not np.isfinite(d).all():
+        raise ValueError("y - yhat must be finite in float64, got an overflow")
+    return d
+
+
+def integrated_error(y: Any, yhat: Any) -> NDArray[np.float64] | float:
+    """Integrated error ``IE = Σ_j (y_j − ŷ_j)`` (data minus prediction) along the last axis.
+
+    ``y`` and ``yhat`` must be finite; a sum beyond float64 is a ``ValueError``.
+    """
+    d = _errors(y, yhat)
+    with np.errstate(over="ignore"):
+        out = np.sum(d, axis=-1)
+    if not np.isfinite(out).all():
+        raise ValueError("y - yhat must have a finite sum in float64, got an overflow")
     return float(out) if out.ndim == 0 else out
 
 
 def rsse(y: Any, yhat: Any) -> NDArray[np.float64] | float:
     """Root of the sum of squared errors ``√Σ_j (y_j − ŷ_j)²`` along the last axis.
 
+    Where the squares overflow it is computed as ``s·√Σ(d_j/s)²`` with ``s = max|d_j|``, so
+    errors up to the float64 limit give a finite root; ``y`` and ``yhat`` must be finite.
+
     Notes
     -----
     [BP]'s text defines the plain sum of squares; its Table I values need the root (SPEC §5).
     """
-    a = as_float_array("y", y, ndims=(1, 2))
-    b = as_float_array("yhat", yhat, ndims=(1, 2))
-    if a.shape != b.shape:
-        raise ValueError(f"y and yhat must have the same shape, got {a.shape} and {b.shape}")
-    out = np.sqrt(np.sum((a - b) ** 2, axis=-1))
+    d = _errors(y, yhat)
+    with np.errstate(over="ignore"):
+        out = np.sqrt(np.sum(d**2, axis=-1))
+    if not np.isfinite(out).all():  # squares beyond float64: the same root, scaled
+        scale = np.max(np.abs(d), axis=-1, keepdims=True)
+        safe = np.where(scale > 0.0, scale, 1.0)
+        out = (safe * np.sqrt(np.sum((d / safe) ** 2, axis=-1, keepdims=True)))[..., 0]
     return float(out) if out.ndim == 0 else out
 
 
@@ -323,6 +352,7 @@ class FractionalKalmanPredictor:
         for name in ("d", "q", "r"):
             object.__setattr__(self, name, real(name, getattr(self, name)))
         object.__setattr__(self, "_spec", _mean_spec(self.mean))
+        string("algorithm", self.algorithm)
         # The model's preconditions (−½ < d < 3/2, q > 0, r ≥ 0, the prior, the algorithm's
         # name) are the core's; checked now so that a bad predictor fails where it is made.
         _core.predict.validate_model(*self._args(), self.algorithm)
@@ -516,7 +546,9 @@ class Evaluation:
         deviations). The standard error uses 400 paired bootstrap resamples of the sections
         (fixed seed, so the numbers are reproducible); NaN with fewer than 10 sections.
         """
-        a, b = self.methods[method], self.methods[reference]
+        names = tuple(self.methods)
+        a = self.methods[choice("method", method, names)]
+        b = self.methods[choice("reference", reference, names)]
         choice("statistic", statistic, ("rsse", "ie_std"))
         value = a.mean_rsse / b.mean_rsse if statistic == "rsse" else a.ie_std / b.ie_std
         if self.sections < 10:  # too few sections for a meaningful bootstrap
@@ -613,6 +645,7 @@ def evaluate(
     methods = list(methods)
     for m in methods:
         choice("methods", m, tuple(_METHOD_NAMES))
+    _n_threads(n_threads)  # refused even when no method uses threads (only "cm", "ma")
     cal = np.ascontiguousarray(arr[:, :k])
     fut = arr[:, k:]
     out: dict[str, MethodStats] = {}

@@ -23,6 +23,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from gyrobias import _core
+from gyrobias._validation import choice, real, string
 from gyrobias.exports import DEFAULT_FILENAMES, FORMATS, atomic_write, export
 
 if TYPE_CHECKING:
@@ -422,8 +424,22 @@ def build_report(
         A log without samples or a sample rate, data not of shape (samples, channels),
         ``units`` with the wrong number of entries, or no channel that could be analysed
         (e.g. all NaN); a channel that fails while others succeed is reported on the page.
+        An invalid option (``method``, ``confidence`` or ``conservative_confidence`` outside
+        (0, 1), ``rate`` not finite and > 0) raises before any channel is analysed.
     """
     _check_log(log)
+    # The options apply to every channel: refuse a bad one here (the per-channel isolation
+    # below is for failures of the data, which must not turn into a page of errors for a typo).
+    choice("method", method, ("joint", "ieee"))
+    _core.validate.probability(
+        "conservative_confidence", real("conservative_confidence", conservative_confidence)
+    )
+    if confidence is not None:
+        _core.validate.probability("confidence", real("confidence", confidence))
+    if rate is not None:
+        _core.validate.positive("rate", real("rate", rate))
+    if title is not None:
+        string("title", title)
     k = len(log.columns)
     if units is None:
         per_channel: list[str | None] = list(log.units) if log.units else [None] * k

@@ -38,7 +38,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, real, string
+from gyrobias._validation import as_float_array, pair, real, string
+from gyrobias.units import checked_units
 
 __all__ = ["LSSAResult", "NoiseDensity", "PSDResult", "lssa", "noise_density", "psd"]
 
@@ -365,6 +366,7 @@ def psd(
     ``P = 2σ²/fs``.
     """
     arr = as_float_array("x", x)
+    units = checked_units("units", units)
     fs = real("fs", fs)  # fs > 0: the core's check (spectral::welch)
     string("window", window)  # parsed by the core (Window::parse)
     # Types here; nperseg >= 2, noverlap < nperseg are the core's checks, a negative count the
@@ -446,8 +448,9 @@ def noise_density(
     For white noise of standard deviation σ the density is ``σ√(2/fs)`` and the IEEE-952 angle
     random walk ``N = density/√2 = σ/√fs`` (SPEC §1).
     """
+    given = None if band is None else pair("band", band)  # before the work, whatever the data
     spec = psd(x, fs, nperseg=nperseg, units=units)
-    lo, hi = (0.05 * spec.fs, 0.25 * spec.fs) if band is None else (float(band[0]), float(band[1]))
+    lo, hi = (0.05 * spec.fs, 0.25 * spec.fs) if given is None else given
     if not (0.0 <= lo < hi <= 0.5 * spec.fs):
         raise ValueError(
             f"band must satisfy 0 <= low < high <= fs/2 = {0.5 * spec.fs}, got ({lo}, {hi})"

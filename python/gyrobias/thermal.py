@@ -34,7 +34,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, integer, sample_rate, string
+from gyrobias._validation import as_float_array, boolean, integer, real, sample_rate, string
+from gyrobias.units import checked_units
 
 __all__ = [
     "AR1Fit",
@@ -253,8 +254,11 @@ class TemperatureModel:
         Raises ``ValueError`` for a temperature outside the calibrated range unless
         ``extrapolate=True`` (then the end segment / end cubic / polynomial is continued).
         """
-        if name not in self.parameters:
-            raise KeyError(f"unknown parameter {name!r}; known: {', '.join(self.names)}")
+        if not isinstance(name, str) or name not in self.parameters:
+            raise ValueError(
+                f"name must be one of {', '.join(map(repr, self.names))}; got {name!r} "
+                "(unknown parameter)"
+            )
         at = np.asarray(temperature, dtype=np.float64)
         flat = np.ascontiguousarray(at.reshape(-1))
         if flat.size == 0:
@@ -273,7 +277,8 @@ class TemperatureModel:
 
     def evaluate(self, temperature: float, *, extrapolate: bool = False) -> dict[str, float]:
         """All parameters at one temperature."""
-        return {n: float(self(n, float(temperature), extrapolate=extrapolate)) for n in self.names}
+        t = real("temperature", temperature)
+        return {n: float(self(n, t, extrapolate=extrapolate)) for n in self.names}
 
     def to_dict(self) -> dict[str, Any]:
         """Plain-Python representation (what :meth:`to_json` writes)."""
@@ -304,11 +309,35 @@ class TemperatureModel:
             )
         except KeyError as exc:
             raise ValueError(f"temperature model data lacks the key {exc.args[0]!r}") from exc
+        except (AttributeError, TypeError) as exc:
+            # e.g. "parameters" not a mapping, or "temperatures" of strings
+            raise ValueError(
+                "data must be a temperature model (keys temperatures, parameters: name → values, "
+                f"units, method, degree), got an invalid structure: {exc}"
+            ) from None
 
     @classmethod
     def from_json(cls, text: str) -> TemperatureModel:
-        """Inverse of :meth:`to_json`."""
-        return cls.from_dict(json.loads(text))
+        """Inverse of :meth:`to_json`.
+
+        Raises ``ValueError`` naming the line and column for text that is not JSON, and for
+        JSON that is not a temperature model; ``TypeError`` if ``text`` is not a string.
+        """
+        if not isinstance(text, (str, bytes, bytearray)):
+            raise TypeError(f"text must be a JSON string, got {type(text).__name__}")
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise ValueError(
+                f"text is not valid JSON: {exc.msg} at line {exc.lineno}, column {exc.colno}"
+            ) from None
+        except UnicodeDecodeError as exc:
+            raise ValueError(f"text is not valid JSON: {exc}") from None
+        if not isinstance(data, Mapping):
+            raise ValueError(
+                f"text must hold a JSON object (a temperature model), got {type(data).__name__}"
+            )
+        return cls.from_dict(data)
 
     @classmethod
     def from_analyses(
@@ -471,6 +500,17 @@ def analyse_log(
         raise TypeError(f"temperature must be a real number, got {type(temperature).__name__}")
     if not math.isfinite(float(temperature)):
         raise ValueError(f"temperature must be finite, got {temperature!r}")
+    units = checked_units("units", units)
+    boolean("prefilter", prefilter)
+    # The prefilter is designed (its options checked) even when prefilter=False ignores it:
+    # an out-of-range option is refused whether or not this call reads it.
+    design = fir.kaiser_lowpass(
+        fs,
+        0.14 * fs if fpass is None else fpass,
+        0.18 * fs if fstop is None else fstop,
+        apass_db=apass_db,
+        astop_db=astop_db,
+    )
     m = max(1, int(round(fs)))
     one = cast("allan.AllanResult", allan.adev(arr, fs, taus=[m / fs], confidence=None))
     oct_ = cast("allan.AllanResult", allan.adev(arr, fs, taus="octave", confidence=None))
@@ -483,13 +523,6 @@ def analyse_log(
     cutoff: float | None = None
     data = arr
     if prefilter:
-        design = fir.kaiser_lowpass(
-            fs,
-            0.14 * fs if fpass is None else fpass,
-            0.18 * fs if fstop is None else fstop,
-            apass_db=apass_db,
-            astop_db=astop_db,
-        )
         cutoff = design.cutoff
         data = design.apply(arr, zero_phase=bool(zero_phase))
         if not zero_phase:

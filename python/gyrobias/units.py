@@ -139,8 +139,22 @@ def parse_unit(text: str) -> Unit:
     Raises
     ------
     ValueError
-        On an unknown symbol or malformed string; the message lists the valid symbols.
+        On an unknown symbol or malformed string, naming ``text``; the message lists the valid
+        symbols.
     """
+    return _named("text", text)
+
+
+def _named(name: str, text: str) -> Unit:
+    """:func:`_parse_unit` with the argument's ``name`` in front of its message."""
+    try:
+        return _parse_unit(text)
+    except ValueError as exc:
+        raise ValueError(f"{name}: {exc}") from None
+
+
+def _parse_unit(text: str) -> Unit:
+    """:func:`parse_unit` without naming the argument (for callers that name it themselves)."""
     if not isinstance(text, str) or not text.strip():
         raise ValueError(_valid_units_message(str(text)))
     tokens: list[str] = []
@@ -230,10 +244,7 @@ def checked_units(name: str, value: object) -> str | None:
         return None
     if not isinstance(value, str):
         raise TypeError(f"{name} must be a unit string or None, got {type(value).__name__}")
-    try:
-        parse_unit(value)
-    except ValueError as exc:
-        raise ValueError(f"{name}: {exc}") from None
+    _named(name, value)
     return value
 
 
@@ -245,8 +256,8 @@ def conversion_factor(from_unit: str, to_unit: str) -> float:
     ValueError
         Unknown units, or units of different dimensions.
     """
-    a = parse_unit(from_unit)
-    b = parse_unit(to_unit)
+    a = _named("from_unit", from_unit)
+    b = _named("to_unit", to_unit)
     if a.dims != b.dims:
         raise ValueError(f"cannot convert {from_unit!r} to {to_unit!r}: different dimensions")
     return a.factor / b.factor
@@ -254,7 +265,7 @@ def conversion_factor(from_unit: str, to_unit: str) -> float:
 
 def sensor_kind(data_unit: str) -> str:
     """``"gyro"`` for an angular-rate unit, ``"accel"`` for an acceleration unit."""
-    dims = parse_unit(data_unit).dims
+    dims = _named("data_unit", data_unit).dims
     if dims == (Fraction(1), Fraction(0), Fraction(-1)):
         return "gyro"
     if dims == (Fraction(0), Fraction(1), Fraction(-2)):
@@ -280,8 +291,12 @@ _TIME_SUFFIX = {
 
 def base_unit(data_unit: str, symbol: str) -> str:
     """The unit of coefficient ``symbol`` for data in ``data_unit`` (e.g. "deg/s", "N" → "deg/√s")."""
+    if not isinstance(symbol, str) or symbol not in TERM_TIME_POWER:
+        raise ValueError(
+            f"symbol must be one of {', '.join(map(repr, TERM_TIME_POWER))}; got {symbol!r}"
+        )
     p = TERM_TIME_POWER[symbol]
-    parse_unit(data_unit)
+    _named("data_unit", data_unit)
     m = re.fullmatch(r"(.+?)/s(?:\^(\d)|(²)|(³))?", data_unit.strip())
     if m:
         numerator = m.group(1)

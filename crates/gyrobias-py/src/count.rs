@@ -18,7 +18,7 @@ use pyo3::types::PyBool;
 
 fn out_of_range(obj: &Bound<'_, PyAny>, name: &str, bits: u32) -> PyErr {
     PyValueError::new_err(format!(
-        "invalid {name}: must be an integer from 0 to 2**{bits} - 1, got {obj}"
+        "{name} must be an integer from 0 to 2**{bits} - 1, got {obj}"
     ))
 }
 
@@ -62,7 +62,7 @@ fn optional_size(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Option<usize>> 
 
 fn element_out_of_range(name: &str, index: usize, value: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(format!(
-        "invalid {name}: must hold integers from 0 to 2**64 - 1, got {value} at index {index}"
+        "{name} must hold integers from 0 to 2**64 - 1, got {value} at index {index}"
     ))
 }
 

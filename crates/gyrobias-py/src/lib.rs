@@ -47,10 +47,22 @@ fn submodule(
     Ok(())
 }
 
+/// The instruction set of the core's vectorised kernels (`gyrocore::simd`): `"x86-64-v3"`
+/// (AVX2, FMA), `"neon"`, or `"scalar"` (the baseline, forced by `GYROBIAS_SIMD=scalar`).
+#[pyfunction]
+fn instruction_set() -> &'static str {
+    gyrocore::simd::instruction_set()
+}
+
 /// The extension module.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     error::register(m)?;
+    // The package version, set once in the workspace's Cargo.toml (the wheel's version too).
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // A misspelt GYROBIAS_SIMD fails the import with the core's message.
+    error::core(gyrocore::simd::check())?;
+    m.add_function(wrap_pyfunction!(instruction_set, m)?)?;
     submodule(m, "allan", allan::register)?;
     submodule(m, "codegen", codegen::register)?;
     submodule(m, "fir", fir::register)?;

@@ -163,12 +163,12 @@ fn model<'py>(
     py: Python<'py>,
     squared: [f64; 5],
     taus: PyReadonlyArray1<'py, f64>,
-) -> ModelCurves<'py> {
-    let (total, parts) = noise::model_curves(&squared, &c_order(&taus));
-    (
+) -> PyResult<ModelCurves<'py>> {
+    let (total, parts) = core(noise::model_curves(&squared, &c_order(&taus)))?;
+    Ok((
         total.into_pyarray(py),
         parts.into_iter().map(|p| p.into_pyarray(py)).collect(),
-    )
+    ))
 }
 
 /// Tightest overbound `A c ≥ b`, `c ≥ floor` (default 0), minimising `Σ (A c)_i / b_i`

@@ -25,8 +25,10 @@ pub enum Error {
         /// Samples given.
         got: usize,
     },
-    /// A parameter outside its valid range or otherwise unusable.
-    #[error("invalid {name}: {reason}")]
+    /// A parameter outside its valid range or otherwise unusable. Displayed in the package's
+    /// one message style, `<name> must be …, got …`, when the reason is a requirement (starts
+    /// with "must "), else as `invalid <name>: <reason>`.
+    #[error("{}", invalid_message(name, reason))]
     InvalidParameter {
         /// Argument name.
         name: &'static str,
@@ -60,6 +62,16 @@ pub enum Error {
     /// The caller's progress hook asked to stop (see `allan::progress`).
     #[error("cancelled by the progress callback")]
     Cancelled,
+}
+
+/// The message of [`Error::InvalidParameter`]: `"fs must be finite and > 0, got NaN"` for a
+/// requirement, `"invalid taus: …"` for any other reason.
+fn invalid_message(name: &str, reason: &str) -> String {
+    if reason.starts_with("must ") {
+        format!("{name} {reason}")
+    } else {
+        format!("invalid {name}: {reason}")
+    }
 }
 
 /// Result alias used throughout gyrocore.

@@ -17,6 +17,7 @@
 //! | [`predict`] | bias prediction: calibration mean, moving average, fractional (1/f) Kalman predictor (literal and generalized-Schur O(n·k)), compiled batch predictor | \[BP\] §IV–V, SPEC §5 |
 //! | [`kalman`] | fixed-gain 2-state [rate, bias] Kalman filter: steady-state gain, discrete fixed-gain form, bandwidth design, streaming | \[NR\] eqs. 4–18, SPEC §6 |
 //! | [`stats`] | chi-square quantiles and the special functions behind them | — |
+//! | [`simd`] | run-time choice of the kernels' vector instruction set (`GYROBIAS_SIMD=scalar` forces the baseline) | — |
 //!
 //! Units: time in seconds; rates and angles in the caller's unit (the core is unit-agnostic).
 #![forbid(unsafe_code)]
@@ -32,6 +33,7 @@ pub mod noise;
 pub mod optimize;
 pub mod predict;
 pub mod random;
+pub mod simd;
 pub mod spectral;
 pub mod stats;
 pub mod thermal;

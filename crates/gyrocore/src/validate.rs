@@ -63,6 +63,18 @@ pub fn non_negative(name: &'static str, value: f64) -> Result<()> {
     }
 }
 
+/// Fails unless `value` is a level strictly between 0 and 1 (a confidence or probability).
+pub fn probability(name: &'static str, value: f64) -> Result<()> {
+    if value > 0.0 && value < 1.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            name,
+            format!("must lie strictly between 0 and 1, got {value}"),
+        ))
+    }
+}
+
 /// Fails with [`Error::Allocation`] (naming the argument `name` the size comes from) unless
 /// `count` values of type `T` can be allocated now.
 ///
@@ -170,6 +182,17 @@ mod tests {
                 }
                 other => panic!("fs = {fs}: expected an fs error, got {other:?}"),
             }
+        }
+    }
+
+    #[test]
+    fn probability_is_open_unit_interval() {
+        assert!(probability("p", 0.5).is_ok());
+        for p in [0.0, 1.0, -0.1, 1.5, f64::NAN, f64::INFINITY] {
+            assert!(matches!(
+                probability("p", p),
+                Err(Error::InvalidParameter { name: "p", .. })
+            ));
         }
     }
 

@@ -18,3 +18,9 @@ from gyrobias._core import thermal as thermal
 from gyrobias._core import validate as validate
 
 class GyroLinAlgError(ValueError): ...
+
+#: The package version (the workspace version of Cargo.toml, also the wheel's).
+__version__: str
+
+def instruction_set() -> str:
+    """The vector instruction set of the core's kernels: ``"x86-64-v3"``, ``"neon"`` or ``"scalar"``."""

@@ -36,11 +36,10 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any
 
-import numpy as np
 from numpy.typing import ArrayLike
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, choice
+from gyrobias._validation import as_float_array, asarray, callback, choice, string
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.allan import stream as _stream
 from gyrobias.allan._options import _options
@@ -64,7 +63,9 @@ def _analyse(
     gaps: str = "error",
 ) -> AllanResult | tuple[AllanResult, ...]:
     if _stream._file_readers(data) is not None:
-        arr = np.asarray(data)  # validated below; not converted (that would read the whole file)
+        arr = asarray(
+            "data", data
+        )  # validated below; not converted (that would read the whole file)
         if arr.ndim not in (1, 2):
             raise ValueError(
                 f"data must be a 1-D or 2-D array, got a {arr.ndim}-D array of shape {arr.shape}"
@@ -73,6 +74,8 @@ def _analyse(
             raise ValueError("data is empty")
     else:
         arr = as_float_array("data", data, ndims=(1, 2))
+    callback("progress", progress)
+    string("gaps", gaps)  # its values are parsed by the core (allan::Gaps)
     units = checked_units("units", units)
     fs, estimator, spec, explicit, confidence = _options(
         kind, fs, taus, per_decade, data_type, overlapping, confidence
@@ -199,6 +202,8 @@ def adev_batch(
     True
     """
     arr = as_float_array("data", data, ndims=(2, 3))
+    callback("progress", progress)
+    string("gaps", gaps)
     units = checked_units("units", units)
     fs, estimator, spec, explicit, confidence = _options(
         "adev", fs, taus, per_decade, data_type, overlapping, confidence

@@ -9,6 +9,7 @@ from gyrobias import _core
 from gyrobias._validation import as_float_array, integer
 from gyrobias.allan._options import _tau_options
 from gyrobias.allan._types import DynamicAllanResult
+from gyrobias.units import checked_units
 
 
 def dynamic_adev(
@@ -71,6 +72,7 @@ def dynamic_adev(
     True
     """
     arr = as_float_array("data", data, ndims=(1,))
+    units = checked_units("units", units)
     fs, spec, explicit, per_decade, _ = _tau_options(fs, taus, per_decade, data_type, None)
     window = integer("window", window)  # window <= n, step >= 1: the core's checks
     step = integer("step", step)

@@ -8,7 +8,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array
+from gyrobias._validation import as_float_array, callback
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.allan._options import _tau_options
 from gyrobias.allan._types import AllanResult
@@ -41,6 +41,7 @@ def _analyse_family(
 ) -> AllanResult | tuple[AllanResult, ...]:
     """Shared driver of the statistics computed by ``gyrocore::allan::family``."""
     arr = as_float_array("data", data, ndims=(1, 2))
+    callback("progress", progress)
     units = checked_units("units", units)
     # Types only: the ranges (per_decade >= 1, 0 < confidence < 1, ...) are the core's checks.
     fs, spec, explicit, per_decade, confidence = _tau_options(

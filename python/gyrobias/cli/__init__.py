@@ -5,9 +5,11 @@ argparse subparser and sets ``func=run`` (``run(args) -> int``). Modules of the 
 experiment …`` group expose ``register_experiment(exp_subparsers)`` instead. To add a command,
 append its module name to :data:`SUBCOMMANDS` or :data:`EXPERIMENTS`.
 
-Errors the library raises for bad input (``ValueError``, ``FileNotFoundError``, a missing
-optional dependency) are printed as one line ``gyrobias: error: …`` with exit code 2; usage
-errors exit with 2 as well (argparse's convention); ``--traceback`` shows the full traceback.
+Every option value is checked by the argument layer (the ``type=`` converters of
+:mod:`gyrobias.cli._types`); errors the library raises for bad input (``ValueError``,
+``TypeError``, ``OSError`` such as ``FileNotFoundError``, ``MemoryError``, a missing optional
+dependency) and usage errors are printed as one line ``gyrobias: error: …`` with exit code 2;
+``--traceback`` shows the full traceback.
 """
 
 from __future__ import annotations
@@ -17,6 +19,8 @@ import importlib
 import os
 import sys
 from collections.abc import Sequence
+
+from gyrobias.cli._types import Parser
 
 __all__ = ["EXPERIMENTS", "SUBCOMMANDS", "build_parser", "main"]
 
@@ -45,7 +49,7 @@ def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every registered subcommand."""
     from gyrobias._version import __version__
 
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="gyrobias",
         description="MEMS gyroscope noise analysis and bias prediction.",
     )
@@ -84,7 +88,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("\ngyrobias: interrupted", file=sys.stderr)
         return 130
-    except (ValueError, OSError, ImportError) as exc:
+    except (ValueError, TypeError, OSError, ImportError, MemoryError) as exc:
         if args.traceback:
             raise
         print(f"gyrobias: error: {_message(exc)}", file=sys.stderr)

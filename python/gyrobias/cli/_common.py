@@ -7,7 +7,7 @@ units, spilling to disk) works the same way everywhere::
 
     def register(subparsers):
         p = subparsers.add_parser("mycommand")
-        p.add_argument("log", type=Path)
+        p.add_argument("log", type=_types.path)
         add_read_arguments(p)
         p.set_defaults(func=run)
 
@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any, Protocol
 
 from gyrobias import io
+from gyrobias.cli import _types
 
 __all__ = [
     "ProgressBar",
@@ -75,6 +76,7 @@ def add_read_arguments(
         "--columns",
         "--column",
         dest="columns",
+        type=_types.column_list,
         metavar="A,B,…",
         help=column_help
         or "channels by name or 0-based index (default: all but time; for bags "
@@ -82,13 +84,14 @@ def add_read_arguments(
     )
     src.add_argument(
         "--fs",
-        type=float,
+        type=_types.positive,
         metavar="HZ",
         required=fs_required,
         help="sample rate" + ("" if fs_required else " (default: from the timestamps)"),
     )
     src.add_argument(
         "--time-column",
+        type=_types.text,
         metavar="NAME",
         help="column of timestamps (default: a header column named t/time/timestamp)",
     )
@@ -101,21 +104,30 @@ def add_read_arguments(
     )
     src.add_argument(
         "--delimiter",
+        type=_types.delimiter,
         metavar="SEP",
         help="field separator: , ; tab (or \\t) or whitespace (default: detected)",
     )
     src.add_argument(
-        "--skip-rows", type=int, default=0, metavar="N", help="lines to skip before the header"
+        "--skip-rows",
+        type=_types.non_negative_int,
+        default=0,
+        metavar="N",
+        help="lines to skip before the header",
     )
     if units:
         src.add_argument(
             "--units",
+            type=_types.unit_spec,
             metavar="UNIT",
             help="unit of the samples: one for all channels (deg/s), one per channel "
             "(deg/s,deg/s,deg/s,g,g,g) or per name (gx=deg/s,ax=m/s^2); bags are rad/s and m/s^2",
         )
     src.add_argument(
-        "--topic", metavar="TOPIC", help="bag topic (default: the only sensor_msgs/Imu topic)"
+        "--topic",
+        type=_types.text,
+        metavar="TOPIC",
+        help="bag topic (default: the only sensor_msgs/Imu topic)",
     )
     src.add_argument(
         "--stamp",
@@ -125,6 +137,7 @@ def add_read_arguments(
     )
     src.add_argument(
         "--repair",
+        type=_types.repair_spec,
         metavar="sort,dedup",
         default="",
         help="sort out-of-order samples by timestamp and/or drop exact duplicates (reported)",

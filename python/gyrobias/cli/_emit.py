@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 from typing import Any
+
+from gyrobias.cli import _types
 
 
 def add_emit_arguments(parser: argparse.ArgumentParser, default_name: str) -> None:
@@ -12,7 +13,7 @@ def add_emit_arguments(parser: argparse.ArgumentParser, default_name: str) -> No
     g = parser.add_argument_group("C code generation (gyrobias.codegen)")
     g.add_argument(
         "--emit-c",
-        type=Path,
+        type=_types.path,
         metavar="DIR",
         help="write a C99 header/source pair of the filter into DIR",
     )
@@ -22,10 +23,15 @@ def add_emit_arguments(parser: argparse.ArgumentParser, default_name: str) -> No
         default="float32",
         help="arithmetic of the generated C (default float32)",
     )
-    g.add_argument("--c-name", default=default_name, help=f"C prefix (default {default_name})")
+    g.add_argument(
+        "--c-name",
+        type=_types.c_identifier,
+        default=default_name,
+        help=f"C prefix (default {default_name})",
+    )
     g.add_argument(
         "--full-scale",
-        type=float,
+        type=_types.positive,
         metavar="RATE",
         help="q31: the rate that INT32 full scale stands for (states the error in its units)",
     )

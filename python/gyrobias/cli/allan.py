@@ -18,10 +18,10 @@ import argparse
 import json
 import sys
 import time
-from pathlib import Path
 from typing import Any
 
 from gyrobias import allan
+from gyrobias.cli import _types
 from gyrobias.cli import noise as noise_cli
 from gyrobias.cli._common import (
     ProgressBar,
@@ -65,7 +65,7 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument(
         "log",
-        type=Path,
+        type=_types.path,
         metavar="LOG",
         help="log: .csv/.tsv/.txt (delimited text), .npy, .bag, .mcap, .db3 or a ROS2 bag directory",
     )
@@ -93,7 +93,11 @@ def register(subparsers: Any) -> None:
         "all (every m: slow on long logs)",
     )
     ana.add_argument(
-        "--per-decade", type=int, default=10, metavar="N", help="points per decade for --taus log"
+        "--per-decade",
+        type=_types.positive_int,
+        default=10,
+        metavar="N",
+        help="points per decade for --taus log",
     )
     ana.add_argument(
         "--non-overlapping",
@@ -102,7 +106,7 @@ def register(subparsers: Any) -> None:
     )
     ana.add_argument(
         "--confidence",
-        type=float,
+        type=_types.probability,
         default=0.683,
         metavar="P",
         help="confidence level of the intervals (default 0.683 ≈ 1σ)",
@@ -116,13 +120,13 @@ def register(subparsers: Any) -> None:
     noise_cli.add_fit_arguments(p)
     out.add_argument(
         "--json",
-        type=Path,
+        type=_types.path,
         metavar="FILE",
         help="write all axes, units, fs and the sampling report as JSON",
     )
     out.add_argument(
         "--plot",
-        type=Path,
+        type=_types.path,
         metavar="FILE",
         help="save a log-log plot (png, pdf, svg) with confidence bars",
     )

@@ -19,6 +19,8 @@ from typing import Any
 
 import numpy as np
 
+from gyrobias.cli import _types
+
 __all__ = ["SECTIONS", "TRUE_COEFFICIENTS", "register", "run"]
 
 #: Modules providing ``demo_section(rate, fs, outdir)``; appended to extend the demo.
@@ -52,15 +54,22 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument(
         "--outdir",
-        type=Path,
+        type=_types.path,
         default=Path("gyrobias-out"),
         help="where plots and the log go (default gyrobias-out/)",
     )
-    p.add_argument("--seed", type=int, default=2012, help="random seed (default 2012)")
     p.add_argument(
-        "--hours", type=float, default=2.0, help="length of the simulated log in hours (default 2)"
+        "--seed", type=_types.non_negative_int, default=2012, help="random seed (default 2012)"
     )
-    p.add_argument("--fs", type=float, default=100.0, help="sample rate in Hz (default 100)")
+    p.add_argument(
+        "--hours",
+        type=_types.positive,
+        default=2.0,
+        help="length of the simulated log in hours (default 2)",
+    )
+    p.add_argument(
+        "--fs", type=_types.positive, default=100.0, help="sample rate in Hz (default 100)"
+    )
     p.set_defaults(func=run)
 
 

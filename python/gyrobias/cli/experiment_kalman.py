@@ -21,6 +21,7 @@ from numpy.typing import NDArray
 
 from gyrobias import noise
 from gyrobias.allan import AllanResult, adev
+from gyrobias.cli import _types
 from gyrobias.kalman import (
     FixedGainKalman,
     arw_from_deg_per_sqrt_hour,
@@ -241,9 +242,9 @@ def register_experiment(exp_subparsers: Any) -> argparse.ArgumentParser:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--static-seconds", type=float, default=3600.0)
-    p.add_argument("--dynamic-seconds", type=float, default=60.0)
+    p.add_argument("--seed", type=_types.non_negative_int, default=0)
+    p.add_argument("--static-seconds", type=_types.positive, default=3600.0)
+    p.add_argument("--dynamic-seconds", type=_types.positive, default=60.0)
     p.set_defaults(func=run)
     return p
 

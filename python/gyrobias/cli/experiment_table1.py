@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from gyrobias.cli import _types
 from gyrobias.predict import PAPER_TABLE1
 
 __all__ = ["register_experiment", "run", "simulate"]
@@ -34,24 +35,41 @@ def register_experiment(exp_subparsers: Any) -> None:
         description=__doc__.split("\n\n")[1] if __doc__ else None,
     )
     p.add_argument(
-        "--runs", type=int, default=1000, help="simulated series (default 1000, as [BP])"
-    )
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    p.add_argument("--sigma", type=float, default=2.5, help="driving noise std σ (default 2.5)")
-    p.add_argument(
-        "--bias", type=float, default=0.0, help="constant bias added to every series (default 0)"
+        "--runs",
+        type=_types.positive_int,
+        default=1000,
+        help="simulated series (default 1000, as [BP])",
     )
     p.add_argument(
-        "--calibration", type=int, default=1000, help="calibration samples (default 1000)"
+        "--seed", type=_types.non_negative_int, default=0, help="random seed (default 0)"
     )
-    p.add_argument("--horizon", type=int, default=1000, help="predicted samples (default 1000)")
+    p.add_argument(
+        "--sigma", type=_types.positive, default=2.5, help="driving noise std σ (default 2.5)"
+    )
+    p.add_argument(
+        "--bias",
+        type=_types.finite,
+        default=0.0,
+        help="constant bias added to every series (default 0)",
+    )
+    p.add_argument(
+        "--calibration",
+        type=_types.positive_int,
+        default=1000,
+        help="calibration samples (default 1000)",
+    )
+    p.add_argument(
+        "--horizon", type=_types.positive_int, default=1000, help="predicted samples (default 1000)"
+    )
     p.add_argument(
         "--mean",
         choices=("sample", "diffuse"),
         default="sample",
         help="KF mean-state prior (default sample)",
     )
-    p.add_argument("--threads", type=int, default=None, help="threads (default: all)")
+    p.add_argument(
+        "--threads", type=_types.positive_int, default=None, help="threads (default: all)"
+    )
     p.set_defaults(func=run)
 
 

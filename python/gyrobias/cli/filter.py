@@ -20,12 +20,11 @@ from __future__ import annotations
 
 import argparse
 import math
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from gyrobias.cli import _emit
+from gyrobias.cli import _emit, _types
 from gyrobias.cli._common import add_read_arguments, read_log, require_fs
 from gyrobias.kalman import (
     FixedGainKalman,
@@ -45,17 +44,25 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("log", type=Path, help="log of rates: text, .npy, a ROS bag or an MCAP file")
-    p.add_argument("--arw", type=float, required=True, help="angle random walk N (see --arw-unit)")
-    p.add_argument("--rrw", type=float, default=0.0, help="rate random walk K (see --rrw-unit)")
+    p.add_argument(
+        "log", type=_types.path, help="log of rates: text, .npy, a ROS bag or an MCAP file"
+    )
+    p.add_argument(
+        "--arw", type=_types.positive, required=True, help="angle random walk N (see --arw-unit)"
+    )
+    p.add_argument(
+        "--rrw", type=_types.non_negative, default=0.0, help="rate random walk K (see --rrw-unit)"
+    )
     p.add_argument("--arw-unit", choices=sorted(_ARW_UNITS), default="u/sqrt(s)")
     p.add_argument("--rrw-unit", choices=sorted(_RRW_UNITS), default="u/s^1.5")
     design = p.add_mutually_exclusive_group(required=True)
-    design.add_argument("--bandwidth", type=float, help="target -3 dB bandwidth in Hz")
-    design.add_argument("--q-omega", type=float, help="per-step rate process noise, (u/s)^2")
+    design.add_argument("--bandwidth", type=_types.positive, help="target -3 dB bandwidth in Hz")
+    design.add_argument(
+        "--q-omega", type=_types.positive, help="per-step rate process noise, (u/s)^2"
+    )
     p.add_argument("--form", choices=("standard", "paper"), default="standard")
     p.add_argument(
-        "-o", "--output", type=Path, help="output file (.csv or .npy); default: summary only"
+        "-o", "--output", type=_types.path, help="output file (.csv or .npy); default: summary only"
     )
     add_read_arguments(p)
     _emit.add_emit_arguments(p, "gyro_kf")

@@ -15,10 +15,10 @@ import argparse
 import math
 import os
 import sys
-from pathlib import Path
 from typing import Any
 
 from gyrobias import fleet
+from gyrobias.cli import _types
 from gyrobias.cli._common import add_read_arguments, load_options, progress_bar
 
 __all__ = ["register", "run"]
@@ -48,6 +48,7 @@ def register(subparsers: Any) -> None:
     src = add_read_arguments(p)
     src.add_argument(
         "--axis-names",
+        type=_types.column_list,
         metavar="X,Y,…",
         help="names for the channels of every log (compares logs whose headers differ, e.g. CSV and NPY)",
     )
@@ -60,6 +61,7 @@ def register(subparsers: Any) -> None:
     )
     ana.add_argument(
         "--terms",
+        type=_types.term_list,
         metavar="N,B,K,GM",
         help="noise terms to fit (Q, N, B, K, R, GM, GM2; default the five IEEE terms); GM adds a "
         "Gauss–Markov term (σ and correlation time columns), GM2 two (joint fit only)",
@@ -72,7 +74,7 @@ def register(subparsers: Any) -> None:
     )
     ana.add_argument(
         "--threshold",
-        type=float,
+        type=_types.positive,
         default=fleet.OUT_OF_FAMILY_THRESHOLD,
         metavar="Z",
         help=f"robust |z| above which a term is out of family (default {fleet.OUT_OF_FAMILY_THRESHOLD})",
@@ -80,24 +82,25 @@ def register(subparsers: Any) -> None:
     run_group = p.add_argument_group("where it runs")
     run_group.add_argument(
         "--scheduler",
+        type=_types.text,
         metavar="ADDRESS",
         help="Dask scheduler address (tcp://host:8786); default: local threads",
     )
     run_group.add_argument(
         "--workers",
-        type=int,
+        type=_types.positive_int,
         metavar="N",
         help="threads of the local scheduler (default: one per core)",
     )
     out = p.add_argument_group("output")
     out.add_argument(
         "--out",
-        type=Path,
+        type=_types.path,
         metavar="FILE",
         help="write the table: .parquet (pyarrow, with the Allan curves) or .csv (without them)",
     )
     out.add_argument(
-        "--plot", type=Path, metavar="FILE", help="save the fleet figure (png, pdf, svg)"
+        "--plot", type=_types.path, metavar="FILE", help="save the fleet figure (png, pdf, svg)"
     )
     p.set_defaults(func=run)
 

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from gyrobias import noise
+from gyrobias.cli import _types
 from gyrobias.noise import NoiseCoefficients, fit
 from gyrobias.units import conversion_factor
 
@@ -42,18 +43,21 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> None:
     )
     group.add_argument(
         "--fit-terms",
+        type=_types.term_list,
         metavar="LIST",
         default="Q,N,B,K,R",
         help="comma-separated model terms: Q,N,B,K,R and Gauss–Markov GM,GM2 (default Q,N,B,K,R)",
     )
     group.add_argument(
         "--kalibr",
+        type=_types.path,
         metavar="PATH",
         default=None,
         help="deprecated alias of --export kalibr=PATH (the same writer)",
     )
     group.add_argument(
         "--export",
+        type=_types.export_spec,
         metavar="FMT=PATH",
         action="append",
         default=None,
@@ -62,7 +66,7 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> None:
     )
     group.add_argument(
         "--export-rate",
-        type=float,
+        type=_types.positive,
         metavar="HZ",
         default=None,
         help="IMU rate written into the exports (default: the log's sample rate)",
@@ -110,7 +114,7 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
             c = fit(r, method=method, terms=terms)
         except ValueError as exc:
             name = f" axis {r.axis}" if getattr(r, "axis", None) else ""
-            raise SystemExit(f"gyrobias: noise fit{name} failed: {exc}") from None
+            raise ValueError(f"noise fit{name} failed: {exc}") from None
         assert isinstance(c, NoiseCoefficients)
         coefficients.append(c)
         print(_display(c).summary())
@@ -133,22 +137,9 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
         )
 
 
-def _parse_exports(specs: Sequence[str] | None) -> list[tuple[str, Path]]:
-    """``["vins=out.yaml", ...]`` → ``[("vins", Path("out.yaml")), ...]``; bad specs exit."""
-    from gyrobias.exports import FORMATS
-
-    out = []
-    for spec in specs or ():
-        fmt, sep, path = spec.partition("=")
-        fmt = fmt.strip().lower()
-        if not sep or not path.strip():
-            raise SystemExit(f"gyrobias: error: --export expects FMT=PATH, got {spec!r}")
-        if fmt not in (*FORMATS, "all"):
-            raise SystemExit(
-                f"gyrobias: error: --export format {fmt!r} is unknown; valid: {', '.join(FORMATS)}, all"
-            )
-        out.append((fmt, Path(path.strip())))
-    return out
+def _parse_exports(specs: Sequence[tuple[str, str]] | None) -> list[tuple[str, Path]]:
+    """``[("vins", "out.yaml"), ...]`` (checked by :func:`_types.export_spec`) with paths."""
+    return [(fmt, Path(path)) for fmt, path in specs or ()]
 
 
 def _write_exports(
@@ -164,8 +155,8 @@ def _write_exports(
     gyro = [c for c in coefficients if c.sensor == "gyro"]
     accel = [c for c in coefficients if c.sensor == "accel"]
     if not gyro and not accel:
-        raise SystemExit(
-            "gyrobias: error: --export needs the data unit (e.g. --units deg/s or m/s^2) to write SI values"
+        raise ValueError(
+            "--export needs the data unit (e.g. --units deg/s or m/s^2) to write SI values"
         )
     for fmt, path in specs:
         try:
@@ -208,8 +199,8 @@ def _write_exports(
                     "refuses them",
                     file=sys.stderr,
                 )
-        except ValueError as exc:  # one line "gyrobias: error: ...", exit 2 (cli.main)
-            raise ValueError(f"--export {fmt}: {exc}") from None
+        except (ValueError, OSError) as exc:  # one line "gyrobias: error: ...", exit 2
+            raise ValueError(f"--export {fmt}: cannot write {path}: {exc}") from None
 
 
 _TRUE_KEYS = {

@@ -19,6 +19,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gyrobias.cli import _types
+
 __all__ = ["demo_section", "register", "run"]
 
 
@@ -35,33 +37,39 @@ def register(subparsers: Any) -> None:
         epilog="example: gyrobias predict log.csv --fs 100 --column gz --calibration 1000 --horizon 1000",
     )
     p.add_argument(
-        "log", type=Path, metavar="LOG", help="log: text, .npy, a ROS bag or an MCAP file"
+        "log", type=_types.path, metavar="LOG", help="log: text, .npy, a ROS bag or an MCAP file"
     )
     p.add_argument(
         "--calibration",
-        type=int,
+        type=_types.positive_int,
         default=1000,
         metavar="K",
         help="calibration samples per section (default 1000)",
     )
     p.add_argument(
         "--horizon",
-        type=int,
+        type=_types.positive_int,
         default=1000,
         metavar="H",
         help="predicted samples per section (default 1000)",
     )
     p.add_argument(
-        "--d", type=float, default=0.5, help="memory parameter of the 1/f model (default 0.5)"
+        "--d",
+        type=_types.finite,
+        default=0.5,
+        help="memory parameter of the 1/f model (default 0.5)",
     )
     p.add_argument(
         "--q",
-        type=float,
+        type=_types.non_negative,
         default=1.0,
         help="driving-noise variance per sample (default 1; irrelevant for r = 0 and --mean sample)",
     )
     p.add_argument(
-        "--r", type=float, default=0.0, help="white-noise variance per sample (default 0, as [BP])"
+        "--r",
+        type=_types.non_negative,
+        default=0.0,
+        help="white-noise variance per sample (default 0, as [BP])",
     )
     p.add_argument(
         "--mean",
@@ -70,10 +78,14 @@ def register(subparsers: Any) -> None:
         help="mean-state prior (default sample)",
     )
     p.add_argument(
-        "--plot", type=Path, metavar="PNG", help="draw one example window with the ±2σ band"
+        "--plot", type=_types.path, metavar="PNG", help="draw one example window with the ±2σ band"
     )
     p.add_argument(
-        "--window", type=int, default=0, metavar="I", help="section drawn by --plot (default 0)"
+        "--window",
+        type=_types.non_negative_int,
+        default=0,
+        metavar="I",
+        help="section drawn by --plot (default 0)",
     )
     from gyrobias.cli._common import add_read_arguments
 

@@ -13,9 +13,9 @@ goodness of fit and warnings, and every estimator export as copyable text
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 from typing import Any
 
+from gyrobias.cli import _types
 from gyrobias.cli._common import add_read_arguments, read_log, require_fs
 
 __all__ = ["register", "run"]
@@ -36,14 +36,14 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument(
         "log",
-        type=Path,
+        type=_types.path,
         metavar="LOG",
         help="log: text (.csv/.tsv/.txt, also compressed), .npy, ROS1/ROS2 bag or .mcap",
     )
     p.add_argument(
         "-o",
         "--output",
-        type=Path,
+        type=_types.path,
         default=None,
         metavar="HTML",
         help="output file (default: LOG with the suffix .html)",
@@ -52,7 +52,7 @@ def register(subparsers: Any) -> None:
     ana = p.add_argument_group("analysis")
     ana.add_argument(
         "--confidence",
-        type=float,
+        type=_types.probability,
         default=0.683,
         metavar="P",
         help="level of the Allan confidence intervals (default 0.683 ≈ 1σ)",
@@ -62,14 +62,14 @@ def register(subparsers: Any) -> None:
     )
     ana.add_argument(
         "--conservative",
-        type=float,
+        type=_types.probability,
         default=0.95,
         metavar="P",
         help="one-sided level of the conservative set (default 0.95)",
     )
     ana.add_argument(
         "--rate",
-        type=float,
+        type=_types.positive,
         default=None,
         metavar="HZ",
         help="IMU rate written into the exports (default: the log's sample rate)",

@@ -22,6 +22,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gyrobias.cli import _types
+
 __all__ = ["register", "run"]
 
 
@@ -34,15 +36,22 @@ def _load_log(args: argparse.Namespace, path: Path) -> NDArray[np.float64]:
 
 
 def _parse_tag(tag: str) -> tuple[Path, float]:
+    """``PATH@TEMPERATURE`` → ``(Path, °C)``: the argparse type of the ``LOG@T`` arguments."""
     path, sep, temp = tag.rpartition("@")
-    if not sep or not path:
-        raise ValueError(f"log {tag!r} must be given as PATH@TEMPERATURE, e.g. log_m30.csv@-30")
+    if not sep or not path or any(c in path for c in "\n\r\x00"):
+        raise argparse.ArgumentTypeError(
+            f"must be PATH@TEMPERATURE (e.g. log_m30.csv@-30), got {tag!r}"
+        )
     try:
         t = float(temp)
     except ValueError:
-        raise ValueError(f"log {tag!r}: temperature {temp!r} is not a number") from None
+        raise argparse.ArgumentTypeError(
+            f"must be PATH@TEMPERATURE with a temperature in °C, got {tag!r}"
+        ) from None
     if not math.isfinite(t):
-        raise ValueError(f"log {tag!r}: temperature must be finite")
+        raise argparse.ArgumentTypeError(
+            f"must be PATH@TEMPERATURE with a finite temperature, got {tag!r}"
+        )
     return Path(path), t
 
 
@@ -57,20 +66,48 @@ def register(subparsers: Any) -> None:
             "table and optionally save the interpolating temperature model as JSON."
         ),
     )
-    p.add_argument("logs", nargs="+", metavar="LOG@T", help="log file and its temperature in °C")
-    p.add_argument("--units", default="deg/s", help="unit of the samples (default deg/s)")
     p.add_argument(
-        "--fpass", type=float, default=None, help="FIR pass-band edge, Hz (default 0.14·fs)"
+        "logs",
+        nargs="+",
+        type=_parse_tag,
+        metavar="LOG@T",
+        help="log file and its temperature in °C",
     )
     p.add_argument(
-        "--fstop", type=float, default=None, help="FIR stop-band edge, Hz (default 0.18·fs)"
+        "--units",
+        type=_types.unit_spec,
+        default="deg/s",
+        help="unit of the samples (default deg/s)",
     )
-    p.add_argument("--apass-db", type=float, default=0.0001, help="pass-band attenuation, dB")
-    p.add_argument("--astop-db", type=float, default=100.0, help="stop-band attenuation, dB")
+    p.add_argument(
+        "--fpass",
+        type=_types.positive,
+        default=None,
+        help="FIR pass-band edge, Hz (default 0.14·fs)",
+    )
+    p.add_argument(
+        "--fstop",
+        type=_types.positive,
+        default=None,
+        help="FIR stop-band edge, Hz (default 0.18·fs)",
+    )
+    p.add_argument(
+        "--apass-db", type=_types.positive, default=0.0001, help="pass-band attenuation, dB"
+    )
+    p.add_argument(
+        "--astop-db", type=_types.positive, default=100.0, help="stop-band attenuation, dB"
+    )
     p.add_argument("--no-filter", action="store_true", help="fit AR(1) to the raw log")
     p.add_argument("--method", choices=("linear", "pchip", "polynomial"), default="pchip")
-    p.add_argument("--degree", type=int, default=2, help="polynomial degree (--method polynomial)")
-    p.add_argument("--json", type=Path, default=None, help="write the temperature model here")
+    p.add_argument(
+        "--degree",
+        type=_types.non_negative_int,
+        default=2,
+        help="polynomial degree (--method polynomial)",
+    )
+    p.add_argument(
+        "--json", type=_types.path, default=None, help="write the temperature model here"
+    )
     from gyrobias.cli._common import add_read_arguments
 
     add_read_arguments(
@@ -88,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
     from gyrobias._files import atomic_write
 
     try:
-        tagged = [_parse_tag(tag) for tag in args.logs]
+        tagged = list(args.logs)
         temps = [t for _, t in tagged]
         if len(set(temps)) != len(temps):
             dup = next(t for t in temps if temps.count(t) > 1)

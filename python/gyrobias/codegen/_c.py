@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from gyrobias import _core
 from gyrobias._validation import real
 from gyrobias._version import __version__
 
@@ -218,7 +219,5 @@ def check_full_scale(full_scale: float | None) -> float | None:
     """``full_scale`` (> 0, the rate Q31 full scale stands for) or None."""
     if full_scale is None:
         return None
-    fs = real("full_scale", full_scale)
-    if not fs > 0.0:
-        raise ValueError(f"full_scale must be > 0, got {full_scale!r}")
-    return fs
+    # finite and > 0: the core's check (inf passed the `> 0` test before)
+    return _core.validate.positive("full_scale", real("full_scale", full_scale))

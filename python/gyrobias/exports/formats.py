@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from gyrobias._files import atomic_write
-from gyrobias._validation import choice, positive_float
+from gyrobias._validation import choice, positive_float, ros_topic
 from gyrobias.exports.discretisation import discrete
 from gyrobias.noise._types import NoiseCoefficients
 
@@ -216,7 +216,8 @@ def _densities(
 def _header(
     fmt: str, g: list[NoiseCoefficients], a: list[NoiseCoefficients], comment: str = "#"
 ) -> list[str]:
-    sources = sorted({c.method for c in g + a})
+    # one comment line whatever a hand-made NoiseCoefficients' method holds
+    sources = sorted({" ".join(str(c.method).split()) for c in g + a})
     lines = [
         f"{comment} {fmt} IMU noise model written by gyrobias (from: {', '.join(sources)} coefficients)",
         f"{comment} N, K: IEEE-952 coefficients (two-sided densities); see the convention table of the gyrobias docs (Estimator parameters).",
@@ -605,8 +606,7 @@ def export(
     ['IMU.NoiseGyro', 'IMU.NoiseAcc', 'IMU.GyroWalk', 'IMU.AccWalk', 'IMU.Frequency']
     """
     fmt = choice("fmt", fmt, FORMATS)
-    if not isinstance(rostopic, str) or not rostopic:
-        raise ValueError(f"rostopic must be a non-empty string, got {rostopic!r}")
+    ros_topic("rostopic", rostopic)  # written verbatim into YAML: a ROS name, nothing else
     if not isinstance(strict, bool):
         raise TypeError(f"strict must be a bool, got {type(strict).__name__}")
     g, a = _split(gyro, accel)

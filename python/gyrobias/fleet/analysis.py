@@ -14,13 +14,16 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import allan, io, noise
-from gyrobias._validation import as_float_array, positive_float, real
+from gyrobias._validation import as_float_array, callback, positive_float, real
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.fleet.spread import OUT_OF_FAMILY_THRESHOLD, _finish
 from gyrobias.fleet.table import GM_PARAMETERS, DataFrame, _require
 from gyrobias.units import base_unit, sensor_kind
 
 _GLOB_CHARS = frozenset("*?[")
+
+#: Most threads of the local scheduler (a larger count is a mistake, not a machine).
+_MAX_WORKERS = 65536
 
 
 @dataclass(frozen=True)
@@ -447,10 +450,15 @@ def analyse(
     if terms is not None:
         term_tuple = (terms,) if isinstance(terms, str) else tuple(terms)
     threshold = positive_float("threshold", threshold)
+    callback("progress", progress)
     if num_workers is not None and (
-        isinstance(num_workers, bool) or not isinstance(num_workers, int) or num_workers < 1
+        isinstance(num_workers, bool)
+        or not isinstance(num_workers, int)
+        or not 1 <= num_workers <= _MAX_WORKERS
     ):
-        raise ValueError(f"num_workers must be an integer >= 1, got {num_workers!r}")
+        raise ValueError(
+            f"num_workers must be an integer from 1 to {_MAX_WORKERS}, got {num_workers!r}"
+        )
     tau_spec: str | tuple[float, ...]
     if isinstance(taus, str):
         tau_spec = taus

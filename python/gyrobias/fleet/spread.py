@@ -10,11 +10,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _core
-from gyrobias._validation import positive_float
+from gyrobias._validation import real
 from gyrobias.fleet.table import (
     _COUNTS,
     TERMS,
     DataFrame,
+    _check_table,
     _columns,
     _gm_columns,
     _require,
@@ -167,7 +168,10 @@ def summary(
     unit-to-unit differences however many units there are.
     """
     pd = _require("pandas")
-    alpha = positive_float("alpha", alpha)
+    _check_table(table)
+    # A test level in (0, 1) and a Birge-ratio floor > 0: the core's checks, before any work.
+    alpha = _core.validate.probability("alpha", real("alpha", alpha))
+    min_ratio = _core.validate.positive("min_ratio", real("min_ratio", min_ratio))
     out = []
     ok = table[table["error"].isna()]
     for axis, group in ok.groupby("axis", dropna=False, sort=False):

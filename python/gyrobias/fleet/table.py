@@ -88,12 +88,27 @@ def _require(name: str) -> Any:
         ) from exc
 
 
+def _check_table(table: Any) -> None:
+    """``TypeError`` naming ``table`` unless it is a fleet table (a DataFrame from
+    :func:`analyse`), instead of an ``AttributeError`` from deep inside pandas."""
+    if not (hasattr(table, "to_parquet") and hasattr(table, "columns")):
+        raise TypeError(
+            f"table must be the pandas.DataFrame of gyrobias.fleet.analyse, got "
+            f"{type(table).__name__}"
+        )
+    if "error" not in table.columns or "axis" not in table.columns:
+        raise ValueError(
+            "table must be the table of gyrobias.fleet.analyse (columns axis, error, …)"
+        )
+
+
 def write_table(table: DataFrame, path: str | os.PathLike[str]) -> None:
     """Write the fleet table as Parquet (pyarrow), atomically (temp file beside it, then rename).
 
     The Allan curves ``adev_tau``/``adev`` become list columns; ``pandas.read_parquet`` reads
     the file back.
     """
+    _check_table(table)
     _require("pyarrow")
     with atomic_binary(path) as fh:
         table.to_parquet(fh, engine="pyarrow", index=False)

@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 
 from gyrobias.io import _store
 from gyrobias.io._store import Store
-from gyrobias.units import parse_unit
+from gyrobias.units import _parse_unit
 
 _TIME_NAMES = (
     "t",
@@ -95,13 +95,13 @@ def _resolve_units(
         for u in given:
             if u is not None:
                 try:
-                    parse_unit(u)
+                    _parse_unit(u)
                 except ValueError as exc:
                     raise ValueError(f"units: {exc}") from None
     if file_units is not None:
         if given is not None:
             for n, u, f in zip(names, given, file_units):
-                if u is not None and f is not None and parse_unit(u) != parse_unit(f):
+                if u is not None and f is not None and _parse_unit(u) != _parse_unit(f):
                     raise ValueError(
                         f"units: {source} stores {n} in {f} (sensor_msgs/Imu), not {u}; leave units unset for bags"
                     )

@@ -12,7 +12,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from gyrobias._validation import choice, sample_rate
+from gyrobias._validation import callback, choice, count, sample_rate
 from gyrobias.io import _bag
 from gyrobias.io._store import Store
 from gyrobias.io._types import GyroLog, SamplingReport
@@ -158,12 +158,12 @@ def load(
     p = Path(os.fspath(path))
     if not p.exists():
         raise FileNotFoundError(f"no such file: '{p}'")
+    callback("progress", progress)
     choice("time_unit", time_unit, _TIME_UNITS)
     choice("stamp", stamp, _STAMPS)
     if fs is not None:
         fs = sample_rate(fs)
-    if isinstance(skip_rows, bool) or not isinstance(skip_rows, (int, np.integer)) or skip_rows < 0:
-        raise ValueError(f"skip_rows must be an integer >= 0, got {skip_rows!r}")
+    skip_rows = count("skip_rows", skip_rows)  # checked even where ignored (.npy, bags)
     repairs = _repair_options(repair)
     if spill is not None and not isinstance(spill, (bool, np.bool_)):
         raise TypeError(f"spill must be True, False or None, got {spill!r}")

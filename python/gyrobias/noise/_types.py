@@ -19,9 +19,11 @@ from numpy.typing import NDArray
 
 from gyrobias import _core, _files, _generics
 from gyrobias._validation import (
+    as_float_array,
+    asarray,
     choice,
 )
-from gyrobias.units import CUSTOMARY, base_unit, parse_unit
+from gyrobias.units import CUSTOMARY, _parse_unit, base_unit
 
 if TYPE_CHECKING:
     from gyrobias.allan._types import AllanResult
@@ -177,8 +179,8 @@ class Term:
                 f"term {self.symbol} has no unit (the data unit was not given): pass units= to the "
                 "Allan analysis or unit= to gyrobias.noise.fit"
             )
-        target = parse_unit(unit)
-        source = parse_unit(self.unit)
+        target = _parse_unit(unit)
+        source = _parse_unit(self.unit)
         if target.dims != source.dims:
             raise ValueError(
                 f"cannot express {self.symbol} ({self.name}, in {self.unit}) in {unit!r}: different "
@@ -331,8 +333,9 @@ class FitDiagnostics:
         Probability of a χ² at least this large if the model were right (NaN without degrees of
         freedom). Below 0.001 the fit is rejected and :attr:`warnings` says so.
     residuals : ndarray
-        Standardised residual of each Allan point (about N(0, 1) if the model holds; NaN where
-        the point was excluded).
+        Standardised residual of each Allan point used in the fit (about N(0, 1) if the model
+        holds). Points the fit did not use (outside ``tau_range``, without degrees of freedom)
+        have no residual and are omitted, so the array holds no NaN.
     taus : ndarray
         τ (s) of each residual.
     tau_range : (float, float)
@@ -360,12 +363,14 @@ class FitDiagnostics:
     @classmethod
     def _from_core(cls, raw: Mapping[str, Any], taus: NDArray[np.float64]) -> FitDiagnostics:
         """The one place :class:`FitDiagnostics` are built from the core's ``Diagnostics``."""
+        residuals = np.asarray(raw["residuals"], dtype=np.float64)
+        used = np.isfinite(residuals)  # the core marks points the fit did not use with NaN
         return cls(
             chi2=float(raw["chi2"]),
             dof=int(raw["dof"]),
             p_value=float(raw["p_value"]),
-            residuals=np.asarray(raw["residuals"], dtype=np.float64),
-            taus=np.asarray(taus, dtype=np.float64).copy(),
+            residuals=residuals[used].copy(),
+            taus=np.asarray(taus, dtype=np.float64)[used].copy(),
             tau_range=(float(raw["tau_range"][0]), float(raw["tau_range"][1])),
             excluded=tuple((float(a), float(b), str(r)) for a, b, r in raw["excluded"]),
             warnings=tuple(str(w) for w in raw["warnings"]),
@@ -581,6 +586,11 @@ class NoiseCoefficients:
             else:
                 mapping = CUSTOMARY[self.sensor][system]
         else:
+            if not isinstance(system, Mapping):
+                raise TypeError(
+                    "system must be 'ieee', 'si', 'kalibr', 'base' or a mapping symbol → unit, "
+                    f"got {type(system).__name__}"
+                )
             mapping = dict(system)
             for key in mapping:
                 choice("system key", key, _SYMBOLS)
@@ -711,7 +721,8 @@ class NoiseCoefficients:
         For the read-off, the model is built from the identified coefficients (missing terms
         count as zero).
         """
-        t = np.ascontiguousarray(np.asarray(taus, dtype=np.float64))
+        # τ finite and > 0 (the curves have no value at τ ≤ 0): the core's check
+        t = as_float_array("taus", np.atleast_1d(asarray("taus", taus)), ndims=(1,))
         squared = self._squared_base()
         total, parts = _core.noise.model(squared, t)
         out = {s: np.sqrt(p) for s, p in zip(_SYMBOLS, parts)}

@@ -12,9 +12,12 @@ from numpy.typing import NDArray
 from gyrobias import _core
 from gyrobias._validation import (
     as_float_array,
+    asarray,
     boolean,
     choice,
+    count,
     integer,
+    pair,
     real,
 )
 from gyrobias.noise._types import (
@@ -59,7 +62,7 @@ def gauss_markov_avar(sigma: float, correlation_time: float, taus: Any) -> NDArr
     >>> round(float(v[0]) * 1e4 / (2 * 10.0), 4)  # 1 − 3T/(2τ) of the white noise 2σ²T/τ
     0.9985
     """
-    tau = as_float_array("taus", np.atleast_1d(np.asarray(taus, dtype=np.float64)), ndims=(1,))
+    tau = as_float_array("taus", np.atleast_1d(asarray("taus", taus)), ndims=(1,))
     return _core.noise.gauss_markov_avar(
         real("sigma", sigma), real("correlation_time", correlation_time), tau
     )
@@ -248,16 +251,13 @@ def fit(
     if data_unit is not None:
         sensor = sensor_kind(data_unit)
     if tau_range is not None:  # low < high: the core's check
-        lo, hi = (real("tau_range", v) for v in tau_range)
-        tau_range = (lo, hi)
+        tau_range = pair("tau_range", tau_range)
     if correlation_time is not None:
-        try:
-            t_lo, t_hi = (float(v) for v in correlation_time)
-        except (TypeError, ValueError):
-            raise TypeError(
-                f"correlation_time must be a pair (low, high) of seconds, got {correlation_time!r}"
-            ) from None
-        correlation_time = (t_lo, t_hi)
+        correlation_time = pair("correlation_time", correlation_time)
+    # The read-off's options are refused even when the joint fit ignores them (NumPy/SciPy
+    # convention): the range is the core's check, called here before either method runs.
+    _core.validate.positive("slope_tolerance", real("slope_tolerance", slope_tolerance))
+    min_points = count("min_points", min_points)
     auto_range = boolean("auto_range", auto_range)
     taus = np.ascontiguousarray(result.taus, dtype=np.float64)
     variance = np.ascontiguousarray(result.avar, dtype=np.float64)

@@ -6,6 +6,7 @@ import os
 from typing import Any
 
 from gyrobias._files import atomic_binary
+from gyrobias._validation import integer, positive_float
 
 _SYMBOL = {"adev": "σ(τ)", "mdev": "Mod σ(τ)", "hdev": "Hadamard σ(τ)", "totdev": "Tot σ(τ)"}
 _NAME = {"adev": "Allan", "mdev": "modified Allan", "hdev": "Hadamard", "totdev": "total"}
@@ -54,9 +55,30 @@ def _sensor_title(unit: str | None) -> str:
     return f"{'gyroscope' if kind == 'gyro' else 'accelerometer'} [{unit}]"
 
 
+#: Largest figure side (inches) and resolution (dots per inch) drawn: beyond them matplotlib's
+#: font rasteriser fails (``invalid ppem value``) or the image cannot be allocated.
+_MAX_INCHES = 200.0
+_MAX_DPI = 10_000
+
+
+def _check_dpi(dpi: Any) -> int:
+    d = integer("dpi", dpi)
+    if not 1 <= d <= _MAX_DPI:
+        raise ValueError(f"dpi must be an integer from 1 to {_MAX_DPI}, got {d}")
+    return d
+
+
+def _check_inches(name: str, value: Any) -> float:
+    v = positive_float(name, value)
+    if v > _MAX_INCHES:
+        raise ValueError(f"{name} must be finite, > 0 and at most {_MAX_INCHES:g} inches, got {v}")
+    return v
+
+
 def _save_atomically(fig: Any, path: str | os.PathLike[str], dpi: int) -> None:
     """``fig.savefig`` through :func:`gyrobias._files.atomic_binary` (a temporary file beside
     ``path``, renamed over it); the image format comes from the suffix, as ``savefig(path)``."""
+    _check_dpi(dpi)
     suffix = os.path.splitext(os.fspath(path))[1][1:].lower()
     with atomic_binary(path) as fh:
         fig.savefig(fh, dpi=dpi, format=suffix or None)

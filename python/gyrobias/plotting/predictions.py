@@ -8,8 +8,10 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from gyrobias._validation import as_float_array, integer, sample_rate
 from gyrobias.allan._types import AllanResult
 from gyrobias.plotting._common import (
+    _check_dpi,
     _require_matplotlib,
     _save_atomically,
 )
@@ -44,6 +46,28 @@ def save_prediction_plot(
     std : ndarray of shape (h,), optional
         Standard deviation of the first forecast.
     """
+    section = as_float_array("section", section)
+    fs = sample_rate(fs)
+    calibration = integer("calibration", calibration)
+    if not 1 <= calibration < section.size:
+        raise ValueError(
+            f"calibration must be an integer from 1 to len(section) - 1 = {section.size - 1}, "
+            f"got {calibration}"
+        )
+    h = section.size - calibration
+    if not isinstance(forecasts, Mapping):
+        raise TypeError(
+            f"forecasts must be a mapping label → array, got {type(forecasts).__name__}"
+        )
+    curves = {str(k): as_float_array(f"forecasts[{k!r}]", v) for k, v in forecasts.items()}
+    for k, v in curves.items():
+        if v.size != h:
+            raise ValueError(f"forecasts[{k!r}] must have {h} values, got {v.size}")
+    if std is not None:
+        std = as_float_array("std", std)
+        if std.size != h:
+            raise ValueError(f"std must have {h} values, got {std.size}")
+    _check_dpi(dpi)
     _require_matplotlib()
     from matplotlib.figure import Figure
 
@@ -53,7 +77,7 @@ def save_prediction_plot(
     ax = fig.add_subplot()
     ax.plot(t, section, color="0.6", lw=0.6, label="data")
     ax.axvline(t[calibration], color="k", lw=0.8, ls=":")
-    for i, (label, forecast) in enumerate(forecasts.items()):
+    for i, (label, forecast) in enumerate(curves.items()):
         ax.plot(tf, forecast, color=f"C{i}", ls="--" if i == 2 else "-", label=label)
         if i == 0 and std is not None:
             ax.fill_between(

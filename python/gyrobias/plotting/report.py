@@ -8,6 +8,7 @@ import numpy as np
 
 from gyrobias.allan._types import AllanResult
 from gyrobias.plotting._common import (
+    _check_inches,
     _require_matplotlib,
 )
 from gyrobias.plotting.deviations import _as_list, _draw
@@ -44,6 +45,8 @@ def allan_report_svg(
         are deterministic.
     """
     items = _as_list(result)
+    width = _check_inches("width", width)
+    height = _check_inches("height", height)
     matplotlib = _require_matplotlib()
     import io
 

@@ -19,7 +19,8 @@ use rayon::prelude::*;
 use super::confidence::{Intervals, chi2_bounds};
 use super::{
     Column, DataType, Estimator, Taus, averaging_factors, edf, factors_from_taus, hadamard, ldexp,
-    noise_id, scaled_angle_series, theo, total, unscaled_deviation, variances_into,
+    noise_id, period_correction, scaled_angle_series, split_period, theo, total,
+    unscaled_deviation, variances_into,
 };
 use crate::{Error, Result};
 
@@ -414,11 +415,24 @@ pub fn analyse(
         DataType::Rate => column.len() + 1,
         DataType::Angle => column.len(),
     };
-    let points = resolve_points(taus, n_angle, t0, statistic)?;
+    // Sample counts in the caller's terms: rate data have one sample fewer than the angle
+    // series the estimators count (1 rate sample was "3 samples needed, 2 given").
+    let points = resolve_points(taus, n_angle, t0, statistic).map_err(|e| match e {
+        Error::TooShort { name, needed, got } if data_type == DataType::Rate => Error::TooShort {
+            name,
+            needed: needed.saturating_sub(1),
+            got: got.saturating_sub(1),
+        },
+        other => other,
+    })?;
     // Data of extreme magnitude are analysed scaled by 2^-k (exact; see scale_exponent) and
     // the variances, bounds and deviations brought back to the data's scale at the end.
+    // An extreme period is computed as t0'·2^e (allan::split_period); the points were
+    // resolved above with the period itself.
+    let (t0, e) = split_period(t0);
     let (x, k) = scaled_angle_series(column, t0, data_type)?;
     let (variance, n_terms) = variances(&x, t0, statistic, &points)?;
+    let k = k + period_correction(data_type, e, statistic == Statistic::Time);
     let mut confidence = match confidence_level {
         Some(level) => Some(intervals(&x, statistic, &points, &variance, level)?),
         None => None,

@@ -123,7 +123,7 @@ pub(crate) fn second_chunk_sum(a: &[f64], b: &[f64], c: &[f64]) -> f64 {
             sum
         }
     }
-    pulp::Arch::new().dispatch(Windows(a, b, c))
+    crate::simd::arch().dispatch(Windows(a, b, c))
 }
 
 /// The block loop of one chunk, as a `pulp` operation so that it is compiled (fully inlined)
@@ -293,7 +293,7 @@ pub(crate) fn difference_sums(
                 if stage.is_cancelled() {
                     return sums;
                 }
-                pulp::Arch::new().dispatch(LatticeWalk {
+                crate::simd::arch().dispatch(LatticeWalk {
                     x,
                     ms: &l_ms,
                     terms: &l_terms,
@@ -370,7 +370,7 @@ fn block_pass(
             // Runtime CPU dispatch (AVX2 where available): the lane loops vectorise 4-wide
             // instead of SSE2's 2-wide. The lane layout fixes the order of every addition and
             // nothing is fused, so the result is bit-identical on every CPU.
-            pulp::Arch::new().dispatch(ChunkSums {
+            crate::simd::arch().dispatch(ChunkSums {
                 x,
                 ms: &sub_ms,
                 terms: &sub_terms,

@@ -435,6 +435,38 @@ pub fn scale_exponent(max_abs: f64) -> i32 {
     if e.abs() <= SAFE_EXPONENT { 0 } else { e }
 }
 
+/// Sample periods `t0` with `|⌊log2 t0⌋| ≤ PERIOD_EXPONENT` are used as given (every rate from
+/// about 5e-20 Hz to 1.8e19 Hz); others are first split by [`split_period`].
+const PERIOD_EXPONENT: i32 = 64;
+
+/// `(t0', e)` with `t0 = t0'·2^e` exactly: `(t0, 0)` for ordinary periods, else `t0'` in
+/// `[1, 2)`.
+///
+/// The estimators compute with `t0'` so that neither the angle series `t0·ΣΩ` nor `τ² = (m·t0)²`
+/// over- or underflows at an extreme sample rate (fs = 1e286 made every squared difference
+/// underflow to 0 and every variance 0/0 = NaN). The variances of rate data do not depend on
+/// `t0` (the angle and τ scale together), those of angle data scale with `t0^-2`:
+/// [`period_correction`] gives the power-of-two exponent to fold into the data's scale.
+pub fn split_period(t0: f64) -> (f64, i32) {
+    if !(t0.is_finite() && t0 > 0.0) {
+        return (t0, 0);
+    }
+    let e = binary_exponent(t0);
+    if e.abs() <= PERIOD_EXPONENT {
+        (t0, 0)
+    } else {
+        (ldexp(t0, -e), e)
+    }
+}
+
+/// The deviation exponent (deviations times `2^c`, variances times `4^c`) that brings a
+/// variance computed with the period `t0' = t0·2^-e` of [`split_period`] back to `t0`: 0 for
+/// rate data, `-e` for angle data (σ² ∝ 1/τ²); a statistic scaled by `τ²` (TVAR) adds `e`.
+pub fn period_correction(data_type: DataType, e: i32, times_tau_squared: bool) -> i32 {
+    let angle = if data_type == DataType::Angle { -e } else { 0 };
+    angle + if times_tau_squared { e } else { 0 }
+}
+
 /// `2^k` for `-1022 ≤ k ≤ 1023`.
 fn pow2(k: i32) -> f64 {
     debug_assert!((-1022..=1023).contains(&k));
@@ -942,7 +974,17 @@ pub enum Taus {
 impl Taus {
     /// The τ of a call: the `explicit` τ values (s) if given, else the specification `spec`:
     /// `"octave"`, `"decade"`, `"log"` (`per_decade` points per decade) or `"all"`.
+    ///
+    /// `per_decade` must be >= 1 whatever the specification: an out-of-range option is refused
+    /// even where it is ignored (NumPy/SciPy convention; octave τ with `per_decade = 0` is a
+    /// mistake the call that reads it must not be the first to notice).
     pub fn parse(spec: &str, per_decade: usize, explicit: Option<Vec<f64>>) -> Result<Self> {
+        if per_decade == 0 {
+            return Err(Error::invalid(
+                "per_decade",
+                "must be >= 1 (also where the τ grid does not use it), got 0",
+            ));
+        }
         if let Some(t) = explicit {
             return Ok(Taus::Explicit(t));
         }
@@ -1183,9 +1225,12 @@ pub fn analyse_column(
         config.estimator,
     )?;
     let estimator = config.estimator;
+    // An extreme period is computed with as t0'·2^e (see split_period); τ were resolved above
+    // with the period itself.
+    let (t0, e) = split_period(config.t0);
     let (x, k) = angle_into(
         column,
-        config.t0,
+        t0,
         config.data_type,
         &mut workspace.angle,
         progress,
@@ -1198,7 +1243,7 @@ pub fn analyse_column(
         .iter()
         .zip(&sums)
         .zip(&n_terms)
-        .map(|((&m, &s), &t)| normalise(estimator, s, m, config.t0, t))
+        .map(|((&m, &s), &t)| normalise(estimator, s, m, t0, t))
         .collect();
     let confidence = match config.confidence {
         Some(level) => {
@@ -1209,6 +1254,7 @@ pub fn analyse_column(
         }
         None => None,
     };
+    let k = k + period_correction(config.data_type, e, false);
     Ok(unscale(ms, &variance, n_terms, confidence, k))
 }
 
@@ -1747,5 +1793,57 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn extreme_sample_periods_give_the_ordinary_result() {
+        // Issue 27: fs = 1e286 made every squared difference of t0·ΣΩ underflow (NaN σ). Rate
+        // deviations do not depend on t0; angle deviations scale with 1/t0.
+        let x = crate::random::normal_vec(4000, 9);
+        let base = |t0: f64, data_type: DataType, estimator: Estimator| {
+            let cfg = Config {
+                t0,
+                data_type,
+                estimator,
+                taus: Taus::Spec(TauSpec::Octave),
+                confidence: Some(0.683),
+                gaps: Gaps::Error,
+            };
+            analyse_column(
+                Column::contiguous(&x),
+                &cfg,
+                &mut Workspace::new(),
+                &Progress::none(),
+            )
+            .unwrap()
+        };
+        for estimator in [
+            Estimator::Overlapping,
+            Estimator::Modified,
+            Estimator::Hadamard,
+            Estimator::Total,
+        ] {
+            let rate = base(1.0, DataType::Rate, estimator);
+            let angle = base(1.0, DataType::Angle, estimator);
+            for t0 in [1e-286, 1e-300, 1e300, 2f64.powi(-1000), 1e-200] {
+                let r = base(t0, DataType::Rate, estimator);
+                for (&d, &p) in r.deviation.iter().zip(&rate.deviation) {
+                    assert!(
+                        (d / p - 1.0).abs() < 1e-12,
+                        "{estimator:?} t0={t0}: {d} vs {p}"
+                    );
+                }
+                let a = base(t0, DataType::Angle, estimator);
+                for (&d, &p) in a.deviation.iter().zip(&angle.deviation) {
+                    let want = p / t0;
+                    if want.is_finite() && want > f64::MIN_POSITIVE {
+                        assert!((d / want - 1.0).abs() < 1e-12, "{estimator:?} t0={t0}");
+                    }
+                }
+            }
+        }
+        assert_eq!(split_period(0.01), (0.01, 0));
+        let (t, e) = split_period(1e-286);
+        assert!((1.0..2.0).contains(&t) && ldexp(t, e) == 1e-286);
     }
 }

@@ -252,7 +252,7 @@ fn structure_function(r: &[f64], max_lag: usize) -> Vec<f64> {
         .map(|g| {
             let lo = 1 + g * SF_LAGS;
             let hi = max_lag.min(lo + SF_LAGS - 1);
-            pulp::Arch::new().dispatch(LagGroup { r, lo, hi })
+            crate::simd::arch().dispatch(LagGroup { r, lo, hi })
         })
         .collect();
     let mut sf = Vec::with_capacity(max_lag + 1);
@@ -551,7 +551,7 @@ fn theo1_sums_sweep(d: &Detrended, ms: &[usize]) -> Vec<f64> {
 /// Dispatched by `pulp` so that [`EdgeSweep::advance`]'s loops are compiled for the CPU
 /// (AVX2 where available; same roundings in every variant, no fused multiply-add).
 fn edge_series(x: &[f64], ms: &[usize]) -> Vec<f64> {
-    pulp::Arch::new().dispatch(
+    crate::simd::arch().dispatch(
         #[inline(always)]
         || {
             let mut sweep = EdgeSweep::new(x);

@@ -197,7 +197,7 @@ fn filter_products(grid: &[(f64, f64)], filters: &[f64], n: usize) -> Vec<f64> {
             .enumerate()
             .with_max_len(1)
             .for_each(|(k, chunk)| {
-                pulp::Arch::new().dispatch(Tile {
+                crate::simd::arch().dispatch(Tile {
                     grid,
                     filters,
                     n,

@@ -46,11 +46,34 @@ fn bracket(x: f64) -> f64 {
     }
 }
 
-/// Allan variance per unit `q²` of a Gauss–Markov process with correlation time `t` (s).
+/// `f(x)/x²` without cancellation, over- or underflow: `Σ_{n≥3} (−1)ⁿ (4 − 2ⁿ) x^{n−2}/n!`
+/// (`≈ 2x/3`) below `x = 0.5`, else `(f(x)/x)/x` (`≈ 2/x` for large `x`).
+fn bracket_over_x2(x: f64) -> f64 {
+    if x < 0.5 {
+        let mut term = x / 6.0; // x^{n−2}/n! at n = 3
+        let mut pow2 = 8.0;
+        let mut sum = 0.0;
+        for n in 3..40 {
+            let sign = if n % 2 == 0 { 1.0 } else { -1.0 };
+            let add = sign * (4.0 - pow2) * term;
+            sum += add;
+            if add.abs() <= 1e-17 * sum.abs() {
+                break;
+            }
+            pow2 *= 2.0;
+            term *= x / f64::from(n + 1);
+        }
+        sum
+    } else {
+        bracket(x) / x / x
+    }
+}
+
+/// Allan variance per unit `q²` of a Gauss–Markov process with correlation time `t` (s):
+/// `(T²/τ²)·f(τ/T) = f(x)/x²`, evaluated without forming `T²/τ²` (which overflows for
+/// `τ ≪ T`, e.g. τ = 1e-300 s, where the product was ∞·0 = NaN).
 pub fn basis(correlation_time: f64, tau: f64) -> f64 {
-    let x = tau / correlation_time;
-    let t = correlation_time;
-    t * t / (tau * tau) * bracket(x)
+    bracket_over_x2(tau / correlation_time)
 }
 
 /// Allan variance of a Gauss–Markov process of variance `q2` and correlation time `t`.
@@ -112,6 +135,20 @@ pub fn allan_variance_curves(components: &[(f64, f64)], taus: &[f64]) -> Vec<Vec
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn basis_is_finite_at_extreme_ratios() {
+        // Issue 27: τ = 1e-300 with T = 10 was (T²/τ²)·f(x) = ∞·0 = NaN. Limits: 2x/3 (rate
+        // random walk, x = τ/T → 0) and 2/x (white rate, x → ∞).
+        for (tau, want) in [(1e-300, 2.0 / 3.0 * 1e-301), (1e300, 2.0 * 1e-299)] {
+            let b = basis(10.0, tau);
+            assert!((b / want - 1.0).abs() < 1e-12, "tau = {tau}: {b} vs {want}");
+        }
+        // continuous across the switch of evaluation at x = 0.5
+        let below = basis(1.0, 0.5 - 1e-12);
+        let above = basis(1.0, 0.5);
+        assert!((below / above - 1.0).abs() < 1e-9);
+    }
 
     #[test]
     fn curve_checks_its_arguments_and_matches_the_pointwise_formula() {

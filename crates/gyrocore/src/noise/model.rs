@@ -109,14 +109,40 @@ pub fn model_variance(c: &[f64; 5], tau: f64) -> f64 {
 
 /// The model's curves at `taus`: the total [`model_variance`] and each term's contribution
 /// `c_j g_j(τ)`, in [`Term::ALL`] order.
-pub fn model_curves(c: &[f64; 5], taus: &[f64]) -> (Vec<f64>, [Vec<f64>; 5]) {
-    let total = taus.iter().map(|&tau| model_variance(c, tau)).collect();
+///
+/// Every τ must be finite and > 0 (the terms' `τ^-2 … τ^2` are NaN or infinite at τ ≤ 0), and
+/// the squared coefficients `c` finite and ≥ 0; a τ at which the model variance overflows
+/// float64 is refused too, so the curves never hold NaN or infinity.
+pub fn model_curves(c: &[f64; 5], taus: &[f64]) -> Result<(Vec<f64>, [Vec<f64>; 5])> {
+    for (t, &v) in Term::ALL.iter().zip(c) {
+        crate::validate::non_negative(["Q²", "N²", "B²", "K²", "R²"][t.index()], v)?;
+    }
+    if let Some((i, bad)) = taus
+        .iter()
+        .enumerate()
+        .find(|(_, t)| !(t.is_finite() && **t > 0.0))
+    {
+        return Err(Error::invalid(
+            "taus",
+            format!("must be finite and > 0, got taus[{i}] = {bad}"),
+        ));
+    }
+    let total: Vec<f64> = taus.iter().map(|&tau| model_variance(c, tau)).collect();
+    if let Some(i) = total.iter().position(|v| !v.is_finite()) {
+        return Err(Error::invalid(
+            "taus",
+            format!(
+                "the model variance overflows float64 at taus[{i}] = {:e} s",
+                taus[i]
+            ),
+        ));
+    }
     let parts = Term::ALL.map(|t| {
         taus.iter()
             .map(|&tau| c[t.index()] * t.basis(tau))
             .collect()
     });
-    (total, parts)
+    Ok((total, parts))
 }
 
 /// SP1065's simple EDF approximations for the overlapping Allan variance (Table 5, after
@@ -174,7 +200,7 @@ mod tests {
     fn model_curves_sum_to_the_total() {
         let c = [1e-6, 4e-4, 1e-5, 1e-7, 1e-9];
         let taus = [0.01, 0.3, 1.0, 17.0, 1e3];
-        let (total, parts) = model_curves(&c, &taus);
+        let (total, parts) = model_curves(&c, &taus).unwrap();
         for (i, &tau) in taus.iter().enumerate() {
             assert_eq!(total[i], model_variance(&c, tau));
             let sum: f64 = parts.iter().map(|p| p[i]).sum();
@@ -182,6 +208,22 @@ mod tests {
             assert!((sum - total[i]).abs() <= 4.0 * f64::EPSILON * total[i]);
             assert_eq!(parts[2][i], c[2] * Term::BiasInstability.basis(tau));
         }
+    }
+
+    #[test]
+    fn model_curves_refuse_what_has_no_finite_value() {
+        let c = [1e-6, 4e-4, 1e-5, 1e-7, 1e-9];
+        for taus in [[0.0], [-1.0], [f64::NAN], [f64::INFINITY], [1e300]] {
+            match model_curves(&c, &taus) {
+                Err(Error::InvalidParameter { name: "taus", .. }) => {}
+                other => panic!("taus = {taus:?}: expected a taus error, got {other:?}"),
+            }
+        }
+        let mut bad = c;
+        bad[1] = f64::NAN;
+        assert!(model_curves(&bad, &[1.0]).is_err());
+        let (total, _) = model_curves(&c, &[1e-100, 1e100]).unwrap();
+        assert!(total.iter().all(|v| v.is_finite()));
     }
 
     #[test]

@@ -136,7 +136,7 @@ fn smooth_length(min: usize) -> usize {
 }
 
 /// Adds `n` samples of flicker rate noise with two-sided PSD `b²/(2π f)` to `out`.
-fn add_flicker(out: &mut [f64], t0: f64, b: f64, rng: &mut NormalStream) {
+fn add_flicker(out: &mut [f64], b: f64, rng: &mut NormalStream) {
     let n = out.len();
     let len = smooth_length(2 * n.max(1));
     let mut z: Vec<Complex<f64>> = (0..len)
@@ -147,11 +147,13 @@ fn add_flicker(out: &mut [f64], t0: f64, b: f64, rng: &mut NormalStream) {
         .collect();
     let mut planner = FftPlanner::<f64>::new();
     planner.plan_fft_forward(len).process(&mut z);
-    let scale = b * b / (std::f64::consts::TAU * t0);
+    // Amplitude √(b²/(2π t0 f)) / len at f = j/(len·t0): t0 cancels, and b is kept out of the
+    // square root, so no intermediate over- or underflows (b² overflowed for b ≳ 1e154).
+    let len_f = len as f64;
     z[0] = Complex::new(0.0, 0.0);
     for (j, v) in z.iter_mut().enumerate().skip(1) {
-        let f = j.min(len - j) as f64 / (len as f64 * t0);
-        *v *= (scale / f).sqrt() / len as f64;
+        let jf = j.min(len - j) as f64;
+        *v *= b * (len_f / (std::f64::consts::TAU * jf)).sqrt() / len_f;
     }
     planner.plan_fft_inverse(len).process(&mut z);
     for (o, v) in out.iter_mut().zip(&z) {
@@ -191,7 +193,7 @@ pub fn simulate_axis(
     }
     if spec.bias_instability > 0.0 {
         let mut g = stream(seed, axis, FLICKER);
-        add_flicker(&mut out, t0, spec.bias_instability, &mut g);
+        add_flicker(&mut out, spec.bias_instability, &mut g);
     }
     if spec.rrw > 0.0 {
         let s = spec.rrw * t0.sqrt();

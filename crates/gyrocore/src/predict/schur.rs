@@ -82,7 +82,7 @@ pub(crate) fn condition(
     // The recursion runs inside a runtime CPU-feature dispatch (pulp: AVX2 where available) so
     // the element loops are vectorised 4-wide; plain multiply-add (no FMA contraction) keeps the
     // results identical on every CPU.
-    pulp::Arch::new().dispatch(|| -> Result<()> {
+    crate::simd::arch().dispatch(|| -> Result<()> {
         for i in 0..k {
             let len = n - i;
             let a = &mut a[..len];

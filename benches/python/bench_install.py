@@ -1,0 +1,123 @@
+"""Install footprint and start-up latency (issue 25 item 4), measured in one run.
+
+Run: ``python benches/python/bench_install.py [--wheel dist/gyrobias-*.whl] [--no-venvs]``.
+
+- ``import gyrobias`` and ``gyrobias --help`` in fresh interpreters of the current environment
+  (best of ``--repeats``), beside the same-run baselines ``python -c pass`` and
+  ``import numpy`` (gyrobias' one heavy import): what gyrobias adds on top of NumPy is the
+  difference. A CLI called in loops should answer well under a second.
+- With the wheel: two fresh virtual environments (no system site-packages), one with
+  ``pip install <wheel>`` (the base install), one with ``<wheel>[all]``: the number of packages
+  installed (pip, setuptools and wheel excluded) and their size in MB (site-packages on disk,
+  pip itself excluded). Needs PyPI or a warm pip cache.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import sysconfig
+import tempfile
+import time
+import venv
+from pathlib import Path
+
+TOOLS = {"pip", "setuptools", "wheel"}
+
+
+def best_time(cmd: list[str], repeats: int) -> float:
+    """Best wall-clock time of ``repeats`` runs of ``cmd`` (a fresh process each), seconds."""
+    best = float("inf")
+    for _ in range(repeats):
+        t = time.perf_counter()
+        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+        best = min(best, time.perf_counter() - t)
+    return best
+
+
+def latency(python: str, script: str, repeats: int) -> dict[str, float]:
+    return {
+        "python -c pass": best_time([python, "-c", "pass"], repeats),
+        "import numpy": best_time([python, "-c", "import numpy"], repeats),
+        "import gyrobias": best_time([python, "-c", "import gyrobias"], repeats),
+        "gyrobias --help": best_time([script, "--help"], repeats),
+        "gyrobias --version": best_time([script, "--version"], repeats),
+    }
+
+
+def footprint(wheel: Path, extra: str) -> tuple[int, float, list[str]]:
+    """(packages, MB, names) of a fresh venv with ``wheel`` (and ``extra``) installed."""
+    with tempfile.TemporaryDirectory() as tmp:
+        env_dir = Path(tmp) / "venv"
+        venv.create(env_dir, with_pip=True)
+        bindir = "Scripts" if os.name == "nt" else "bin"
+        python = str(env_dir / bindir / ("python.exe" if os.name == "nt" else "python"))
+        spec = f"{wheel.resolve()}{extra}"
+        subprocess.run(
+            [python, "-m", "pip", "install", "-q", "--disable-pip-version-check", spec],
+            check=True,
+        )
+        listing = subprocess.run(
+            [python, "-m", "pip", "list", "--format=freeze", "--disable-pip-version-check"],
+            check=True,
+            capture_output=True,
+            text=True,
+        ).stdout.split()
+        names = sorted(
+            line.split("==")[0] for line in listing if line.split("==")[0].lower() not in TOOLS
+        )
+        site = Path(
+            subprocess.run(
+                [python, "-c", "import sysconfig; print(sysconfig.get_path('purelib'))"],
+                check=True,
+                capture_output=True,
+                text=True,
+            ).stdout.strip()
+        )
+        size = 0
+        for path in site.rglob("*"):
+            top = path.relative_to(site).parts[0].lower()
+            if top.split("-")[0] in TOOLS or top in ("_distutils_hack", "pkg_resources"):
+                continue
+            if path.is_file() and not path.is_symlink():
+                size += path.stat().st_size
+        return len(names), size / 1e6, names
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--wheel", type=Path, help="the wheel (default: the one in dist/)")
+    parser.add_argument("--no-venvs", action="store_true", help="skip the install footprint")
+    parser.add_argument("--repeats", type=int, default=7)
+    args = parser.parse_args()
+
+    script = str(Path(sysconfig.get_path("scripts")) / "gyrobias")
+    print(f"start-up latency, best of {args.repeats} fresh processes ({sys.executable}):")
+    times = latency(sys.executable, script, args.repeats)
+    for name, t in times.items():
+        print(f"  {name:<20} {t * 1e3:7.1f} ms")
+    print(
+        f"  gyrobias adds {1e3 * (times['import gyrobias'] - times['import numpy']):.0f} ms to "
+        f"`import numpy`; `gyrobias --help` is "
+        f"{times['gyrobias --help'] / times['import numpy']:.2f}x `import numpy`"
+    )
+
+    if args.no_venvs:
+        return
+    wheel = args.wheel
+    if wheel is None:
+        found = sorted(Path("dist").glob("gyrobias-*.whl"))
+        if not found:
+            sys.exit("no wheel in dist/: run `make wheel` or pass --wheel")
+        wheel = found[-1]
+    print(f"install footprint of {wheel.name} (fresh venvs, pip/setuptools excluded):")
+    for extra in ("", "[all]"):
+        count, mb, names = footprint(wheel, extra)
+        print(f"  gyrobias{extra or ' (base)':<8} {count:3d} packages {mb:7.1f} MB")
+        print(f"    {' '.join(names)}")
+
+
+if __name__ == "__main__":
+    main()
