@@ -96,10 +96,6 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
     kalibr = getattr(args, "kalibr", None)
     export_specs = _parse_exports(getattr(args, "export", None))
     if kalibr is not None:
-        print(
-            "gyrobias: warning: --kalibr is deprecated; use --export kalibr=PATH (same file)",
-            file=sys.stderr,
-        )
         export_specs.append(("kalibr", Path(kalibr)))
     args.noise_coefficients = []
     if not want_fit and not export_specs:
@@ -127,6 +123,10 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
                 file=sys.stderr,
             )
     args.noise_coefficients = coefficients
+    if kalibr is not None and not any(c.sensor for c in coefficients):
+        raise ValueError(
+            "--kalibr needs the data unit (e.g. --units deg/s or rad/s, m/s^2) to write SI values"
+        )
     if export_specs:
         _write_exports(
             export_specs,
@@ -134,6 +134,11 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
             getattr(args, "export_rate", None),
             rostopic=getattr(args, "rostopic", None) or "/imu0",
             strict=bool(getattr(args, "strict", False)),
+        )
+    if kalibr is not None:  # after the files: an error stays the only stderr line
+        print(
+            "gyrobias: warning: --kalibr is deprecated; use --export kalibr=PATH (same file)",
+            file=sys.stderr,
         )
 
 
