@@ -274,8 +274,8 @@ BASE: dict[str, Callable[[], tuple[Callable[..., Any], dict[str, Any]]]] = {
     ),
     "noise.gmwm": lambda: (noise.gmwm, {"data": FX.rate[:2000], "fs": 100.0, "seed": 1}),
     "noise.simulate": lambda: (noise.simulate, {"n": 100, "fs": 100.0, "arw": 0.1, "seed": 1}),
-    "noise.write_kalibr": lambda: (
-        noise.write_kalibr,
+    "exports.write_kalibr": lambda: (
+        gyrobias.exports.write_kalibr,
         {"path": _tmp() / "w.yaml", "gyro": [FX.gyro]},
     ),
     "plotting.allan_report_svg": lambda: (gyrobias.plotting.allan_report_svg, {"result": FX.allan}),

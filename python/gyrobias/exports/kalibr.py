@@ -7,6 +7,7 @@ import os
 from collections.abc import Sequence
 
 from gyrobias import _generics
+from gyrobias._validation import positive_float
 from gyrobias.exports.formats import export
 from gyrobias.noise._types import NoiseCoefficients
 
@@ -54,6 +55,8 @@ def write_kalibr(
     ``σ_d = σ·√update_rate`` (white noise) and ``σ_bd = σ_b/√update_rate`` (bias random walk).
     The keys of a sensor not given are written as comments saying so.
     """
+    if update_rate is not None:
+        update_rate = positive_float("update_rate", update_rate)
     gyro = list(gyro)
     accel = list(accel)
     if not gyro and not accel:
