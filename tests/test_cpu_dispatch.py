@@ -89,7 +89,7 @@ def test_misspelt_setting_fails_the_import_with_the_core_message() -> None:
     assert proc.returncode == 1
     last = proc.stderr.strip().splitlines()[-1]
     assert last == (
-        "ValueError: invalid GYROBIAS_SIMD: must be 'auto' or 'scalar', got \"scaler\""
+        "ValueError: GYROBIAS_SIMD must be 'auto' or 'scalar', got \"scaler\""
     ), last
 
 
