@@ -78,8 +78,9 @@ wheel: sdist ## the abi3 wheel (manylinux2014 on Linux), built from the sdist, i
 	mkdir -p build/sdist
 	@# -m: fresh mtimes, or cargo would take the unpacked sources for older than its last build
 	tar -xzmf $(DIST)/gyrobias-$(VERSION).tar.gz -C build/sdist
-	cd build/sdist/gyrobias-$(VERSION) && $(MATURIN) build --release --locked \
-		$(WHEEL_FLAGS) --out $(CURDIR)/$(DIST)
+	@# The checkout's target dir (unless CARGO_TARGET_DIR says otherwise): rebuilds are incremental.
+	cd build/sdist/gyrobias-$(VERSION) && CARGO_TARGET_DIR="$${CARGO_TARGET_DIR:-$(CURDIR)/target}" \
+		$(MATURIN) build --release --locked $(WHEEL_FLAGS) --out $(CURDIR)/$(DIST)
 	@ls -l $(DIST)/gyrobias-$(VERSION)-*.whl
 
 test-wheel: ## install dist/'s wheel in a fresh venv without Rust; every test + gyrobias demo

@@ -243,7 +243,8 @@ REGISTRY: dict[str, str] = {
     "predict.CompiledPredictor.predict": "batch:array n_threads:count?",
     "predict.CompiledPredictor.to_c": "path:path_out name:text dtype:option options:forwarded",
     "predict.Evaluation.__init__": "calibration:field horizon:field sections:field methods:field",
-    "predict.Evaluation.ratio": "method:key reference:key statistic:option",
+    "predict.Evaluation.ratio": "method:key reference:key statistic:option resamples:count "
+    "seed:count?",
     "predict.Evaluation.table": "",
     "predict.Evaluation.to_dict": "",
     "predict.FractionalKalmanPredictor.__init__": "d:real q:nonneg r:nonneg mean:spec "

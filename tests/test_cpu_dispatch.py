@@ -88,9 +88,7 @@ def test_misspelt_setting_fails_the_import_with_the_core_message() -> None:
     )
     assert proc.returncode == 1
     last = proc.stderr.strip().splitlines()[-1]
-    assert last == (
-        "ValueError: GYROBIAS_SIMD must be 'auto' or 'scalar', got \"scaler\""
-    ), last
+    assert last == "ValueError: GYROBIAS_SIMD must be 'auto' or 'scalar', got \"scaler\"", last
 
 
 def test_instruction_set_names_the_variant_in_use() -> None:

@@ -78,7 +78,7 @@ def test_accelerometer_and_units_forms() -> None:
         ({"arw": 0.3, "units": {"rrw": "deg/h^1.5"}}, "arw: a bare number needs its unit"),
         ({"arw": "0.3 deg/√h", "units": {"arw": "deg/√h"}}, "given twice"),
         ({"arw": "fast"}, "arw: 'fast' is not a number"),
-        ({"arw": "-1 deg/√h"}, "arw must be finite and >= 0"),
+        ({"arw": "-1 deg/√h"}, "arw: .*must be finite and >= 0, got -1"),
         ({"arw": "0.3 deg/√h", "noise_density": "0.01 deg/s/√Hz"}, "give one of them"),
         ({}, "at least one value"),
         ({"arw": "0.3 deg/√h", "gyro_unit": "m/s^2"}, "gyro_unit"),

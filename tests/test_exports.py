@@ -11,6 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from hypothesis import given
+from hypothesis import strategies as st
 
 import gyrobias
 from gyrobias import allan, exports, noise
@@ -296,3 +298,40 @@ def test_gauss_markov_terms_export_as_sigma_and_correlation_time(tmp_path: Path)
     # And the fit found the simulated process: T within 3σ of 20 s.
     assert gm.correlation_time.uncertainty is not None
     assert abs(tau_c - tc) < 3 * gm.correlation_time.uncertainty
+
+
+@given(
+    st.floats(0.0, 10.0),
+    st.floats(0.0, 1.0),
+    st.floats(1e-3, 1e6),
+    st.floats(0.0, 1.0),
+    st.floats(1.0, 1e4),
+)
+def test_discretisation_formulas_against_numpy(
+    sigma: float, u_sigma: float, tau: float, u_tau_rel: float, rate: float
+) -> None:
+    """The core's discretisation (``gyrocore::noise::discrete``) against the formulas in NumPy:
+    white ``N·√f``, walk ``K/√f``, ``φ = e^{−Δt/τ}``, ``u(φ) = φΔt·u(τ)/τ²``, drive
+    ``σ√(1 − φ²)`` (the core uses ``−expm1(−2Δt/τ)``: 1e-12 where the direct form is still
+    accurate, i.e. Δt/τ ≥ 1e-4)."""
+    from gyrobias import _core
+
+    dt = 1.0 / rate
+    u_tau = u_tau_rel * tau
+    assert _core.noise.discrete_white(sigma, u_sigma, rate) == pytest.approx(
+        (sigma * np.sqrt(rate), u_sigma * np.sqrt(rate)), rel=1e-14, abs=1e-300
+    )
+    assert _core.noise.discrete_random_walk(sigma, None, rate) == (
+        pytest.approx(sigma / np.sqrt(rate), rel=1e-14, abs=1e-300),
+        None,
+    )
+    (phi, u_phi), (drive, u_drive) = _core.noise.discrete_gauss_markov(
+        sigma, u_sigma, tau, u_tau, rate
+    )
+    assert phi == pytest.approx(np.exp(-dt / tau), rel=1e-15)
+    assert u_phi == pytest.approx(phi * dt * u_tau / tau**2, rel=1e-14, abs=1e-300)
+    exact = np.sqrt(-np.expm1(-2.0 * dt / tau))
+    assert drive == pytest.approx(sigma * exact, rel=1e-14, abs=1e-300)
+    assert u_drive == pytest.approx(u_sigma * exact, rel=1e-14, abs=1e-300)
+    if dt / tau >= 1e-4:
+        assert drive == pytest.approx(sigma * np.sqrt(1.0 - phi * phi), rel=1e-11, abs=1e-300)

@@ -740,3 +740,60 @@ def test_plot_fleet_draws_one_adev_panel_per_axis_and_one_panel_per_term(logs: P
     assert "N" in titles[3:] and "B" in titles[3:]
     with pytest.raises(ValueError, match="nothing to plot"):
         gyrobias.plotting.plot_fleet(table[table["error"].notna()], Figure())
+
+
+def _spread_reference(x: np.ndarray, u: np.ndarray) -> dict[str, float]:
+    """``summary``'s statistics written out with NumPy and SciPy (Birge 1932; chi-square tail)."""
+    good = np.isfinite(u) & (u > 0)
+    w = 1.0 / u[good] ** 2
+    xm = np.sum(w * x[good]) / np.sum(w)
+    chi2 = float(np.sum(w * (x[good] - xm) ** 2))
+    dof = int(good.sum()) - 1
+    return {
+        "median": float(np.median(x)),
+        "spread": float(stats.median_abs_deviation(x, scale="normal")),
+        "mean_uncertainty": float(np.sqrt(np.mean(u[good] ** 2))),
+        "chi2": chi2,
+        "birge_ratio": math.sqrt(chi2 / dof),
+        "p_value": float(stats.chi2.sf(chi2, dof)),
+    }
+
+
+@given(
+    st.lists(st.tuples(st.floats(0.5, 2.0), st.floats(0.001, 0.5)), min_size=2, max_size=60),
+    st.sampled_from([0.001, 0.01, 0.05]),
+)
+def test_spread_equals_numpy_and_scipy(units: list[tuple[float, float]], alpha: float) -> None:
+    """The core's homogeneity test (``gyrocore::fleet::spread``) against NumPy/SciPy: the
+    median and MAD exactly as NumPy's convention, the sums to 1e-12, the tail to SciPy's 1e-10."""
+    x = np.asarray([v for v, _ in units])
+    u = np.asarray([e for _, e in units])
+    got = fleet.spread._spread(x, u, alpha, fleet.SPREAD_MIN_RATIO)
+    ref = _spread_reference(x, u)
+    assert got["median"] == ref["median"]
+    assert got["spread"] == pytest.approx(ref["spread"], rel=1e-15, abs=1e-300)
+    assert got["mean_uncertainty"] == pytest.approx(ref["mean_uncertainty"], rel=1e-12)
+    # χ² is a difference of terms of size Σ w·x²: rounding noise relative to that (equal
+    # values give χ² = 0 up to that noise in either implementation).
+    scale = float(np.sum(x**2 / u**2))
+    assert got["chi2"] == pytest.approx(ref["chi2"], rel=1e-12, abs=1e-13 * scale)
+    dof = len(x) - 1
+    assert got["birge_ratio"] == pytest.approx(
+        ref["birge_ratio"], rel=1e-12, abs=math.sqrt(1e-13 * scale / dof)
+    )
+    if ref["chi2"] > 1e-9 * scale:
+        assert got["p_value"] == pytest.approx(ref["p_value"], rel=1e-10, abs=1e-300)
+    assert got["dof"] == len(x) - 1
+    assert got["spread_real"] == (
+        got["p_value"] < alpha and got["birge_ratio"] >= fleet.SPREAD_MIN_RATIO
+    )
+
+
+def test_spread_checks_are_the_core_s() -> None:
+    x, u = np.array([1.0, 2.0, 3.0]), np.array([0.1, 0.1, 0.1])
+    with pytest.raises(ValueError, match="alpha"):
+        fleet.spread._spread(x, u, 1.5, 1.2)
+    with pytest.raises(ValueError, match="min_ratio"):
+        fleet.spread._spread(x, u, 0.01, -1.0)
+    with pytest.raises(ValueError, match="values"):
+        fleet.spread._spread(np.array([1.0, np.nan]), u[:2], 0.01, 1.2)

@@ -295,3 +295,22 @@ def test_elw_flags_estimates_on_a_bound() -> None:
 def test_bad_input(call, exc: type[Exception], word: str) -> None:  # type: ignore[no-untyped-def]
     with pytest.raises(exc, match=word):
         call()
+
+
+@given(
+    hnp.arrays(np.float64, st.integers(1, 5), elements=st.floats(-0.5, 2.0)),
+    st.floats(1e-4, 1.0),
+    st.floats(0.01, 0.999),
+)
+def test_elw_interval_is_the_normal_quantile(d: np.ndarray, se: float, confidence: float) -> None:
+    """The core's interval (z from the χ²₁ quantile) against ``statistics.NormalDist``."""
+    from statistics import NormalDist
+
+    from gyrobias import _core
+
+    z = NormalDist().inv_cdf(0.5 + confidence / 2.0)
+    lo, hi = _core.fractional.elw_confidence_interval(d, se, confidence)
+    np.testing.assert_allclose(hi - d, z * se, rtol=1e-9, atol=1e-15)
+    np.testing.assert_allclose(d - lo, z * se, rtol=1e-9, atol=1e-15)
+    with pytest.raises(ValueError, match="confidence"):
+        _core.fractional.elw_confidence_interval(d, se, 1.0)

@@ -10,7 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import gyrobias
-from gyrobias.io import _store, load, text, timestamps
+from gyrobias import _core
+from gyrobias.io import _store, load, text
 
 RNG = np.random.default_rng(77)
 #: The block iterator of the spill store, before a test patches it (to force small blocks).
@@ -220,14 +221,62 @@ def test_spilled_time_vector_is_a_memmap_equal_to_the_in_memory_one(
     assert not [p for p in tmp_path.iterdir() if p.name.startswith("gyrobias-")]  # unlinked
 
 
-def test_step_rows_equals_diff_everywhere(monkeypatch: pytest.MonkeyPatch) -> None:
-    t = RNG.integers(0, 5, size=3001).cumsum() * np.where(RNG.random(3001) < 0.05, -1, 1)
-    for rows in (1, 2, 7, 1000, 5000):
-        monkeypatch.setattr(_store, "blocks", lambda m, rows=rows: _BLOCKS(m, rows))
-        for op in (np.less, np.equal):
-            np.testing.assert_array_equal(
-                timestamps._step_rows(t, op), np.flatnonzero(op(np.diff(t), 0)) + 1
-            )
+@given(
+    st.lists(st.integers(-3, 4), min_size=0, max_size=400),
+    st.booleans(),
+)
+def test_step_rows_equal_numpy_diff(steps: list[int], as_float: bool) -> None:
+    """The core's backward / repeated stamp rows equal ``flatnonzero(op(diff(t), 0)) + 1``."""
+    t = np.cumsum(np.asarray([0, *steps], dtype=np.int64)) * 1_000_000_007
+    if as_float:
+        t = t.astype(np.float64) * 1e-9
+    for op, core in (
+        (np.less, _core.timestamps.backward_rows),
+        (np.equal, _core.timestamps.repeated_rows),
+    ):
+        np.testing.assert_array_equal(core(t), np.flatnonzero(op(np.diff(t), 0)) + 1)
+
+
+def _numpy_sampling(steps: np.ndarray) -> dict[str, object]:
+    """NumPy reference of the sampling statistics (the loader's former Python implementation)."""
+    positive = steps[steps > 0]
+    median = float(np.median(positive))
+    gap = steps > 1.5 * median
+    regular = steps[(steps > 0) & ~gap]
+    mean = float(np.mean(regular)) if regular.size else float(np.mean(positive))
+    return {
+        "median": median,
+        "gap_rows": np.flatnonzero(gap) + 1,
+        "duplicate_rows": np.flatnonzero(steps == 0) + 1,
+        "fs": float(f"{1.0 / mean:.9g}"),
+        "jitter": float(np.std(regular)) / median if regular.size > 1 else 0.0,
+        "missing": int(np.sum(np.rint(steps[gap] / median) - 1)),
+    }
+
+
+@given(
+    st.lists(
+        st.one_of(
+            st.floats(0.009, 0.011),
+            st.just(0.0),
+            st.floats(0.02, 1.0),
+        ),
+        min_size=3,
+        max_size=300,
+    ).filter(lambda v: any(x > 0 for x in v))
+)
+def test_sampling_statistics_match_numpy(steps: list[float]) -> None:
+    """The core's sampling statistics against NumPy: rows, counts and the median exactly; the
+    rate and jitter to 1e-12 relative (compensated vs pairwise sums: a few ulps)."""
+    iv = np.asarray(steps)
+    got = _core.timestamps.analyse(iv)
+    ref = _numpy_sampling(iv)
+    assert got.median_interval == ref["median"]
+    np.testing.assert_array_equal(got.gap_rows, ref["gap_rows"])
+    np.testing.assert_array_equal(got.duplicate_rows, ref["duplicate_rows"])
+    assert got.missing_samples == ref["missing"]
+    assert got.fs_estimated == pytest.approx(ref["fs"], rel=1e-8)  # 9 digits: 1 unit in the last
+    assert got.jitter == pytest.approx(ref["jitter"], rel=1e-12, abs=1e-15)
 
 
 def test_auto_spill_threshold() -> None:
@@ -365,13 +414,3 @@ def test_progress_reports_fractions_and_changes_nothing(tmp_path: Path) -> None:
     assert with_bar.sampling.to_dict() == without.sampling.to_dict()
     assert seen and seen[-1] == 1.0 and all(0.0 <= f <= 1.0 for f in seen)
     assert seen == sorted(seen)
-
-
-@given(
-    st.lists(st.floats(1e-12, 1e12, allow_nan=False), min_size=2, max_size=300),
-    st.floats(1e-9, 1e9),
-)
-def test_std_in_place_is_numpy_std_bit_for_bit(values: list[float], scale: float) -> None:
-    """The sampling report's jitter: np.std's arithmetic without its temporary (same bits)."""
-    x = np.asarray(values) * scale
-    assert timestamps._std_in_place(x.copy()) == float(np.std(x))

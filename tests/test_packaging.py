@@ -125,6 +125,16 @@ def test_sdist_lock_file_matches_its_workspace() -> None:
     assert "gyrobias-benches" not in names and "divan" not in names
 
 
+def test_sdist_builds_for_the_baseline_cpu() -> None:
+    # The wheel must run on any CPU of its architecture: nothing in what is built may ask for
+    # the build machine's CPU (target-cpu=native) or a fixed feature level; the vector kernels
+    # are chosen at run time (tests/test_cpu_dispatch.py).
+    for rel, data in _sdist_files().items():
+        if rel.endswith((".toml", ".cfg", ".rs", ".py", ".pyi")) or "/.cargo/" in f"/{rel}":
+            text = data.decode("utf-8", errors="replace")
+            assert "target-cpu" not in text and "target-feature" not in text, rel
+
+
 def test_sdist_has_no_build_products() -> None:
     for rel in _sdist_files():
         parts = PurePosixPath(rel).parts

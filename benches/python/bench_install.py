@@ -1,15 +1,17 @@
 """Install footprint and start-up latency (issue 25 item 4), measured in one run.
 
-Run: ``python benches/python/bench_install.py [--wheel dist/gyrobias-*.whl] [--no-venvs]``.
+Run: ``python benches/python/bench_install.py [--wheel dist/gyrobias-*.whl] [--here]``.
 
-- ``import gyrobias`` and ``gyrobias --help`` in fresh interpreters of the current environment
+- Two fresh virtual environments (no system site-packages), one with ``pip install <wheel>``
+  (the base install), one with ``<wheel>[all]``: the number of packages installed (pip,
+  setuptools and wheel excluded) and their size in MB (site-packages on disk, pip and
+  setuptools excluded). Needs PyPI or a warm pip cache.
+- In each: ``import gyrobias``, ``gyrobias --help`` and ``--version`` in fresh interpreters
   (best of ``--repeats``), beside the same-run baselines ``python -c pass`` and
   ``import numpy`` (gyrobias' one heavy import): what gyrobias adds on top of NumPy is the
-  difference. A CLI called in loops should answer well under a second.
-- With the wheel: two fresh virtual environments (no system site-packages), one with
-  ``pip install <wheel>`` (the base install), one with ``<wheel>[all]``: the number of packages
-  installed (pip, setuptools and wheel excluded) and their size in MB (site-packages on disk,
-  pip itself excluded). Needs PyPI or a warm pip cache.
+  difference. A CLI called in loops should answer well under a second; with ``[all]``
+  installed the heavy extras must still not be imported by these.
+- ``--here``: the latency only, in the current environment.
 """
 
 from __future__ import annotations
@@ -47,8 +49,19 @@ def latency(python: str, script: str, repeats: int) -> dict[str, float]:
     }
 
 
-def footprint(wheel: Path, extra: str) -> tuple[int, float, list[str]]:
-    """(packages, MB, names) of a fresh venv with ``wheel`` (and ``extra``) installed."""
+def report_latency(python: str, script: str, repeats: int) -> None:
+    times = latency(python, script, repeats)
+    for name, t in times.items():
+        print(f"    {name:<20} {t * 1e3:7.1f} ms")
+    print(
+        f"    gyrobias adds {1e3 * (times['import gyrobias'] - times['import numpy']):.0f} ms to "
+        f"`import numpy`; `gyrobias --help` is "
+        f"{times['gyrobias --help'] / times['import numpy']:.2f}x `import numpy`"
+    )
+
+
+def footprint(wheel: Path, extra: str, repeats: int) -> tuple[int, float, list[str]]:
+    """(packages, MB, names) of a fresh venv with ``wheel`` (and ``extra``); prints latency."""
     with tempfile.TemporaryDirectory() as tmp:
         env_dir = Path(tmp) / "venv"
         venv.create(env_dir, with_pip=True)
@@ -83,28 +96,22 @@ def footprint(wheel: Path, extra: str) -> tuple[int, float, list[str]]:
                 continue
             if path.is_file() and not path.is_symlink():
                 size += path.stat().st_size
+        print(f"  gyrobias{extra or ' (base)'}: start-up, best of {repeats} fresh processes")
+        report_latency(python, str(env_dir / bindir / "gyrobias"), repeats)
         return len(names), size / 1e6, names
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--wheel", type=Path, help="the wheel (default: the one in dist/)")
-    parser.add_argument("--no-venvs", action="store_true", help="skip the install footprint")
+    parser.add_argument("--here", action="store_true", help="latency in this environment only")
     parser.add_argument("--repeats", type=int, default=7)
     args = parser.parse_args()
 
-    script = str(Path(sysconfig.get_path("scripts")) / "gyrobias")
-    print(f"start-up latency, best of {args.repeats} fresh processes ({sys.executable}):")
-    times = latency(sys.executable, script, args.repeats)
-    for name, t in times.items():
-        print(f"  {name:<20} {t * 1e3:7.1f} ms")
-    print(
-        f"  gyrobias adds {1e3 * (times['import gyrobias'] - times['import numpy']):.0f} ms to "
-        f"`import numpy`; `gyrobias --help` is "
-        f"{times['gyrobias --help'] / times['import numpy']:.2f}x `import numpy`"
-    )
-
-    if args.no_venvs:
+    if args.here:
+        script = str(Path(sysconfig.get_path("scripts")) / "gyrobias")
+        print(f"start-up latency, best of {args.repeats} fresh processes ({sys.executable}):")
+        report_latency(sys.executable, script, args.repeats)
         return
     wheel = args.wheel
     if wheel is None:
@@ -114,7 +121,7 @@ def main() -> None:
         wheel = found[-1]
     print(f"install footprint of {wheel.name} (fresh venvs, pip/setuptools excluded):")
     for extra in ("", "[all]"):
-        count, mb, names = footprint(wheel, extra)
+        count, mb, names = footprint(wheel, extra, args.repeats)
         print(f"  gyrobias{extra or ' (base)':<8} {count:3d} packages {mb:7.1f} MB")
         print(f"    {' '.join(names)}")
 

@@ -9,6 +9,7 @@ lengths, parameter ranges) are checked by the core itself.
 from __future__ import annotations
 
 import re
+import secrets
 from typing import Any
 
 import numpy as np
@@ -138,7 +139,7 @@ def seed(name: str, value: Any) -> int:
     naming the argument).
     """
     if value is None:
-        return int(np.random.SeedSequence().generate_state(1, dtype=np.uint64)[0])
+        return secrets.randbits(64)  # entropy for a seed; the numbers are the core's generator
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise TypeError(f"{name} must be an integer or None, got {type(value).__name__}")
     return int(value)

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from gyrobias import _core, _generics
-from gyrobias._validation import choice, positive_float
+from gyrobias._validation import choice, real, string
 from gyrobias.noise._types import TERM_NAMES, NoiseCoefficients, Term
 from gyrobias.units import CUSTOMARY, _parse_unit, base_unit, sensor_kind
 
@@ -178,10 +178,18 @@ def _split_value(
         else:
             system = choice("units", units, ("ieee", "si"))
             unit = CUSTOMARY[sensor][system][symbol]
-    if not math.isfinite(number) or number < 0.0:
-        raise ValueError(f"{name} must be finite and >= 0, got {value!r}")
     unit = re.sub(r"\bdps\b", "deg/s", unit.strip())
     return number, unit
+
+
+#: How each conversion of the core (``gyrocore::noise::discrete::datasheet_coefficient``) is
+#: worded in ``Datasheet.conventions`` (``{}``: the term's symbol).
+_CONVENTION_NOTES = {
+    "one-sided density": "read as a one-sided density: IEEE {} = value/√2",
+    "two-sided density": "read as a two-sided density: IEEE {} = value",
+    "allan minimum": "read as the Allan-deviation minimum: IEEE {} = value/0.664282",
+    "coefficient": "taken as the IEEE coefficient {}",
+}
 
 
 def from_datasheet(
@@ -264,10 +272,8 @@ def from_datasheet(
     >>> round(g.N.value, 3), g.N.unit, round(g.B.value, 2)
     (0.339, 'deg/√h', 12.04)
     """
-    density = choice("density", density, ("one-sided", "two-sided"))
-    bias_instability_is = choice(
-        "bias_instability_is", bias_instability_is, ("allan_minimum", "coefficient")
-    )
+    density = string("density", density)  # the names are parsed by the core
+    bias_instability_is = string("bias_instability_is", bias_instability_is)
     data_units = {"gyro": gyro_unit, "accel": accel_unit}
     for label, unit, kind in (
         ("gyro_unit", gyro_unit, "gyro"),
@@ -282,7 +288,7 @@ def from_datasheet(
                 f"{label}: {unit!r} is not {'an angular rate' if kind == 'gyro' else 'an acceleration'}"
             )
     if rate is not None:
-        rate = positive_float("rate", rate)
+        rate = _core.noise.discrete_rate(real("rate", rate))  # finite and > 0: the core's check
     if isinstance(units, Mapping):
         for key in units:
             choice("units key", key, tuple(_PARAMETERS))
@@ -329,28 +335,21 @@ def from_datasheet(
                 f"{name}: unit {unit!r} is not a {sensor} {_WHAT[symbol]}; valid units for {name}: "
                 f"{_EXAMPLES[sensor][symbol]}"
             )
-        v = number * parsed.factor / want.factor
         per_hz = "Hz" in re.findall(r"[A-Za-zµ°]+", unit)
-        if symbol in ("N", "K") and (is_density or per_hz):
-            if density == "one-sided":
-                v /= math.sqrt(2.0)
-                notes.append(
-                    f"{name} = {number:g} {unit} read as a one-sided density: IEEE {symbol} = value/√2"
-                )
-            else:
-                notes.append(
-                    f"{name} = {number:g} {unit} read as a two-sided density: IEEE {symbol} = value"
-                )
-        elif symbol == "B":
-            if bias_instability_is == "allan_minimum":
-                v /= _core.noise.FLICKER_FACTOR
-                notes.append(
-                    f"{name} = {number:g} {unit} read as the Allan-deviation minimum: IEEE B = value/0.664282"
-                )
-            else:
-                notes.append(f"{name} = {number:g} {unit} read as the IEEE coefficient B")
-        else:
-            notes.append(f"{name} = {number:g} {unit} taken as the IEEE coefficient {symbol}")
+        # The unit factor is a unit conversion (here); the density and Allan-minimum
+        # conventions and the value's range (finite, >= 0) are the core's.
+        try:
+            v, conversion = _core.noise.datasheet_coefficient(
+                number,
+                parsed.factor / want.factor,
+                symbol,
+                is_density or per_hz,
+                density,
+                bias_instability_is,
+            )
+        except ValueError as exc:
+            raise ValueError(f"{name}: {exc}") from None
+        notes.append(f"{name} = {number:g} {unit} " + _CONVENTION_NOTES[conversion].format(symbol))
         values[sensor][symbol] = v
 
     def build(sensor: str) -> NoiseCoefficients | None:

@@ -43,7 +43,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, count, integer, positive_float, real, string
+from gyrobias._validation import as_float_array, count, integer, real, string
 from gyrobias._validation import seed as seed_value
 
 __all__ = [
@@ -290,13 +290,15 @@ class ElwResult:
 
     def confidence_interval(self, confidence: float = 0.95) -> tuple[Any, Any]:
         """Asymptotic normal interval ``d̂ ∓ z·se`` at the two-sided ``confidence`` level."""
-        from statistics import NormalDist
-
-        c = positive_float("confidence", confidence)
-        if c >= 1.0:
-            raise ValueError(f"confidence must be in (0, 1), got {confidence!r}")
-        z = NormalDist().inv_cdf(0.5 + c / 2.0)
-        return self.d - z * self.standard_error, self.d + z * self.standard_error
+        d = np.asarray(self.d, dtype=np.float64)
+        lo, hi = _core.fractional.elw_confidence_interval(
+            np.ascontiguousarray(d.reshape(-1)),
+            self.standard_error,
+            real("confidence", confidence),  # 0 < confidence < 1: the core's check
+        )
+        if d.ndim == 0:
+            return float(lo[0]), float(hi[0])
+        return lo.reshape(d.shape), hi.reshape(d.shape)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain-Python dictionary (arrays as lists), e.g. for JSON."""

@@ -27,11 +27,11 @@ from gyrobias import _core, _generics
 from gyrobias._validation import (
     as_float_array,
     choice,
-    count,
     integer,
     real,
     string,
 )
+from gyrobias._validation import seed as seed_value
 
 __all__ = [
     "CompiledPredictor",
@@ -70,13 +70,8 @@ def _windows(name: str, value: Any) -> tuple[NDArray[np.float64], bool]:
                 f"{name} has ragged rows: every window must have the same length"
             ) from exc
         raise
-    one = arr.ndim == 1
-    arr2 = arr.reshape(1, -1) if one else arr
-    if arr2.shape[1] < 2:
-        raise ValueError(
-            f"calibration ({name}) is too short: at least 2 samples needed, got {arr2.shape[1]}"
-        )
-    return arr2, one
+    one = arr.ndim == 1  # k >= 2 and finite samples: the core's checks
+    return (arr.reshape(1, -1) if one else arr), one
 
 
 def _asarray_ragged(name: str, value: Any) -> Any:
@@ -91,6 +86,17 @@ def _asarray_ragged(name: str, value: Any) -> Any:
                 f"{name} has ragged rows (lengths {sorted(lengths)}): every window must have the same length"
             )
     return value
+
+
+def _named(name: str, kernel: Any, *args: Any) -> NDArray[np.float64]:
+    """``kernel(*args)``, a core error about the calibration window prefixed with ``name``, the
+    caller's name for it (the core calls it ``calibration``)."""
+    try:
+        return kernel(*args)  # type: ignore[no-any-return]
+    except ValueError as exc:
+        if "calibration" in str(exc):
+            raise ValueError(f"{name}: {exc}") from None
+        raise
 
 
 def calibration_mean(y: Any, horizon: int) -> NDArray[np.float64]:
@@ -110,7 +116,7 @@ def calibration_mean(y: Any, horizon: int) -> NDArray[np.float64]:
     """
     arr, one = _windows("y", _asarray_ragged("y", y))
     h = integer("horizon", horizon)
-    out = _core.predict.calibration_mean(arr, h).reshape(arr.shape[0], h)
+    out = _named("y", _core.predict.calibration_mean, arr, h).reshape(arr.shape[0], h)
     return out[0] if one else out
 
 
@@ -126,41 +132,28 @@ def moving_average(y: Any, horizon: int) -> NDArray[np.float64]:
     """
     arr, one = _windows("y", _asarray_ragged("y", y))
     h = integer("horizon", horizon)
-    out = _core.predict.moving_average(arr, h).reshape(arr.shape[0], h)
+    out = _named("y", _core.predict.moving_average, arr, h).reshape(arr.shape[0], h)
     return out[0] if one else out
 
 
-def _errors(y: Any, yhat: Any) -> NDArray[np.float64]:
-    """``y − ŷ`` of two same-shaped finite arrays; a ``ValueError`` naming the argument for a
-    non-finite value (which would make the statistic NaN or ∞) or a difference that overflows."""
+def _pair(y: Any, yhat: Any) -> tuple[NDArray[np.float64], NDArray[np.float64], bool]:
+    """``y`` and ``yhat`` as 2-D float64 arrays (rows along the first axis) and whether 1-D."""
     a = as_float_array("y", y, ndims=(1, 2))
     b = as_float_array("yhat", yhat, ndims=(1, 2))
-    if a.shape != b.shape:
+    if a.ndim != b.ndim:  # a type/shape check; equal row lengths are the core's
         raise ValueError(f"y and yhat must have the same shape, got {a.shape} and {b.shape}")
-    for name, v in (("y", a), ("yhat", b)):
-        bad = np.flatnonzero(~np.isfinite(v))
-        if bad.size:
-            raise ValueError(
-                f"{name} must be finite, got {v.flat[bad[0]]} at flat index {int(bad[0])}"
-            )
-    with np.errstate(over="ignore"):
-        d = a - b
-    if not np.isfinite(d).all():
-        raise ValueError("y - yhat must be finite in float64, got an overflow")
-    return d
+    one = a.ndim == 1
+    return (a.reshape(1, -1), b.reshape(1, -1), one) if one else (a, b, one)
 
 
 def integrated_error(y: Any, yhat: Any) -> NDArray[np.float64] | float:
     """Integrated error ``IE = Σ_j (y_j − ŷ_j)`` (data minus prediction) along the last axis.
 
-    ``y`` and ``yhat`` must be finite; a sum beyond float64 is a ``ValueError``.
+    Computed in the core (``gyrocore::predict::evaluate::integrated_error``, a compensated sum).
     """
-    d = _errors(y, yhat)
-    with np.errstate(over="ignore"):
-        out = np.sum(d, axis=-1)
-    if not np.isfinite(out).all():
-        raise ValueError("y - yhat must have a finite sum in float64, got an overflow")
-    return float(out) if out.ndim == 0 else out
+    a, b, one = _pair(y, yhat)
+    out = _core.predict.integrated_error(a, b)
+    return float(out[0]) if one else out
 
 
 def rsse(y: Any, yhat: Any) -> NDArray[np.float64] | float:
@@ -172,15 +165,11 @@ def rsse(y: Any, yhat: Any) -> NDArray[np.float64] | float:
     Notes
     -----
     [BP]'s text defines the plain sum of squares; its Table I values need the root (SPEC §5).
+    Computed in the core (``gyrocore::predict::evaluate::rsse``).
     """
-    d = _errors(y, yhat)
-    with np.errstate(over="ignore"):
-        out = np.sqrt(np.sum(d**2, axis=-1))
-    if not np.isfinite(out).all():  # squares beyond float64: the same root, scaled
-        scale = np.max(np.abs(d), axis=-1, keepdims=True)
-        safe = np.where(scale > 0.0, scale, 1.0)
-        out = (safe * np.sqrt(np.sum((d / safe) ** 2, axis=-1, keepdims=True)))[..., 0]
-    return float(out) if out.ndim == 0 else out
+    a, b, one = _pair(y, yhat)
+    out = _core.predict.rsse(a, b)
+    return float(out[0]) if one else out
 
 
 @dataclass(frozen=True)
@@ -276,11 +265,7 @@ class CompiledPredictor:
     def predict(self, batch: Any, *, n_threads: int | None = None) -> Prediction:
         """Forecast every window of ``batch`` (shape (windows, k) or (k,))."""
         arr, one = _windows("batch", _asarray_ragged("batch", batch))
-        if arr.shape[1] != self.calibration_length:
-            raise ValueError(
-                f"batch windows have {arr.shape[1]} samples; the predictor was compiled for "
-                f"calibration_length={self.calibration_length}"
-            )
+        # A window length other than calibration_length is the core's ShapeMismatch.
         bias, mean = self._inner.predict(arr, _n_threads(n_threads))
         rows, h = arr.shape[0], self.horizon
         bias = bias.reshape(rows, h)
@@ -500,22 +485,22 @@ class MethodStats:
     @property
     def mean_ie(self) -> float:
         """Mean integrated error."""
-        return float(np.mean(self.ie))
+        return _core.predict.mean_std(self.ie)[0]
 
     @property
     def ie_std(self) -> float:
         """Standard deviation of the integrated error."""
-        return float(np.std(self.ie, ddof=1))
+        return _core.predict.mean_std(self.ie)[1]
 
     @property
     def mean_rsse(self) -> float:
         """Mean RSSE."""
-        return float(np.mean(self.rsse))
+        return _core.predict.mean_std(self.rsse)[0]
 
     @property
     def rsse_std(self) -> float:
         """Standard deviation of the RSSE."""
-        return float(np.std(self.rsse, ddof=1))
+        return _core.predict.mean_std(self.rsse)[1]
 
     def to_dict(self) -> dict[str, Any]:
         """Summary statistics as a dictionary."""
@@ -538,30 +523,33 @@ class Evaluation:
     methods: dict[str, MethodStats]
 
     def ratio(
-        self, method: str, reference: str = "cm", statistic: str = "rsse"
+        self,
+        method: str,
+        reference: str = "cm",
+        statistic: str = "rsse",
+        *,
+        resamples: int = 400,
+        seed: int = 12345,
     ) -> tuple[float, float]:
         """Ratio of a statistic to the reference method's with a paired bootstrap standard error.
 
         ``statistic`` is ``"rsse"`` (ratio of mean RSSEs) or ``"ie_std"`` (ratio of IE standard
-        deviations). The standard error uses 400 paired bootstrap resamples of the sections
-        (fixed seed, so the numbers are reproducible); NaN with fewer than 10 sections.
+        deviations). The standard error is the s.d. of the ratio over ``resamples`` paired
+        bootstrap resamples of the sections, drawn by the core's generator from ``seed`` (fixed
+        by default, so the numbers are reproducible); NaN with fewer than 10 sections
+        (``gyrocore::predict::evaluate::bootstrap_ratio``).
         """
         names = tuple(self.methods)
         a = self.methods[choice("method", method, names)]
         b = self.methods[choice("reference", reference, names)]
-        choice("statistic", statistic, ("rsse", "ie_std"))
-        value = a.mean_rsse / b.mean_rsse if statistic == "rsse" else a.ie_std / b.ie_std
-        if self.sections < 10:  # too few sections for a meaningful bootstrap
-            return float(value), math.nan
-        rng = np.random.default_rng(12345)
-        idx = rng.integers(0, self.sections, size=(400, self.sections))
-        with np.errstate(invalid="ignore", divide="ignore"):
-            if statistic == "rsse":
-                boot = a.rsse[idx].mean(axis=1) / b.rsse[idx].mean(axis=1)
-            else:
-                boot = a.ie[idx].std(axis=1, ddof=1) / b.ie[idx].std(axis=1, ddof=1)
-        boot = boot[np.isfinite(boot)]
-        return float(value), float(np.std(boot, ddof=1)) if boot.size > 1 else math.nan
+        pick = "rsse" if statistic == "rsse" else "ie"  # the core parses statistic itself
+        return _core.predict.bootstrap_ratio(
+            getattr(a, pick),
+            getattr(b, pick),
+            string("statistic", statistic),
+            integer("resamples", resamples),
+            seed_value("seed", seed),
+        )
 
     def table(self) -> str:
         """Text table as [BP] Table I, with ratios to CM when it was evaluated."""
@@ -626,42 +614,29 @@ def evaluate(
         Per method the integrated error and RSSE of every section and their mean and standard
         deviation ([BP] Table I); ``.table()`` prints it with ratios to CM.
     """
-    k = count("calibration", calibration)
-    if k < 2:  # the sections are cut here, before any core call
-        raise ValueError(f"calibration must be at least 2 samples, got {k}")
-    h = count("horizon", horizon)
+    k = integer("calibration", calibration)  # k >= 2, h >= 1, the sections: the core's checks
+    h = integer("horizon", horizon)
     arr = as_float_array("log", log, ndims=(1, 2))
-    if arr.ndim == 1:
-        sections = arr.size // (k + h)
-        if sections < 1:
-            raise ValueError(f"log is too short: {arr.size} samples, one section needs {k + h}")
-        arr = arr[: sections * (k + h)].reshape(sections, k + h)
-    elif arr.shape[1] != k + h:
-        raise ValueError(
-            f"log sections have {arr.shape[1]} samples, calibration + horizon = {k + h}"
-        )
-    if not np.all(np.isfinite(arr)):
-        raise ValueError("log contains a non-finite value (NaN or inf)")
-    methods = list(methods)
-    for m in methods:
-        choice("methods", m, tuple(_METHOD_NAMES))
-    _n_threads(n_threads)  # refused even when no method uses threads (only "cm", "ma")
-    cal = np.ascontiguousarray(arr[:, :k])
-    fut = arr[:, k:]
-    out: dict[str, MethodStats] = {}
-    for m in methods:
-        if m == "kf":
-            pred = predictor or FractionalKalmanPredictor()
-            yhat = pred.compile(k, h, n_threads=n_threads).predict(cal, n_threads=n_threads).bias
-        elif m == "ma":
-            yhat = moving_average(cal, h)
-        else:
-            yhat = calibration_mean(cal, h)
-        yhat = np.asarray(yhat).reshape(arr.shape[0], h)
-        out[m] = MethodStats(
-            m, np.asarray(integrated_error(fut, yhat)), np.asarray(rsse(fut, yhat))
-        )
-    return Evaluation(k, h, arr.shape[0], out)
+    names = [string("methods", m) for m in methods]
+    pred = predictor or FractionalKalmanPredictor()
+    d, q, r, mode, mu0, p0 = pred._args()
+    scores = _core.predict.evaluate(
+        arr.reshape(-1),
+        None if arr.ndim == 1 else arr.shape[1],
+        k,
+        h,
+        names,
+        d,
+        q,
+        r,
+        mode,
+        mu0,
+        p0,
+        _n_threads(n_threads),
+    )
+    out = {m: MethodStats(m, sc.integrated_error, sc.rsse) for m, sc in zip(names, scores)}
+    sections = len(next(iter(out.values())).ie) if out else 0
+    return Evaluation(k, h, sections, out)
 
 
 # Paper values ([BP] Table I, simulated columns) used by the table1 experiment.

@@ -498,8 +498,10 @@ def analyse_log(
         temperature, (int, float, np.integer, np.floating)
     ):
         raise TypeError(f"temperature must be a real number, got {type(temperature).__name__}")
-    if not math.isfinite(float(temperature)):
-        raise ValueError(f"temperature must be finite, got {temperature!r}")
+    try:  # finite: the core's check (of a set of temperatures, here one)
+        _core.thermal.check_temperatures(np.array([float(temperature)]))
+    except ValueError:
+        raise ValueError(f"temperature must be finite, got {temperature!r}") from None
     units = checked_units("units", units)
     boolean("prefilter", prefilter)
     # The prefilter is designed (its options checked) even when prefilter=False ignores it:
@@ -526,10 +528,8 @@ def analyse_log(
         cutoff = design.cutoff
         data = design.apply(arr, zero_phase=bool(zero_phase))
         if not zero_phase:
-            if arr.size <= design.numtaps + 2:
-                raise ValueError(
-                    f"x is too short for the {design.numtaps}-tap prefilter: {arr.size} samples"
-                )
+            # The causal filter's transient is dropped; too few samples left is fit_ar1's
+            # (the core's) TooShort error.
             data = data[design.numtaps - 1 :]
     return ThermalAnalysis(
         temperature=float(temperature),
@@ -562,10 +562,9 @@ def analyse_logs(
     pairs = list(logs.items()) if isinstance(logs, Mapping) else list(logs)
     if not pairs:
         raise ValueError("logs is empty")
-    temps = [float(t) for t, _ in pairs]
-    if len(set(temps)) != len(temps):
-        dup = next(t for t in temps if temps.count(t) > 1)
-        raise ValueError(f"temperatures must be distinct, {dup} is given twice")
+    temps = [real("temperature", t) for t, _ in pairs]
+    # Finite and distinct: the core's check, before any log is analysed.
+    _core.thermal.check_temperatures(np.array(temps, dtype=np.float64))
     out = [analyse_log(x, fs, t, **kwargs) for t, x in pairs]
     return tuple(sorted(out, key=lambda a: a.temperature))
 

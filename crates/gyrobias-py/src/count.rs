@@ -143,6 +143,19 @@ pub(crate) fn factors(obj: &Bound<'_, PyAny>) -> PyResult<Vec<usize>> {
     sizes(obj, "m")
 }
 
+/// The gap rows `gap_rows` of a sampling report (see [`sizes`]).
+pub(crate) fn gap_rows(obj: &Bound<'_, PyAny>) -> PyResult<Vec<usize>> {
+    sizes(obj, "gap_rows")
+}
+
+/// The per-gap counts `counts` of missing samples (see [`sizes`]).
+pub(crate) fn counts(obj: &Bound<'_, PyAny>) -> PyResult<Vec<u64>> {
+    Ok(sizes(obj, "counts")?
+        .into_iter()
+        .map(|c| c as u64)
+        .collect())
+}
+
 /// The term counts `n_terms` of an Allan curve (see [`sizes`]).
 pub(crate) fn n_terms(obj: &Bound<'_, PyAny>) -> PyResult<Vec<usize>> {
     sizes(obj, "n_terms")
@@ -165,9 +178,9 @@ macro_rules! extractors {
 }
 
 extractors!(size -> usize:
-    axes, block, bootstrap, calibration_length, degree, horizon, iterations, min_blocks,
+    axes, block, bootstrap, calibration, calibration_length, degree, horizon, iterations, min_blocks,
     min_points, n, n_known, n_params, n_samples, n_threads, noverlap, nperseg, padlen,
-    per_decade, rows, step, window,
+    per_decade, resamples, rows, step, window,
 );
 extractors!(unsigned -> u64: samples, seed);
-extractors!(optional_size -> Option<usize>: m);
+extractors!(optional_size -> Option<usize>: m, row_width);

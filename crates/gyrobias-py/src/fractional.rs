@@ -128,7 +128,30 @@ fn elw_objective<'py>(
     Ok(core(py.detach(|| elw::objective(&x, &ds, m, level)))?.into_pyarray(py))
 }
 
+/// Two float64 arrays returned to Python (lower and upper bounds).
+type ArrayPair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
+/// Asymptotic normal interval of ELW estimates
+/// (`gyrocore::fractional::elw::confidence_interval`): `(lower, upper)`.
+#[pyfunction]
+#[pyo3(signature = (d, standard_error, confidence))]
+#[allow(clippy::needless_pass_by_value)]
+fn elw_confidence_interval<'py>(
+    py: Python<'py>,
+    d: PyReadonlyArray1<'py, f64>,
+    standard_error: f64,
+    confidence: f64,
+) -> PyResult<ArrayPair<'py>> {
+    let (lo, hi) = core(elw::confidence_interval(
+        &c_order(&d),
+        standard_error,
+        confidence,
+    ))?;
+    Ok((lo.into_pyarray(py), hi.into_pyarray(py)))
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(elw_confidence_interval, m)?)?;
     m.add_function(wrap_pyfunction!(weights, m)?)?;
     m.add_function(wrap_pyfunction!(diff, m)?)?;
     m.add_function(wrap_pyfunction!(integrate, m)?)?;

@@ -17,15 +17,20 @@ mod allan;
 mod array;
 mod codegen;
 mod count;
+mod discrete;
 mod error;
+mod evaluate;
 mod fir;
+mod fleet;
 mod fractional;
 mod kalman;
 mod noise;
 mod predict;
+mod random;
 mod spectral;
 mod stats;
 mod thermal;
+mod timestamps;
 mod validate;
 
 use pyo3::prelude::*;
@@ -45,6 +50,18 @@ fn submodule(
         .getattr("modules")?
         .set_item(&full, &sub)?;
     Ok(())
+}
+
+/// `gyrobias._core.predict`: `gyrocore::predict` and its `evaluate` submodule.
+fn predict_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    predict::register(m)?;
+    evaluate::register(m)
+}
+
+/// `gyrobias._core.noise`: `gyrocore::noise` and its `discrete` submodule.
+fn noise_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    noise::register(m)?;
+    discrete::register(m)
 }
 
 /// The instruction set of the core's vectorised kernels (`gyrocore::simd`): `"x86-64-v3"`
@@ -69,10 +86,13 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     submodule(m, "spectral", spectral::register)?;
     submodule(m, "thermal", thermal::register)?;
     submodule(m, "fractional", fractional::register)?;
-    submodule(m, "predict", predict::register)?;
+    submodule(m, "predict", predict_module)?;
     submodule(m, "kalman", kalman::register)?;
-    submodule(m, "noise", noise::register)?;
+    submodule(m, "noise", noise_module)?;
     submodule(m, "stats", stats::register)?;
+    submodule(m, "fleet", fleet::register)?;
+    submodule(m, "timestamps", timestamps::register)?;
+    submodule(m, "random", random::register)?;
     submodule(m, "validate", validate::register)?;
     Ok(())
 }

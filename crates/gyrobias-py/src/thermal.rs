@@ -53,7 +53,16 @@ fn interpolate<'py>(
     Ok(core(thermal::interpolate(&x, &y, method, &at, extrapolate))?.into_pyarray(py))
 }
 
+/// Checks calibration temperatures: finite and distinct (`gyrocore::thermal::check_temperatures`).
+#[pyfunction]
+#[pyo3(signature = (temperatures))]
+#[allow(clippy::needless_pass_by_value)]
+fn check_temperatures(temperatures: PyReadonlyArray1<'_, f64>) -> PyResult<()> {
+    core(thermal::check_temperatures(&c_order(&temperatures)))
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(check_temperatures, m)?)?;
     m.add_function(wrap_pyfunction!(fit_ar1, m)?)?;
     m.add_function(wrap_pyfunction!(interpolate, m)?)
 }

@@ -13,10 +13,12 @@
 //! | [`fractional`] | fractional differencing and integration (direct / FFT), ARFIMA(0, d, 0) simulation (type II, Davies–Harte), exact local Whittle estimation of d | SPEC §4, Hosking (1981), \[BP\] eq. 3, Shimotsu & Phillips (2005), Shimotsu (2010) |
 //! | [`noise`] | IEEE-952 noise terms: simulation with known coefficients, joint weighted fit and read-off identification | IEEE 952 Annex C, SPEC §3 |
 //! | [`optimize`] | Brent's derivative-free 1-D minimisation | Brent (1973) |
-//! | [`random`] | seeded normal deviates (xoshiro256++, polar method) | — |
+//! | [`random`] | the one seeded generator: normal deviates (xoshiro256++, polar method), unbiased integers (Lemire) | Blackman & Vigna (2019), Lemire (2019) |
 //! | [`predict`] | bias prediction: calibration mean, moving average, fractional (1/f) Kalman predictor (literal and generalized-Schur O(n·k)), compiled batch predictor | \[BP\] §IV–V, SPEC §5 |
 //! | [`kalman`] | fixed-gain 2-state [rate, bias] Kalman filter: steady-state gain, discrete fixed-gain form, bandwidth design, streaming | \[NR\] eqs. 4–18, SPEC §6 |
 //! | [`stats`] | chi-square quantiles and the special functions behind them | — |
+//! | [`fleet`] | robust z-scores of a unit within its fleet, weighted χ² homogeneity test and Birge ratio | Rousseeuw & Croux (1993), Birge (1932) |
+//! | [`timestamps`] | sampling analysis of a log's timestamps: rate, jitter, gaps, repeated and out-of-order stamps, gap filling | — |
 //! | [`simd`] | run-time choice of the kernels' vector instruction set (`GYROBIAS_SIMD=scalar` forces the baseline) | — |
 //!
 //! Units: time in seconds; rates and angles in the caller's unit (the core is unit-agnostic).
@@ -26,6 +28,7 @@ pub mod allan;
 pub mod codegen;
 pub mod error;
 pub mod fir;
+pub mod fleet;
 pub mod float;
 pub mod fractional;
 pub mod kalman;
@@ -37,6 +40,7 @@ pub mod simd;
 pub mod spectral;
 pub mod stats;
 pub mod thermal;
+pub mod timestamps;
 pub mod validate;
 
 pub use error::{Error, Result};

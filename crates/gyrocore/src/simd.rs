@@ -1,6 +1,6 @@
 //! Runtime choice of the vector instruction set of the core's own kernels.
 //!
-//! The core is compiled for the target's baseline (x86-64: SSE2; no `target-cpu=native`), so a
+//! The core is compiled for the target's baseline (x86-64: SSE2; no CPU-specific flags), so a
 //! wheel built anywhere runs on every CPU of its architecture. The hot loops are written as
 //! `pulp` operations (`pulp::WithSimd`): each is compiled a second time for x86-64-v3 (AVX2,
 //! FMA, enabled by pulp's `x86-v3` feature) and [`arch`] picks the variant at run time from the

@@ -1,6 +1,7 @@
 //! Statistical special functions: the regularised incomplete gamma functions and the
 //! chi-square distribution (CDF, survival function and quantiles) behind the confidence
-//! intervals of [`crate::allan::confidence`].
+//! intervals of [`crate::allan::confidence`], and the median (NumPy's convention) shared by the
+//! fleet and timestamp statistics.
 //!
 //! ```text
 //! P(a, x) = γ(a, x)/Γ(a),   Q(a, x) = Γ(a, x)/Γ(a) = 1 − P(a, x)
@@ -355,6 +356,24 @@ pub fn chi2_isf(q: f64, dof: f64) -> Result<f64> {
         invert_gamma_tail(a, 1.0 - q, false)
     };
     Ok(2.0 * y)
+}
+
+/// Median of a non-empty slice, which is reordered (`select_nth_unstable`, O(n)): NumPy's
+/// convention, the midpoint of the two middle values for an even count; NaN when empty.
+pub fn median_in_place(values: &mut [f64]) -> f64 {
+    let n = values.len();
+    if n == 0 {
+        return f64::NAN;
+    }
+    let mid = n / 2;
+    let (below, upper, _) = values.select_nth_unstable_by(mid, f64::total_cmp);
+    let upper = *upper;
+    if n % 2 == 1 {
+        return upper;
+    }
+    let lower = below.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    // (a + b)/2 for every finite pair short of overflow: NumPy's mean of the two middles.
+    f64::midpoint(lower, upper)
 }
 
 #[cfg(test)]

@@ -126,8 +126,28 @@ impl Method {
 }
 
 /// Sorted, validated nodes.
-fn nodes(x: &[f64], y: &[f64]) -> Result<(Vec<f64>, Vec<f64>)> {
+/// Checks calibration temperatures: finite and distinct (any number of them, one included).
+///
+/// # Errors
+/// [`Error::NonFinite`] or [`Error::InvalidParameter`] naming `temperatures`.
+pub fn check_temperatures(x: &[f64]) -> Result<()> {
     validate::finite("temperatures", x)?;
+    let mut sorted = x.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    for w in sorted.windows(2) {
+        #[allow(clippy::float_cmp)] // exact repetition is what is refused
+        if w[0] == w[1] {
+            return Err(Error::invalid(
+                "temperatures",
+                format!("must be distinct, {} is given twice", w[0]),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn nodes(x: &[f64], y: &[f64]) -> Result<(Vec<f64>, Vec<f64>)> {
+    check_temperatures(x)?;
     validate::finite("values", y)?;
     if x.len() != y.len() {
         return Err(Error::ShapeMismatch {
@@ -138,14 +158,6 @@ fn nodes(x: &[f64], y: &[f64]) -> Result<(Vec<f64>, Vec<f64>)> {
     validate::min_len("temperatures", x.len(), 2)?;
     let mut idx: Vec<usize> = (0..x.len()).collect();
     idx.sort_by(|&a, &b| x[a].total_cmp(&x[b]));
-    for w in idx.windows(2) {
-        if x[w[0]] == x[w[1]] {
-            return Err(Error::invalid(
-                "temperatures",
-                format!("must be distinct, {} is given twice", x[w[0]]),
-            ));
-        }
-    }
     Ok((
         idx.iter().map(|&i| x[i]).collect(),
         idx.iter().map(|&i| y[i]).collect(),
@@ -322,6 +334,17 @@ pub fn interpolate(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn temperatures_finite_and_distinct() {
+        assert!(check_temperatures(&[20.0]).is_ok());
+        assert!(check_temperatures(&[20.0, -5.0, 40.0]).is_ok());
+        let e = check_temperatures(&[20.0, -5.0, 20.0])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("distinct") && e.contains("20"), "{e}");
+        assert!(check_temperatures(&[f64::NAN]).is_err());
+    }
 
     #[test]
     fn method_parse() {

@@ -8,13 +8,16 @@ binding borrows C-contiguous float64 arrays and copies any other layout into C o
 from gyrobias._core import allan as allan
 from gyrobias._core import codegen as codegen
 from gyrobias._core import fir as fir
+from gyrobias._core import fleet as fleet
 from gyrobias._core import fractional as fractional
 from gyrobias._core import kalman as kalman
 from gyrobias._core import noise as noise
 from gyrobias._core import predict as predict
+from gyrobias._core import random as random
 from gyrobias._core import spectral as spectral
 from gyrobias._core import stats as stats
 from gyrobias._core import thermal as thermal
+from gyrobias._core import timestamps as timestamps
 from gyrobias._core import validate as validate
 
 class GyroLinAlgError(ValueError): ...

@@ -5,7 +5,15 @@ from typing import TypedDict, type_check_only
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["arfima", "diff", "elw", "elw_objective", "integrate", "weights"]
+__all__ = [
+    "arfima",
+    "diff",
+    "elw",
+    "elw_confidence_interval",
+    "elw_objective",
+    "integrate",
+    "weights",
+]
 
 @type_check_only
 class Elw(TypedDict):
@@ -27,6 +35,9 @@ def arfima(
 def elw(
     data: NDArray[np.float64], m: int | None, lower: float, upper: float, level: str
 ) -> Elw: ...
+def elw_confidence_interval(
+    d: NDArray[np.float64], standard_error: float, confidence: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
 def elw_objective(
     x: NDArray[np.float64], ds: NDArray[np.float64], m: int | None, level: str
 ) -> NDArray[np.float64]: ...

@@ -8,7 +8,12 @@ from numpy.typing import ArrayLike, NDArray
 __all__ = [
     "FLICKER_FACTOR",
     "conservative",
+    "datasheet_coefficient",
     "diagnose",
+    "discrete_gauss_markov",
+    "discrete_random_walk",
+    "discrete_rate",
+    "discrete_white",
     "fit",
     "gauss_markov_avar",
     "gauss_markov_variance",
@@ -238,3 +243,25 @@ def gmwm(
     seed: int,
     min_blocks: int,
 ) -> Gmwm: ...
+def discrete_rate(rate: float) -> float: ...
+def discrete_white(
+    n: float, uncertainty: float | None, rate: float
+) -> tuple[float, float | None]: ...
+def discrete_random_walk(
+    k: float, uncertainty: float | None, rate: float
+) -> tuple[float, float | None]: ...
+def discrete_gauss_markov(
+    sigma: float,
+    sigma_uncertainty: float | None,
+    tau: float,
+    tau_uncertainty: float | None,
+    rate: float,
+) -> tuple[tuple[float, float | None], tuple[float, float | None]]: ...
+def datasheet_coefficient(
+    value: float,
+    unit_factor: float,
+    symbol: str,
+    per_root_hz: bool,
+    density: str,
+    bias_instability_is: str,
+) -> tuple[float, str]: ...

@@ -6,7 +6,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
+    "MIN_BOOTSTRAP_SECTIONS",
     "CompiledPredictor",
+    "Scores",
+    "bootstrap_ratio",
+    "evaluate",
+    "integrated_error",
+    "mean_std",
+    "rsse",
     "calibration_mean",
     "fractional_kalman",
     "moving_average",
@@ -74,3 +81,37 @@ class CompiledPredictor:
     def std_observation(self) -> NDArray[np.float64]: ...
     @property
     def mean_std(self) -> float: ...
+
+MIN_BOOTSTRAP_SECTIONS: int
+
+@final
+class Scores:
+    @property
+    def integrated_error(self) -> NDArray[np.float64]: ...
+    @property
+    def rsse(self) -> NDArray[np.float64]: ...
+
+def evaluate(
+    log: NDArray[np.float64],
+    row_width: int | None,
+    calibration: int,
+    horizon: int,
+    methods: list[str],
+    d: float,
+    q: float,
+    r: float,
+    mean: str,
+    mu0: float,
+    p0: float,
+    n_threads: int,
+) -> list[Scores]: ...
+def integrated_error(y: NDArray[np.float64], yhat: NDArray[np.float64]) -> NDArray[np.float64]: ...
+def rsse(y: NDArray[np.float64], yhat: NDArray[np.float64]) -> NDArray[np.float64]: ...
+def mean_std(values: NDArray[np.float64]) -> tuple[float, float]: ...
+def bootstrap_ratio(
+    a: NDArray[np.float64],
+    b: NDArray[np.float64],
+    statistic: str,
+    resamples: int,
+    seed: int,
+) -> tuple[float, float]: ...

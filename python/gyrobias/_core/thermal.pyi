@@ -5,7 +5,7 @@ from typing import TypedDict, type_check_only
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["fit_ar1", "interpolate"]
+__all__ = ["check_temperatures", "fit_ar1", "interpolate"]
 
 @type_check_only
 class Ar1Fit(TypedDict):
@@ -19,6 +19,7 @@ class Ar1Fit(TypedDict):
     beta: float
     process_std: float
 
+def check_temperatures(temperatures: NDArray[np.float64]) -> None: ...
 def fit_ar1(x: NDArray[np.float64], dt: float, demean: bool) -> Ar1Fit: ...
 def interpolate(
     temperatures: NDArray[np.float64],

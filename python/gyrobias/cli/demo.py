@@ -75,10 +75,10 @@ def register(subparsers: Any) -> None:
 
 def _simulate(n: int, fs: float, seed: int) -> np.ndarray:
     """(n, 3) rate in deg/s; coefficients converted from customary to deg-based SI units."""
-    from gyrobias import noise
+    from gyrobias import _core, noise
 
     c = TRUE_COEFFICIENTS
-    seeds = np.random.SeedSequence(seed).generate_state(len(AXES))
+    seeds = _core.random.seeds(len(AXES), seed)  # one stream per axis, from the core's generator
     columns = []
     for i in range(len(AXES)):
         axis = noise.simulate(

@@ -1,6 +1,6 @@
 """``gyrobias experiment kalman``: [NR]'s static, constant-rate and swing tests on simulated data.
 
-The gyro is simulated ADXRS300-like (test data made here with ``numpy.random``, seeded): fs = 200 Hz,
+The gyro is simulated ADXRS300-like (test data made here with the core's seeded simulator): fs = 200 Hz,
 white rate noise with ARW N = 4.87 °/√h ([NR] Table 2, "original gyro") and a bias random walk
 K = 150 °/h^1.5 (with that N the model's Allan minimum is ≈ 0.664 · 44 °/h, [NR]'s bias instability;
 a one-hour realisation reads lower).
@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gyrobias import noise
+from gyrobias import _core, noise
 from gyrobias.allan import AllanResult, adev
 from gyrobias.cli import _types
 from gyrobias.kalman import (
@@ -68,14 +68,10 @@ class KalmanExperiment:
     notes: tuple[str, ...] = ()
 
 
-def simulate_gyro(
-    n: int, fs: float, rng: np.random.Generator, *, arw: float, rrw: float
-) -> NDArray[np.float64]:
-    """White rate noise ``N/√T·ξ`` plus a random-walk bias ``Σ K√T·ξ`` (SPEC §3), in °/s."""
-    t = 1.0 / fs
-    white = arw / math.sqrt(t) * rng.standard_normal(n)
-    walk = np.cumsum(rrw * math.sqrt(t) * rng.standard_normal(n))
-    return white + walk
+def simulate_gyro(n: int, fs: float, seed: int, *, arw: float, rrw: float) -> NDArray[np.float64]:
+    """White rate noise ``N/√T·ξ`` plus a random-walk bias ``Σ K√T·ξ`` (SPEC §3), in °/s:
+    :func:`gyrobias.noise.simulate` (the core's simulator and generator) from ``seed``."""
+    return np.asarray(noise.simulate(n, fs, arw=arw, rrw=rrw, seed=seed), dtype=np.float64)
 
 
 def _allan_read_off(x: NDArray[np.float64], fs: float) -> tuple[float, float, AllanResult]:
@@ -110,12 +106,13 @@ def simulate_tests(
     *, seed: int = 0, static_seconds: float = 3600.0, dynamic_seconds: float = 60.0, fs: float = FS
 ) -> KalmanExperiment:
     """Reproduce [NR]'s static (Table 2), constant-rate (Table 3) and swing (Table 4) tests."""
-    rng = np.random.default_rng(seed)
+    # One seed per simulated record, from the core's generator.
+    seeds = iter(_core.random.seeds(1 + len(PAPER_CONSTANT) + len(PAPER_SWING), seed))
     arw = arw_from_deg_per_sqrt_hour(ARW_DEG_SQRT_H)
     rrw = rrw_from_deg_per_hour_1p5(RRW_DEG_H15)
     static: dict[str, dict[str, float]] = {}
 
-    z = simulate_gyro(int(static_seconds * fs), fs, rng, arw=arw, rrw=rrw)
+    z = simulate_gyro(int(static_seconds * fs), fs, next(seeds), arw=arw, rrw=rrw)
     a, b, _ = _allan_read_off(z, fs)
     static["original"] = {"std": float(np.std(z)), "arw": a, "bias_instability": b}
     for bw in (10.0, 20.0, 30.0):
@@ -147,7 +144,7 @@ def simulate_tests(
     constant: dict[float, dict[str, float]] = {}
     kf10 = FixedGainKalman(fs, arw=arw, rrw=rrw, bandwidth=10.0)
     for w in PAPER_CONSTANT:
-        z = w + simulate_gyro(n, fs, rng, arw=arw, rrw=rrw)
+        z = w + simulate_gyro(n, fs, next(seeds), arw=arw, rrw=rrw)
         rate, _ = kf10.filter(z)
         constant[w] = {
             "mean_raw": float(np.mean(z - w)),
@@ -160,7 +157,7 @@ def simulate_tests(
     kf20 = FixedGainKalman(fs, arw=arw, rrw=rrw, bandwidth=20.0)
     for f in PAPER_SWING:
         truth = 20.0 * np.sin(2 * np.pi * f * t)
-        z = truth + simulate_gyro(n, fs, rng, arw=arw, rrw=rrw)
+        z = truth + simulate_gyro(n, fs, next(seeds), arw=arw, rrw=rrw)
         rate, _ = kf20.filter(z)
         paper_rate, _ = paper.filter(z)
         swing[f] = {
@@ -191,7 +188,7 @@ def format_report(exp: KalmanExperiment) -> str:
     """The experiment as plain-text tables with [NR]'s values beside ours."""
     lines = [
         f"Simulated ADXRS300-like gyro: fs {exp.fs:g} Hz, N = {ARW_DEG_SQRT_H} deg/sqrt(h), "
-        f"K = {RRW_DEG_H15} deg/h^1.5 (seeded numpy.random)",
+        f"K = {RRW_DEG_H15} deg/h^1.5 (seeded core simulator)",
         "",
         "Static test ([NR] Table 2)            ours: std(deg/s) ARW(deg/sqrt h) BI(deg/h)"
         "   paper: ARW   BI",

@@ -1,11 +1,13 @@
 """Discrete-time (per-sample) noise parameters from continuous-time IEEE-952 coefficients,
-with delta-method uncertainties. (Numerical work due to move to the core, issue 24 item 3.)"""
+with delta-method uncertainties: the formulas are the core's (``gyrocore::noise::discrete``);
+this module picks the terms, converts units and builds the result."""
 
 from __future__ import annotations
 
-import math
+from typing import Any
 
-from gyrobias._validation import positive_float
+from gyrobias import _core
+from gyrobias._validation import real
 from gyrobias.exports._types import DiscreteNoise, DiscreteValue
 from gyrobias.noise._types import NoiseCoefficients
 
@@ -56,33 +58,32 @@ def discrete(coefficients: NoiseCoefficients, rate: float) -> DiscreteNoise:
         raise TypeError(
             f"coefficients must be NoiseCoefficients, got {type(coefficients).__name__}"
         )
-    rate = positive_float("rate", rate)
+    rate = _core.noise.discrete_rate(real("rate", rate))  # finite and > 0: the core's check
     if coefficients.data_unit is None:
         raise ValueError(
             "coefficients: the data unit is unknown (pass units= to the Allan analysis)"
         )
     base = coefficients.to("base")
     unit = coefficients.data_unit
-    dt = 1.0 / rate
-    root = math.sqrt(rate)
 
-    def scaled(symbol: str, factor: float, name: str, formula: str) -> DiscreteValue:
+    def scaled(symbol: str, convert: Any, name: str, formula: str) -> DiscreteValue:
         t = base[symbol]
-        return DiscreteValue(
-            name=name,
-            value=None if t.value is None else t.value * factor,
-            uncertainty=None
-            if t.uncertainty is None or t.value is None
-            else t.uncertainty * factor,
-            unit=unit,
-            formula=formula,
+        value, uncertainty = (
+            (None, None) if t.value is None else convert(t.value, t.uncertainty, rate)
         )
+        return DiscreteValue(name, value, uncertainty, unit, formula)
 
     white = scaled(
-        "N", root, "white rate noise per sample", "sigma_white = N/sqrt(dt) = N*sqrt(rate)"
+        "N",
+        _core.noise.discrete_white,
+        "white rate noise per sample",
+        "sigma_white = N/sqrt(dt) = N*sqrt(rate)",
     )
     walk = scaled(
-        "K", 1.0 / root, "bias random-walk step", "sigma_walk = K*sqrt(dt) = K/sqrt(rate)"
+        "K",
+        _core.noise.discrete_random_walk,
+        "bias random-walk step",
+        "sigma_walk = K*sqrt(dt) = K/sqrt(rate)",
     )
     gm_out = []
     for t in coefficients.gauss_markov:
@@ -90,16 +91,16 @@ def discrete(coefficients: NoiseCoefficients, rate: float) -> DiscreteNoise:
         sigma = t.sigma.to(unit)
         if tau.value is None or sigma.value is None:
             continue
-        phi = math.exp(-dt / tau.value)
-        u_phi = None if tau.uncertainty is None else phi * dt * tau.uncertainty / tau.value**2
-        drive_factor = math.sqrt(1.0 - phi * phi)
+        (phi, u_phi), (drive, u_drive) = _core.noise.discrete_gauss_markov(
+            sigma.value, sigma.uncertainty, tau.value, tau.uncertainty, rate
+        )
         gm_out.append(
             (
                 DiscreteValue("Gauss-Markov phi", phi, u_phi, "1", "phi = exp(-dt/tau_c)"),
                 DiscreteValue(
                     "Gauss-Markov driving noise",
-                    sigma.value * drive_factor,
-                    None if sigma.uncertainty is None else sigma.uncertainty * drive_factor,
+                    drive,
+                    u_drive,
                     unit,
                     "sigma_drive = sigma*sqrt(1 - phi^2)",
                 ),

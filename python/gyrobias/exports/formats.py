@@ -12,8 +12,9 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from gyrobias import _core
 from gyrobias._files import atomic_write
-from gyrobias._validation import choice, positive_float, ros_topic
+from gyrobias._validation import choice, real, ros_topic
 from gyrobias.exports.discretisation import discrete
 from gyrobias.noise._types import NoiseCoefficients
 
@@ -157,20 +158,11 @@ def _value(group: list[NoiseCoefficients], symbol: str, kind: str, fmt: str | No
     return _Bounded(best, note)
 
 
-def _scaled(value: float | None, factor: float) -> float | None:
-    """``value * factor``, keeping the upper-bound mark."""
-    if value is None:
-        return None
-    if isinstance(value, _Bounded):
-        return _Bounded(value * factor, value.note)
-    return value * factor
-
-
 def _rate(
     rate: float | None, groups: Sequence[NoiseCoefficients], fmt: str, required: bool
 ) -> float | None:
     if rate is not None:
-        return positive_float("rate", rate)
+        return _core.noise.discrete_rate(real("rate", rate))  # finite and > 0: the core's check
     finite = [c.fs for c in groups if math.isfinite(c.fs) and c.fs > 0.0]
     if finite:
         return max(finite)
@@ -331,7 +323,19 @@ def _render_vins(
     f = _rate(rate, g + a, "vins", True)
     assert f is not None
     v = _densities(g, a, "vins")
-    root = math.sqrt(f)
+
+    def white(x: float | None) -> float | None:  # N·√rate: the core's discretisation
+        if x is None:
+            return None
+        v = float(_core.noise.discrete_white(float(x), None, f)[0])
+        return _Bounded(v, x.note) if isinstance(x, _Bounded) else v  # keeps the bound's mark
+
+    def walk(x: float | None) -> float | None:  # K/√rate
+        if x is None:
+            return None
+        v = float(_core.noise.discrete_random_walk(float(x), None, f)[0])
+        return _Bounded(v, x.note) if isinstance(x, _Bounded) else v
+
     lines = ["%YAML:1.0", *_header("VINS-Mono/VINS-Fusion", g, a)]
     lines.append(f"# Discrete-time values at the IMU rate {f:.6g} Hz (VINS-Mono issue #280):")
     lines.append(
@@ -342,14 +346,10 @@ def _render_vins(
     )
     miss_a = _NOT_MEASURED if not a else ""
     miss_g = _NOT_MEASURED_GYRO if not g else ""
-    lines.append(_yaml_pair("acc_n", _scaled(v["aN"], root), "m/s^2, discrete", miss_a))
-    lines.append(_yaml_pair("gyr_n", _scaled(v["gN"], root), "rad/s, discrete", miss_g))
-    lines.append(
-        _yaml_pair("acc_w", _scaled(v["aK"], 1.0 / root), "m/s^2 per step, discrete", miss_a)
-    )
-    lines.append(
-        _yaml_pair("gyr_w", _scaled(v["gK"], 1.0 / root), "rad/s per step, discrete", miss_g)
-    )
+    lines.append(_yaml_pair("acc_n", white(v["aN"]), "m/s^2, discrete", miss_a))
+    lines.append(_yaml_pair("gyr_n", white(v["gN"]), "rad/s, discrete", miss_g))
+    lines.append(_yaml_pair("acc_w", walk(v["aK"]), "m/s^2 per step, discrete", miss_a))
+    lines.append(_yaml_pair("gyr_w", walk(v["gK"]), "rad/s per step, discrete", miss_g))
     return "\n".join(lines) + "\n"
 
 
@@ -447,8 +447,7 @@ def _render_matlab(
             t = gm[0]
             sigma = float(t.sigma.to(_SI[kind]["B"]).value)
             tau_c = float(t.correlation_time.to("s").value)
-            phi = math.exp(-1.0 / (f * tau_c))
-            drive = sigma * math.sqrt(1.0 - phi * phi)
+            (phi, _), (drive, _) = _core.noise.discrete_gauss_markov(sigma, None, tau_c, None, f)
             lines.append(
                 f"% Gauss-Markov bias: sigma = {sigma:.6e} {_SI[kind]['B']}, correlation time {tau_c:.6g} s,"
                 f" phi = exp(-dt/tau_c) = {phi:.9f}"

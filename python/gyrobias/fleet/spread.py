@@ -1,9 +1,11 @@
 """Out-of-family scores and the fleet summary: robust z-scores (median/MAD), the weighted χ²
-homogeneity test and Birge ratio. (Numerical work due to move to the core, issue 24 item 3.)"""
+homogeneity test and Birge ratio.
+
+The statistics are the core's (``gyrocore::fleet``: median, scaled MAD, robust z, weighted χ²,
+Birge ratio, p-value); this module groups the table by axis and term and words the result."""
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
@@ -31,8 +33,6 @@ SPREAD_ALPHA: float = 0.01
 #: The spread must also exceed the uncertainties by this factor (Birge ratio) to count as real:
 #: the joint fit's uncertainties are calibrated to about 15 % (docs/explanations/identification.md, joint fit).
 SPREAD_MIN_RATIO: float = 1.2
-
-_MAD_TO_SD = 1.482602218505602  # 1 / Φ⁻¹(3/4)
 
 
 def _finish(pd: Any, rows: list[dict[str, Any]], threshold: float, n_gm: int = 0) -> DataFrame:
@@ -63,9 +63,8 @@ def _finish(pd: Any, rows: list[dict[str, Any]], threshold: float, n_gm: int = 0
             have = np.isfinite(values)
             if have.sum() < MIN_UNITS:
                 continue
-            z[t][pos[have]] = _robust_z(
-                values[have], np.where(np.isfinite(unc[have]), unc[have], 0.0)
-            )
+            # an unknown (non-finite) uncertainty counts as 0: the core's rule
+            z[t][pos[have]] = _robust_z(values[have], unc[have])
             known[pos[have]] = True
     terms_out = []
     for i in range(len(table)):
@@ -82,19 +81,8 @@ def _finish(pd: Any, rows: list[dict[str, Any]], threshold: float, n_gm: int = 0
 
 
 def _robust_z(values: NDArray[np.float64], unc: NDArray[np.float64]) -> NDArray[np.float64]:
-    """z_i = (X_i − m) / √(σ_fleet² + u_i² + (π/2)s²/n) (module docs)."""
-    m = float(np.median(values))
-    s = _MAD_TO_SD * float(np.median(np.abs(values - m)))
-    fleet_var = max(s * s - float(np.median(unc * unc)), 0.0)
-    denom = np.sqrt(fleet_var + unc * unc + (math.pi / 2.0) * s * s / values.size)
-    dev = values - m
-    with np.errstate(divide="ignore", invalid="ignore"):
-        z = np.where(
-            denom > 0.0,
-            dev / np.where(denom > 0.0, denom, 1.0),
-            np.where(dev == 0.0, 0.0, np.sign(dev) * np.inf),
-        )
-    return np.asarray(z, dtype=np.float64)
+    """z_i = (X_i − m) / √(σ_fleet² + u_i² + (π/2)s²/n): ``gyrocore::fleet::robust_z``."""
+    return _core.fleet.robust_z(values, unc)
 
 
 def _chi2_sf(x: float, dof: int) -> float:
@@ -105,31 +93,24 @@ def _chi2_sf(x: float, dof: int) -> float:
 def _spread(
     x: NDArray[np.float64], u: NDArray[np.float64], alpha: float, min_ratio: float
 ) -> dict[str, Any]:
-    """The statistics of one term over the units that have it (see :func:`summary`)."""
-    med = float(np.median(x))
-    spread = _MAD_TO_SD * float(np.median(np.abs(x - med)))
-    good = np.isfinite(u) & (u > 0.0)
-    mean_u = float(np.sqrt(np.mean(u[good] ** 2))) if good.any() else math.nan
-    dof = int(good.sum()) - 1
-    chi2 = p = ratio = math.nan
-    if dof >= 1:
-        w = 1.0 / u[good] ** 2
-        xm = float(np.sum(w * x[good]) / np.sum(w))
-        chi2 = float(np.sum(w * (x[good] - xm) ** 2))
-        p = _chi2_sf(chi2, dof)
-        ratio = math.sqrt(chi2 / dof)
+    """The statistics of one term over the units that have it (``gyrocore::fleet::spread``;
+    see :func:`summary`)."""
+    s = _core.fleet.spread(
+        np.ascontiguousarray(x, dtype=np.float64),
+        np.ascontiguousarray(u, dtype=np.float64),
+        alpha,
+        min_ratio,
+    )
     return {
-        "median": med,
-        "spread": spread,
-        "mean_uncertainty": mean_u,
-        "intrinsic_spread": math.sqrt(max(spread * spread - mean_u * mean_u, 0.0))
-        if math.isfinite(mean_u)
-        else math.nan,
-        "chi2": chi2,
-        "dof": dof if dof >= 1 else None,
-        "birge_ratio": ratio,
-        "p_value": p,
-        "spread_real": None if dof < 1 else bool(p < alpha and ratio >= min_ratio),
+        "median": s.median,
+        "spread": s.spread,
+        "mean_uncertainty": s.mean_uncertainty,
+        "intrinsic_spread": s.intrinsic_spread,
+        "chi2": s.chi2,
+        "dof": s.dof,
+        "birge_ratio": s.birge_ratio,
+        "p_value": s.p_value,
+        "spread_real": s.real,
     }
 
 

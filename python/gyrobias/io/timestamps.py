@@ -1,10 +1,13 @@
 """Timestamps: conversion to seconds, the sampling report (rate, jitter, gaps, duplicates),
-the ``sort``/``dedup`` repairs and gap filling. (Numerical analysis due to move to the core,
-issue 24 item 3.)"""
+the ``sort``/``dedup`` repairs and gap filling.
+
+The analysis is the core's (``gyrocore::timestamps``: the unit guess, backward and repeated
+stamps, median, gaps, rate, jitter, missing samples, the filled times); this module reads the
+stamps, converts them to seconds, moves rows and words the findings.
+"""
 
 from __future__ import annotations
 
-import math
 import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -13,18 +16,19 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gyrobias import _core
 from gyrobias.io import _store
 from gyrobias.io._store import Store
 from gyrobias.io._types import SamplingReport
 
-#: Intervals longer than this multiple of the median interval count as gaps.
-GAP_FACTOR = 1.5
+#: Intervals longer than this multiple of the median interval count as gaps (the core's).
+GAP_FACTOR: float = _core.timestamps.GAP_FACTOR
 #: A user-given ``fs`` differing from the timestamps' estimate by more than this (relative) is reported.
-FS_TOLERANCE = 0.01
+FS_TOLERANCE: float = _core.timestamps.FS_TOLERANCE
 #: Relative jitter (s.d. of the regular intervals / median interval) above which a warning is given.
-JITTER_WARN = 0.01
+JITTER_WARN: float = _core.timestamps.JITTER_WARN
 #: ``time_unit="auto"`` reads timestamps as nanoseconds when the median interval is at least this.
-NS_THRESHOLD = 1e3
+NS_THRESHOLD: float = _core.timestamps.NS_THRESHOLD
 
 _PER_SECOND = {"s": 1.0, "ms": 1e3, "us": 1e6, "ns": 1e9}
 _TIME_UNITS = ("auto", "s", "ms", "us", "ns")
@@ -46,12 +50,8 @@ def _time_seconds(
         if m:
             unit = m.group(1)
         else:
-            steps = np.diff(t_raw)  # exact in int64 for integer stamps
-            positive = steps[steps > 0]
-            del steps
-            median = float(np.median(positive, overwrite_input=True)) if positive.size else 0.0
-            del positive
-            unit = "ns" if median >= NS_THRESHOLD else "s"
+            median = _core.timestamps.median_positive_step(_stamps(t_raw))
+            unit = _core.timestamps.guess_unit(median)
             guessed = True
     per_second = _PER_SECOND[unit]  # dividing by an exact power of ten rounds correctly
     # Block by block into arrays that are spilled with the samples (store.vector).
@@ -81,14 +81,11 @@ def _time_seconds(
     return time, intervals, float(first) / per_second, unit, guessed
 
 
-def _std_in_place(x: NDArray[np.float64]) -> float:
-    """``np.std(x)`` computed in ``x`` itself (overwritten): the same operations in the same
-    order as NumPy's ``_var`` (sum / n, subtract, square, sum / n, sqrt), hence the same bits,
-    without its full-length temporary."""
-    mean = np.add.reduce(x) / x.size
-    x -= mean
-    np.multiply(x, x, out=x)
-    return math.sqrt(np.add.reduce(x) / x.size)
+def _stamps(t_raw: NDArray[Any]) -> NDArray[Any]:
+    """Raw stamps as the core reads them: int64 (exact) or float64; other dtypes converted."""
+    if t_raw.dtype in (np.dtype(np.int64), np.dtype(np.float64)):
+        return t_raw
+    return t_raw.astype(np.int64 if t_raw.dtype.kind in "iu" else np.float64)
 
 
 def _sampling_report(
@@ -106,33 +103,17 @@ def _sampling_report(
     fixes = fixes if fixes is not None else _Fixes()
     warnings: list[str] = list(fixes.repairs)
     duration = float(time[-1])
-    dup_rows = np.flatnonzero(steps == 0) + 1
-    positive = steps[steps > 0]
-    if positive.size == 0:
-        raise ValueError(
-            f"the time column does not advance ({n} samples, all with the same timestamp)"
-        )
-    mean_positive = float(np.mean(positive))
-    median = float(np.median(positive, overwrite_input=True))  # partitions in place: no copy
-    del positive
-    gap_mask = steps > GAP_FACTOR * median
-    gap_rows = np.flatnonzero(gap_mask) + 1
-    gap_durations = steps[gap_mask]
-    regular_mask = steps > 0
-    regular_mask &= ~gap_mask
-    del gap_mask
-    regular = steps[regular_mask]
-    del regular_mask
-    # the mean of the regular intervals: unaffected by gaps like the median, but not stuck on
-    # one quantised interval value; 9 significant digits drop the decimal-rounding noise of
-    # timestamps written as text (0.0100 → 100.00000000000213 Hz)
-    fs_est = float(f"{1.0 / (float(np.mean(regular)) if regular.size else mean_positive):.9g}")
-    jitter = _std_in_place(regular) / median if regular.size > 1 else 0.0
-    del regular
-    missing = int(np.sum(np.rint(gap_durations / median) - 1)) if gap_rows.size else 0
+    stats = _core.timestamps.analyse(steps)  # median, gaps, rate, jitter: the core's
+    median = stats.median_interval
+    gap_rows = stats.gap_rows
+    gap_durations = stats.gap_durations
+    dup_rows = stats.duplicate_rows
+    fs_est = stats.fs_estimated
+    jitter = stats.jitter
+    missing = int(stats.missing_samples)
 
     if gap_rows.size:
-        longest = int(np.argmax(gap_durations))
+        longest = int(gap_durations.argmax())
         warnings.append(
             f"{gap_rows.size} gap(s) in the timestamps (intervals > {GAP_FACTOR:g}× the median "
             f"{median:.6g} s): longest {gap_durations[longest]:.6g} s before row {gap_rows[longest]} "
@@ -181,11 +162,11 @@ def _sampling_report(
         time_unit=unit,
         duration=duration,
         n_gaps=int(gap_rows.size),
-        gap_rows=gap_rows.astype(np.int64),
-        gap_durations=gap_durations.astype(np.float64),
+        gap_rows=gap_rows,
+        gap_durations=gap_durations,
         missing_samples=missing,
         n_duplicates=int(dup_rows.size),
-        duplicate_rows=dup_rows.astype(np.int64),
+        duplicate_rows=dup_rows,
         warnings=tuple(warnings),
         n_out_of_order=int(fixes.out_of_order_rows.size),
         out_of_order_rows=fixes.out_of_order_rows,
@@ -237,7 +218,7 @@ def _repair(
                 where = f"line {line_of(row)}" if line_of else f"row {row}"
                 raise ValueError(f"{p.name}: {t_raw[row]} in the time column '{t_name}' at {where}")
     done: list[str] = []
-    back = _step_rows(t_raw, np.less)
+    back = _core.timestamps.backward_rows(_stamps(t_raw))
     if back.size:
         row = int(back[0])
         if "sort" not in repairs:
@@ -255,7 +236,7 @@ def _repair(
             f"the first at row {row} (repair='sort')"
         )
     exact = np.zeros(0, dtype=np.int64)
-    cand = _step_rows(t_raw, np.equal)
+    cand = _core.timestamps.repeated_rows(_stamps(t_raw))
     if cand.size:
         same = np.ones(cand.size, dtype=bool)
         for sl in _store.blocks(cand.size):
@@ -285,31 +266,20 @@ def _take_stamps(t_raw: NDArray[Any], rows: NDArray[np.intp], store: Store) -> N
     return out
 
 
-def _step_rows(t_raw: NDArray[Any], compare: Any) -> NDArray[np.intp]:
-    """Rows ``i ≥ 1`` with ``compare(t[i] − t[i−1], 0)``, found block by block.
-
-    Equal to ``np.flatnonzero(compare(np.diff(t_raw), 0)) + 1`` without a full-length
-    difference array (the stamps of a spilled log stay on disk).
-    """
-    found = []
-    for sl in _store.blocks(len(t_raw)):
-        lo = max(sl.start - 1, 0)
-        steps = np.diff(t_raw[lo : sl.stop])
-        found.append(np.flatnonzero(compare(steps, 0)) + lo + 1)
-    return np.concatenate(found) if found else np.zeros(0, dtype=np.intp)
-
-
 def _fill_gaps(
     table: NDArray[np.float64], time: NDArray[np.float64], report: SamplingReport, store: Store
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], SamplingReport]:
     """Insert ``round(gap / median) − 1`` NaN rows into each gap, with evenly spaced times."""
     assert report.median_interval is not None
     n, k = table.shape
-    missing = np.rint(report.gap_durations / report.median_interval).astype(np.int64) - 1
-    missing = np.maximum(missing, 0)
+    median = report.median_interval
+    missing = np.array(
+        [_core.timestamps.missing_in_gap(g, median) for g in report.gap_durations.tolist()],
+        dtype=np.int64,
+    )
     shift = np.zeros(n, dtype=np.int64)
     shift[report.gap_rows] = missing
-    dest = np.arange(n, dtype=np.int64) + np.cumsum(shift)
+    dest = np.arange(n, dtype=np.int64) + np.cumsum(shift)  # row bookkeeping: where each row goes
     total = n + int(missing.sum())
     out = store.empty(total, k)
     for sl in _store.blocks(total):
@@ -317,12 +287,7 @@ def _fill_gaps(
     for sl in _store.blocks(n):
         out[dest[sl]] = table[sl]
     new_time = store.vector(total)
-    new_time[dest] = time
-    for row, count in zip(report.gap_rows.tolist(), missing.tolist()):
-        t0, t1 = time[row - 1], time[row]
-        new_time[dest[row - 1] + 1 : dest[row]] = t0 + (t1 - t0) * np.arange(1, count + 1) / (
-            count + 1
-        )
+    _core.timestamps.fill_time_into(time, report.gap_rows, missing, new_time)
     note = f"inserted {int(missing.sum())} NaN row(s) for the samples missing in {report.n_gaps} gap(s) (fill_gaps)"
     report = replace(
         report,

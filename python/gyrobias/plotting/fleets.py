@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from gyrobias import _core
 from gyrobias.fleet.table import term_columns
 from gyrobias.plotting._common import (
     _require_matplotlib,
@@ -141,7 +142,8 @@ def _draw_fleet(fig: Any, ok: Any, title: str | None) -> None:
     if bottom is None:
         return
     term_axes = np.atleast_1d(bottom.subplots(1, len(terms), squeeze=False)[0])
-    rng = np.random.default_rng(0)  # fixed jitter: the same table always gives the same figure
+    # Fixed jitter from the core's generator (seeded by the axis' position): the same table
+    # always gives the same figure, and a unit keeps its offset in every term's panel.
     for ax, t in zip(term_axes, terms):
         unit = next((u for u in ok[f"{t}_unit"] if isinstance(u, str)), None)
         for k, name in enumerate(axes_names):
@@ -155,7 +157,7 @@ def _draw_fleet(fig: Any, ok: Any, title: str | None) -> None:
                 lambda s, t=t: isinstance(s, str) and t in s.split(",")
             )
             out = flags.to_numpy(dtype=bool) & have
-            x = k + rng.uniform(-0.18, 0.18, size=values.size)
+            x = k - 0.18 + 0.36 * _core.random.uniform(values.size, k)
             ax.errorbar(
                 x[have & ~out],
                 values[have & ~out],

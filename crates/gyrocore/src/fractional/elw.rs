@@ -359,8 +359,48 @@ pub fn objective(x: &[f64], ds: &[f64], m: Option<usize>, level: Level) -> Resul
     Ok(ds.iter().map(|&d| obj.eval(d)).collect())
 }
 
+/// The asymptotic normal interval `d̂ ∓ z·se` at the two-sided `confidence` level for each
+/// estimate of `d`, `z = Φ⁻¹(½ + confidence/2)`, computed exactly as `z = √(χ²₁ quantile at
+/// confidence)` (`Z² ~ χ²₁`, [`crate::stats::chi2_ppf`]). Returns `(lower, upper)`.
+///
+/// # Errors
+/// `confidence` not in (0, 1) or `standard_error` not finite and ≥ 0
+/// ([`Error::InvalidParameter`]).
+pub fn confidence_interval(
+    d: &[f64],
+    standard_error: f64,
+    confidence: f64,
+) -> Result<(Vec<f64>, Vec<f64>)> {
+    if !(confidence > 0.0 && confidence < 1.0) {
+        return Err(Error::invalid(
+            "confidence",
+            format!("must be in (0, 1), got {confidence}"),
+        ));
+    }
+    validate::non_negative("standard_error", standard_error)?;
+    let z = crate::stats::chi2_ppf(confidence, 1.0)?.sqrt();
+    let half = z * standard_error;
+    Ok((
+        d.iter().map(|v| v - half).collect(),
+        d.iter().map(|v| v + half).collect(),
+    ))
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn confidence_interval_uses_the_normal_quantile() {
+        // Φ⁻¹(0.975) = 1.959963984540054, Φ⁻¹(0.95) = 1.6448536269514722 (SciPy).
+        let (lo, hi) = super::confidence_interval(&[0.5, 0.3], 0.04, 0.95).unwrap();
+        assert!((hi[0] - 0.5 - 1.959_963_984_540_054 * 0.04).abs() < 1e-13);
+        assert!((0.3 - lo[1] - 1.959_963_984_540_054 * 0.04).abs() < 1e-13);
+        let (_, hi) = super::confidence_interval(&[0.0], 1.0, 0.9).unwrap();
+        assert!((hi[0] - 1.644_853_626_951_472_2).abs() < 1e-12);
+        assert!(super::confidence_interval(&[0.0], 1.0, 1.0).is_err());
+        assert!(super::confidence_interval(&[0.0], 1.0, 0.0).is_err());
+        assert!(super::confidence_interval(&[0.0], -1.0, 0.5).is_err());
+    }
+
     use super::*;
     use crate::fractional::arfima::{Kind, arfima};
 

@@ -22,11 +22,14 @@
 //! * [`mod@overbound`]: conservative coefficients whose model overbounds the curve's upper
 //!   confidence bound (Lethander & Taylor 2023).
 //! * [`bound`]: upper bounds of the terms the curve does not show.
+//! * [`discrete`]: per-sample equivalents (white, random-walk step, Gauss–Markov φ) and the
+//!   datasheet conventions (one/two-sided densities, Allan-minimum bias instability).
 //! * [`model`]: the basis functions, slopes, read-off times and simple EDF approximations.
 
 pub mod bound;
 pub mod covariance;
 pub mod curve;
+pub mod discrete;
 pub mod fit;
 pub mod gauss_markov;
 pub mod gmwm;

@@ -223,7 +223,8 @@ impl Compiled {
             return Err(Error::ShapeMismatch {
                 name: "batch",
                 reason: format!(
-                    "batch rows have {n_columns} samples, the predictor was compiled for {}",
+                    "batch rows have {n_columns} samples, the predictor was compiled for \
+                     calibration_length = {}",
                     self.calibration_length
                 ),
             });

@@ -31,6 +31,7 @@
 //! predicts many windows with one matrix product.
 
 pub mod batch;
+pub mod evaluate;
 pub mod literal;
 pub mod schur;
 

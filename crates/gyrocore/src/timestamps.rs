@@ -1,0 +1,346 @@
+//! What a log's timestamps say about its sampling: rate, jitter, gaps, repeated and
+//! out-of-order stamps, and the times of the samples missing in the gaps.
+//!
+//! Allan analysis assumes uniform sampling; these routines measure how far a log is from it.
+//! With `Δt_i = t_i − t_{i−1}` the intervals and `m = median(Δt > 0)`:
+//!
+//! ```text
+//! gap:        Δt_i > 1.5·m                          (GAP_FACTOR)
+//! repeated:   Δt_i = 0
+//! regular:    0 < Δt_i ≤ 1.5·m
+//! fs  = 1 / mean(regular Δt),   rounded to 9 significant digits
+//! jitter = std(regular Δt) / m  (population s.d.)
+//! missing samples in a gap of length g:  round(g/m) − 1  (ties to even)
+//! ```
+//!
+//! The mean of the regular intervals is unaffected by gaps like the median, but not stuck on one
+//! quantised interval value; the 9 significant digits drop the decimal-rounding noise of
+//! timestamps written as text (`0.0100` s → 100.00000000000213 Hz without it). A time unit not
+//! stated is guessed from the median positive step of the raw stamps: nanoseconds from
+//! [`NS_THRESHOLD`] up (no gyro log has samples 1000 s apart, and every rate below 1 MHz is
+//! ≥ 1000 ns apart), seconds below. A gap of `c` missing samples between `t_a` and `t_b` is
+//! filled with `t_a + (t_b − t_a)·j/(c + 1)`, `j = 1..c`.
+//!
+//! Raw stamps may be integers (`i64`, exact epoch nanoseconds) or floats; intervals are
+//! floats in seconds. Every scan is one pass without full-length temporaries, except the median,
+//! which needs a copy of the positive intervals (`select_nth_unstable`, O(n)).
+
+use crate::stats;
+use crate::validate;
+use crate::{Error, Result};
+
+/// Intervals longer than this multiple of the median interval count as gaps.
+pub const GAP_FACTOR: f64 = 1.5;
+/// A median raw step at least this large means the stamps are nanoseconds (unit guess).
+pub const NS_THRESHOLD: f64 = 1e3;
+/// Relative jitter (s.d. of the regular intervals / median interval) above which the sampling
+/// is called irregular.
+pub const JITTER_WARN: f64 = 0.01;
+/// A given sample rate differing from the timestamps' estimate by more than this (relative)
+/// disagrees with them.
+pub const FS_TOLERANCE: f64 = 0.01;
+
+/// A raw timestamp type: integer nanoseconds or floating-point values.
+pub trait Stamp: Copy + PartialOrd {
+    /// `self − earlier` as a float (exact for integer stamps whose difference is below 2⁵³).
+    fn step_from(self, earlier: Self) -> f64;
+}
+
+impl Stamp for i64 {
+    #[allow(clippy::cast_precision_loss)]
+    fn step_from(self, earlier: Self) -> f64 {
+        // i128 keeps the difference exact even across the whole i64 range.
+        (i128::from(self) - i128::from(earlier)) as f64
+    }
+}
+
+impl Stamp for f64 {
+    fn step_from(self, earlier: Self) -> f64 {
+        self - earlier
+    }
+}
+
+/// Median of the positive steps `t_i − t_{i−1}` of raw stamps (0 if none is positive).
+pub fn median_positive_step<T: Stamp>(stamps: &[T]) -> f64 {
+    let mut positive: Vec<f64> = stamps
+        .windows(2)
+        .map(|w| w[1].step_from(w[0]))
+        .filter(|s| *s > 0.0)
+        .collect();
+    if positive.is_empty() {
+        0.0
+    } else {
+        stats::median_in_place(&mut positive)
+    }
+}
+
+/// The unit of stamps whose median positive step is `median_step` when no unit is stated:
+/// `"ns"` from [`NS_THRESHOLD`] up, else `"s"` (module docs).
+pub fn guess_unit(median_step: f64) -> &'static str {
+    if median_step >= NS_THRESHOLD {
+        "ns"
+    } else {
+        "s"
+    }
+}
+
+/// Rows `i ≥ 1` whose stamp is earlier than the one before (`t_i < t_{i−1}`).
+pub fn backward_rows<T: Stamp>(stamps: &[T]) -> Vec<usize> {
+    rows_where(stamps, |a, b| b < a)
+}
+
+/// Rows `i ≥ 1` whose stamp repeats the one before (`t_i = t_{i−1}`).
+pub fn repeated_rows<T: Stamp>(stamps: &[T]) -> Vec<usize> {
+    #[allow(clippy::float_cmp)] // exact repetition is what is asked
+    rows_where(stamps, |a, b| b == a)
+}
+
+fn rows_where<T: Stamp>(stamps: &[T], test: impl Fn(T, T) -> bool) -> Vec<usize> {
+    stamps
+        .windows(2)
+        .enumerate()
+        .filter(|(_, w)| test(w[0], w[1]))
+        .map(|(i, _)| i + 1)
+        .collect()
+}
+
+/// The sampling statistics of a log's intervals (see [`analyse`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sampling {
+    /// Median of the positive intervals, s.
+    pub median_interval: f64,
+    /// `1/mean(regular intervals)` rounded to 9 significant digits, Hz.
+    pub fs_estimated: f64,
+    /// Population s.d. of the regular intervals over the median (0 with fewer than two).
+    pub jitter: f64,
+    /// Row (index of the sample after the interval) of every gap.
+    pub gap_rows: Vec<usize>,
+    /// Length of every gap interval, s.
+    pub gap_durations: Vec<f64>,
+    /// `Σ round(gap/median) − 1` over the gaps.
+    pub missing_samples: u64,
+    /// Row of the second sample of every repeated timestamp.
+    pub duplicate_rows: Vec<usize>,
+}
+
+/// Rounds to 9 significant decimal digits (correctly rounded, as Python's `f"{x:.9g}"`).
+fn nine_digits(x: f64) -> f64 {
+    format!("{x:.8e}").parse().unwrap_or(x)
+}
+
+/// Missing samples in a gap of length `gap` at median interval `median`: `round(gap/median) − 1`
+/// (ties to even), at least 0.
+#[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+pub fn missing_in_gap(gap: f64, median: f64) -> u64 {
+    let r = (gap / median).round_ties_even() - 1.0;
+    if r > 0.0 { r as u64 } else { 0 }
+}
+
+/// Rate, jitter, gaps and repeated stamps from the intervals `Δt_i = t_i − t_{i−1}` (s) of a
+/// log in time order (module docs). Interval `i` (0-based) ends at row `i + 1`.
+///
+/// # Errors
+/// A non-finite or negative interval ([`Error::NonFinite`] / [`Error::InvalidParameter`], named
+/// `intervals`: the stamps must be finite and sorted first); no positive interval (the time
+/// does not advance).
+pub fn analyse(intervals: &[f64]) -> Result<Sampling> {
+    validate::finite("intervals", intervals)?;
+    if let Some(i) = intervals.iter().position(|v| *v < 0.0) {
+        return Err(Error::invalid(
+            "intervals",
+            format!(
+                "must be >= 0 (timestamps in order), got {} at row {}",
+                intervals[i],
+                i + 1
+            ),
+        ));
+    }
+    let mut positive: Vec<f64> = intervals.iter().copied().filter(|v| *v > 0.0).collect();
+    if positive.is_empty() {
+        return Err(Error::invalid(
+            "time",
+            format!(
+                "the time column does not advance ({} samples, all with the same timestamp)",
+                intervals.len() + 1
+            ),
+        ));
+    }
+    let mean_positive = validate::neumaier_sum(positive.iter().copied()) / positive.len() as f64;
+    let median = stats::median_in_place(&mut positive);
+    drop(positive);
+    let limit = GAP_FACTOR * median;
+    let mut gap_rows = Vec::new();
+    let mut gap_durations = Vec::new();
+    let mut duplicate_rows = Vec::new();
+    let (mut sum, mut comp, mut n_regular) = (0.0, 0.0, 0_usize);
+    for (i, &v) in intervals.iter().enumerate() {
+        if v > limit {
+            gap_rows.push(i + 1);
+            gap_durations.push(v);
+        } else if v > 0.0 {
+            validate::neumaier_add(&mut sum, &mut comp, v);
+            n_regular += 1;
+        } else {
+            duplicate_rows.push(i + 1);
+        }
+    }
+    let regular = |v: f64| v > 0.0 && v <= limit;
+    let (fs_estimated, jitter) = if n_regular == 0 {
+        (nine_digits(1.0 / mean_positive), 0.0)
+    } else {
+        let mean = (sum + comp) / n_regular as f64;
+        let jitter = if n_regular > 1 {
+            let ss = validate::neumaier_sum(
+                intervals
+                    .iter()
+                    .copied()
+                    .filter(|v| regular(*v))
+                    .map(|v| (v - mean) * (v - mean)),
+            );
+            (ss / n_regular as f64).sqrt() / median
+        } else {
+            0.0
+        };
+        (nine_digits(1.0 / mean), jitter)
+    };
+    let missing_samples = gap_durations
+        .iter()
+        .map(|g| missing_in_gap(*g, median))
+        .sum();
+    Ok(Sampling {
+        median_interval: median,
+        fs_estimated,
+        jitter,
+        gap_rows,
+        gap_durations,
+        missing_samples,
+        duplicate_rows,
+    })
+}
+
+/// Writes the time vector with the gaps filled: the `n` times of `time` moved to their new
+/// rows and `counts[g]` evenly spaced times inserted before row `gap_rows[g]` (module docs).
+/// `out` must hold `n + Σ counts` values.
+///
+/// # Errors
+/// `gap_rows` and `counts` of different lengths, a gap row outside `1..n` or not increasing,
+/// or `out` of the wrong length ([`Error::ShapeMismatch`] / [`Error::InvalidParameter`]).
+pub fn fill_time_into(
+    time: &[f64],
+    gap_rows: &[usize],
+    counts: &[u64],
+    out: &mut [f64],
+) -> Result<()> {
+    if gap_rows.len() != counts.len() {
+        return Err(Error::ShapeMismatch {
+            name: "counts",
+            reason: format!("{} counts for {} gaps", counts.len(), gap_rows.len()),
+        });
+    }
+    let n = time.len();
+    let mut previous = 0;
+    for &r in gap_rows {
+        if r == 0 || r >= n || r <= previous {
+            return Err(Error::invalid(
+                "gap_rows",
+                format!("must be increasing rows in 1..{n}, got {r}"),
+            ));
+        }
+        previous = r;
+    }
+    let total = counts
+        .iter()
+        .try_fold(n as u64, |acc, c| acc.checked_add(*c));
+    if total != Some(out.len() as u64) {
+        return Err(Error::ShapeMismatch {
+            name: "out",
+            reason: format!(
+                "{} values for {n} times and {} filled",
+                out.len(),
+                counts.iter().map(|c| u128::from(*c)).sum::<u128>()
+            ),
+        });
+    }
+    let mut dest = 0;
+    let mut start = 0;
+    for (&row, &count) in gap_rows.iter().zip(counts) {
+        let len = row - start;
+        out[dest..dest + len].copy_from_slice(&time[start..row]);
+        dest += len;
+        let (t0, t1) = (time[row - 1], time[row]);
+        #[allow(clippy::cast_possible_truncation)]
+        let c = count as usize; // fits: the total was checked against out.len()
+        let denom = (c + 1) as f64;
+        for (j, o) in out[dest..dest + c].iter_mut().enumerate() {
+            *o = t0 + (t1 - t0) * (j + 1) as f64 / denom;
+        }
+        dest += c;
+        start = row;
+    }
+    out[dest..].copy_from_slice(&time[start..]);
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unit_guess_and_step_rows() {
+        let ns: [i64; 5] = [0, 10_000_000, 20_000_000, 20_000_000, 30_000_000];
+        assert_eq!(median_positive_step(&ns), 1e7);
+        assert_eq!(guess_unit(median_positive_step(&ns)), "ns");
+        assert_eq!(guess_unit(median_positive_step(&[0.0, 0.01, 0.02])), "s");
+        assert_eq!(median_positive_step(&[1.0, 1.0]), 0.0);
+        assert_eq!(repeated_rows(&ns), vec![3]);
+        assert_eq!(backward_rows(&[0.0, 2.0, 1.0, 3.0, 2.5]), vec![2, 4]);
+        // Extreme integer stamps: the difference is formed without overflow.
+        assert_eq!(i64::MAX.step_from(i64::MIN), 2f64.powi(64));
+    }
+
+    #[test]
+    fn analyse_by_hand() {
+        // 100 Hz with one 3-interval gap (2 missing samples) and one repeated stamp.
+        let mut t = vec![0.0, 0.01, 0.02, 0.05, 0.06, 0.06, 0.07];
+        let iv: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+        let s = analyse(&iv).unwrap();
+        assert!((s.median_interval - 0.01).abs() < 1e-15);
+        assert_eq!(s.gap_rows, vec![3]);
+        assert_eq!(s.duplicate_rows, vec![5]);
+        assert_eq!(s.missing_samples, 2);
+        assert_eq!(s.fs_estimated, 100.0);
+        assert!(s.jitter < 1e-12);
+        // Filling the gap gives evenly spaced times.
+        t.remove(5);
+        let mut out = vec![0.0; t.len() + 2];
+        fill_time_into(&t, &[3], &[2], &mut out).unwrap();
+        let want = [0.0, 0.01, 0.02, 0.03, 0.04, 0.05, 0.06, 0.07];
+        for (a, b) in out.iter().zip(want) {
+            assert!((a - b).abs() < 1e-15, "{out:?}");
+        }
+        assert!(fill_time_into(&t, &[3], &[2], &mut [0.0; 3]).is_err());
+        assert!(fill_time_into(&t, &[0], &[2], &mut out).is_err());
+        assert!(
+            analyse(&[0.0, 0.0])
+                .unwrap_err()
+                .to_string()
+                .contains("does not advance")
+        );
+        assert!(analyse(&[0.1, -0.1]).is_err());
+    }
+
+    #[test]
+    fn jitter_and_rate() {
+        // Alternating 9 and 11 ms: median 10 ms (even count: mean of the middles), jitter 10 %.
+        let iv: Vec<f64> = (0..100)
+            .map(|i| if i % 2 == 0 { 0.009 } else { 0.011 })
+            .collect();
+        let s = analyse(&iv).unwrap();
+        assert!((s.median_interval - 0.01).abs() < 1e-15);
+        assert!((s.jitter - 0.1).abs() < 1e-12);
+        assert_eq!(s.fs_estimated, 100.0);
+        assert!(s.gap_rows.is_empty());
+        assert_eq!(nine_digits(100.000_000_000_002_13), 100.0);
+        assert_eq!(missing_in_gap(0.025, 0.01), 1); // 2.5 rounds to 2 (ties to even)
+    }
+}
