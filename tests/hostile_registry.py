@@ -121,8 +121,11 @@ REGISTRY: dict[str, str] = {
     "exports.atomic_write": "path:path_out text:text",
     "exports.discrete": "coefficients:object rate:pos",
     "exports.export": "gyro:object? fmt:option path:path_out? accel:object? rate:pos? "
-    "rostopic:text",
-    "exports.export_all": "gyro:object? directory:path_out? accel:object? rate:pos? rostopic:text",
+    "rostopic:text strict:flag",
+    "exports.export_all": "gyro:object? directory:path_out? accel:object? rate:pos? rostopic:text "
+    "strict:flag",
+    "exports.write_kalibr": "path:path_out gyro:spec accel:spec update_rate:pos? rostopic:text "
+    "strict:flag",
     # --- fir --------------------------------------------------------------------------------------
     "fir.FrequencyResponse.__init__": "frequencies:field response:field zero_phase:field",
     "fir.KaiserLowpass.__init__": "fs:field fpass:field fstop:field apass_db:field "
@@ -210,7 +213,8 @@ REGISTRY: dict[str, str] = {
     "noise.NoiseCoefficients.to_json": "path:path_out? kwargs:forwarded",
     "noise.NoiseCoefficients.to_kalibr": "path:path_out update_rate:pos? rostopic:text",
     "noise.Term.__init__": "symbol:field name:field value:field uncertainty:field unit:field "
-    "tau_range:field marker:field missing:field",
+    "tau_range:field marker:field missing:field upper_bound:field bound_confidence:field "
+    "bound_reason:field",
     "noise.Term.to": "unit:unit",
     "noise.Term.to_dict": "",
     "noise.fit": "allan:object method:option terms:spec tau_range:pair? regions:spec? "
@@ -236,7 +240,6 @@ REGISTRY: dict[str, str] = {
     "noise.WaveletVariance.to_dict": "",
     "noise.simulate": "n:count fs:pos quantization:nonneg arw:nonneg bias_instability:nonneg "
     "rrw:nonneg rate_ramp:real ar1:spec? bias:real axes:count seed:count? sinusoids:spec",
-    "noise.write_kalibr": "path:path_out gyro:spec accel:spec update_rate:pos? rostopic:text",
     # --- plotting ---------------------------------------------------------------------------------
     "plotting.allan_report_svg": "result:object fit:object? conservative:object? title:text? "
     "width:pos height:pos",

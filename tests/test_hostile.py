@@ -280,8 +280,8 @@ BASE: dict[str, Callable[[], tuple[Callable[..., Any], dict[str, Any]]]] = {
         {"amplitude": 0.1, "frequency": 23.0, "taus": [0.01, 0.02], "fs": 100.0},
     ),
     "noise.wvar": lambda: (noise.wvar, {"data": FX.rate[:2000], "fs": 100.0, "robust": True}),
-    "noise.write_kalibr": lambda: (
-        noise.write_kalibr,
+    "exports.write_kalibr": lambda: (
+        gyrobias.exports.write_kalibr,
         {"path": _tmp() / "w.yaml", "gyro": [FX.gyro]},
     ),
     "plotting.allan_report_svg": lambda: (gyrobias.plotting.allan_report_svg, {"result": FX.allan}),

@@ -165,6 +165,10 @@ def _public_api_calls(tmp_path: Path) -> None:
     gyrobias.noise.fit(gyrobias.allan.adev(lined, 100.0), terms=("N",))
     design = np.abs(rng.normal(size=(6, 3))) + 0.1
     _core.noise.overbound(design, design.sum(axis=1))  # no public caller: the LP itself
+    edf = np.full(a.taus.size, 5.0)  # no public caller: the bound on given points and EDF
+    _core.noise.upper_bound(
+        a.taus, a.avar, a.m, a.n_terms, True, np.arange(a.taus.size), edf, "K", 0.9
+    )
     gyrobias.fir.kaiser_lowpass(100.0, 10.0, 20.0)
     gyrobias.fractional.elw(rng.normal(size=512))
     gyrobias.FractionalKalmanPredictor(d=0.3).predict(rng.normal(size=64), 8)

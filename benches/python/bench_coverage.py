@@ -20,7 +20,13 @@ A term an estimator reports missing counts as not covered (its error is the whol
 binomial standard error of a coverage from L logs is √(p(1−p)/L): ±3.3 points at 68 % and ±1.5
 at 95 % for L = 200.
 
-Usage: ``python benches/python/bench_coverage.py [--logs 200] [--workers 2]``.
+Upper bounds of invisible terms (issue 26 item 2), ``--bound-logs L`` (default 400): logs of
+20 min and 2 h at 100 Hz with N = 0.2 deg/√h, B = 3 deg/h and a rate random walk K the default
+fit often sets to zero; among the logs where it does, the share whose 95 % upper bound
+(``Term.upper_bound``) is above the true K (target ≥ 95 %) and below 10× it, and the median
+ratio.
+
+Usage: ``python benches/python/bench_coverage.py [--logs 200] [--workers 2] [--bound-logs 400]``.
 """
 
 from __future__ import annotations
@@ -117,10 +123,47 @@ def _one(job: tuple[str, bool, int]) -> dict[str, dict[str, tuple[float | None, 
     return out
 
 
+#: (samples at 100 Hz, true K in deg/s^1.5) of the bound-coverage rows.
+BOUND_CASES = [(120_000, 1e-5), (120_000, 2e-5), (720_000, 1e-5), (720_000, 2e-5)]
+
+
+def _bound_one(job: tuple[int, float, int]) -> float | None:
+    """Bound/true ratio of K on one simulated log, or None when the fit identifies K."""
+    from gyrobias import allan, noise
+
+    n, rrw, seed = job
+    rate = noise.simulate(n, 100.0, arw=0.2 / 60, bias_instability=3 / 3600, rrw=rrw, seed=seed)
+    c = noise.fit(allan.adev(rate, 100.0, units="deg/s"))
+    k = c.K  # type: ignore[union-attr]
+    return None if not k.bounded else float(k.upper_bound) / rrw
+
+
+def bound_coverage(logs: int, pool: ProcessPoolExecutor) -> None:
+    """Markdown table of the upper bound's coverage (module docs)."""
+    print(
+        "\n| log | true K | K bounded | bound ≥ K | bound < 10 K | median bound/K |\n"
+        "|---|---|---|---|---|---|"
+    )
+    for n, rrw in BOUND_CASES:
+        jobs = [(n, rrw, 50_000 + seed) for seed in range(logs)]
+        ratios = np.array([r for r in pool.map(_bound_one, jobs, chunksize=8) if r is not None])
+        if ratios.size == 0:
+            continue
+        print(
+            f"| {n / 100 / 60:.0f} min | {rrw * 216000:.3g} deg/h^1.5 | {ratios.size} of {logs} "
+            f"| {100 * np.mean(ratios >= 1):.1f} % | {100 * np.mean(ratios < 10):.1f} % "
+            f"| {np.median(ratios):.2f} |",
+            flush=True,
+        )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--logs", type=int, default=200, help="logs per scenario (default 200)")
     parser.add_argument("--workers", type=int, default=2, help="processes (default 2)")
+    parser.add_argument(
+        "--bound-logs", type=int, default=400, help="logs per upper-bound row (default 400)"
+    )
     args = parser.parse_args()
     print(
         "| scenario | estimator | term | bias | RMS error | 68 % coverage | 95 % coverage |\n"
@@ -147,6 +190,7 @@ def main() -> None:
                         f"| {100 * np.mean(z <= 1.0):.0f} % | {100 * np.mean(z <= 1.96):.0f} % |",
                         flush=True,
                     )
+        bound_coverage(args.bound_logs, pool)
     print(f"\n{args.logs} logs per scenario, {time.perf_counter() - started:.0f} s")
 
 

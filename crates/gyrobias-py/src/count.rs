@@ -161,6 +161,11 @@ pub(crate) fn n_terms(obj: &Bound<'_, PyAny>) -> PyResult<Vec<usize>> {
     sizes(obj, "n_terms")
 }
 
+/// Indices of curve points `used` (see [`sizes`]).
+pub(crate) fn used(obj: &Bound<'_, PyAny>) -> PyResult<Vec<usize>> {
+    sizes(obj, "used")
+}
+
 macro_rules! extractors {
     ($kind:ident -> $ty:ty: $($name:ident),+ $(,)?) => {
         $(

@@ -2,7 +2,7 @@
 
 use gyrocore::noise::{
     self, Ar1, Curve, Diagnostics, FitOptions, GaussMarkovEstimate, GmwmOptions, LineEstimate,
-    NoiseSpec, ReadOffOptions, TermEstimate, sinusoid, wavelet,
+    NoiseSpec, ReadOffOptions, Term, TermEstimate, UpperBound, sinusoid, wavelet,
 };
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -53,9 +53,59 @@ fn terms_to_py<'py>(py: Python<'py>, terms: &[TermEstimate]) -> PyResult<Vec<Bou
             d.set_item("tau_range", t.tau_range)?;
             d.set_item("marker", t.marker)?;
             d.set_item("missing", t.missing.clone())?;
+            let bound = t
+                .upper_bound
+                .as_ref()
+                .map(|b| bound_dict(py, b))
+                .transpose()?;
+            d.set_item("upper_bound", bound)?;
             Ok(d)
         })
         .collect()
+}
+
+fn bound_dict<'py>(py: Python<'py>, b: &UpperBound) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("value", b.value)?;
+    d.set_item("confidence", b.confidence)?;
+    d.set_item("tau", b.tau)?;
+    d.set_item("tau_range", b.tau_range)?;
+    d.set_item("points", b.points)?;
+    d.set_item("reason", b.reason.clone())?;
+    Ok(d)
+}
+
+/// Upper bound of one term from the curve points `used` with their EDF
+/// (`gyrocore::noise::upper_bound`).
+#[pyfunction]
+#[pyo3(signature = (taus, variance, m, n_terms, overlapping, used, edf, term, confidence))]
+#[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
+fn upper_bound<'py>(
+    py: Python<'py>,
+    taus: PyReadonlyArray1<'py, f64>,
+    variance: PyReadonlyArray1<'py, f64>,
+    #[pyo3(from_py_with = count::factors)] m: Vec<usize>,
+    #[pyo3(from_py_with = count::n_terms)] n_terms: Vec<usize>,
+    overlapping: bool,
+    #[pyo3(from_py_with = count::used)] used: Vec<usize>,
+    edf: PyReadonlyArray1<'py, f64>,
+    term: &str,
+    confidence: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let term = core(Term::parse(term))?;
+    let taus = c_order(&taus);
+    let variance = c_order(&variance);
+    let edf = c_order(&edf);
+    let curve = Curve {
+        taus: &taus,
+        variance: &variance,
+        m: &m,
+        n_terms: &n_terms,
+        overlapping,
+        edf: None,
+    };
+    let b = core(noise::upper_bound(&curve, &used, &edf, term, confidence))?;
+    bound_dict(py, &b)
 }
 
 /// IEEE-952 read-off of the noise terms from an Allan-variance curve
@@ -406,6 +456,11 @@ fn fit<'py>(
     d.set_item("dof", fit.dof)?;
     d.set_item("tau_range", fit.tau_range)?;
     d.set_item("lines", line_dicts(py, &fit.lines)?)?;
+    d.set_item(
+        "used",
+        fit.used.iter().map(|&u| u as u64).collect::<Vec<_>>(),
+    )?;
+    d.set_item("edf", fit.edf.clone().into_pyarray(py))?;
     d.set_item("diagnostics", diagnostics_dict(py, &fit.diagnostics)?)?;
     Ok(d)
 }
@@ -556,6 +611,7 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(model, m)?)?;
     m.add_function(wrap_pyfunction!(overbound, m)?)?;
     m.add_function(wrap_pyfunction!(conservative, m)?)?;
+    m.add_function(wrap_pyfunction!(upper_bound, m)?)?;
     m.add_function(wrap_pyfunction!(fit, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose, m)?)?;
     m.add_function(wrap_pyfunction!(gauss_markov_variance, m)?)?;

@@ -27,6 +27,7 @@ __all__ = [
     "robust_variance",
     "simulate",
     "sinusoid_avar",
+    "upper_bound",
     "wvar",
 ]
 
@@ -44,6 +45,18 @@ class TermEstimate(TypedDict):
     tau_range: tuple[float, float] | None
     marker: tuple[float, float] | None
     missing: str | None
+    upper_bound: UpperBound | None
+
+@type_check_only
+class UpperBound(TypedDict):
+    """Largest value of a term the data do not show (``gyrocore::noise::bound``)."""
+
+    value: float
+    confidence: float
+    tau: float
+    tau_range: tuple[float, float]
+    points: int
+    reason: str
 
 @type_check_only
 class ReadOff(TypedDict):
@@ -99,6 +112,8 @@ class JointFit(TypedDict):
     tau_range: tuple[float, float]
     lines: list[LineEstimate]
     diagnostics: Diagnostics
+    used: list[int]
+    edf: NDArray[np.float64]
 
 @type_check_only
 class WaveletVariance(TypedDict):
@@ -110,8 +125,18 @@ class WaveletVariance(TypedDict):
     n_coefficients: NDArray[np.uint64]
 
 @type_check_only
-class Gmwm(JointFit):
-    """GMWM fit: the joint-fit fields plus the wavelet moments and the model selection."""
+class Gmwm(TypedDict):
+    """GMWM fit: the joint-fit fields (without ``used``/``edf``) plus the wavelet moments and
+    the model selection."""
+
+    terms: list[TermEstimate]
+    squared: list[float]
+    gauss_markov: list[GaussMarkovTerm]
+    gauss_markov_squared: list[tuple[float, float]]
+    chi2: float
+    dof: int
+    tau_range: tuple[float, float]
+    diagnostics: Diagnostics
 
     wavelet: WaveletVariance
     selected: list[str]
@@ -187,6 +212,17 @@ def conservative(
     tau_range: tuple[float, float] | None,
     confidence: float,
 ) -> Conservative: ...
+def upper_bound(
+    taus: NDArray[np.float64],
+    variance: NDArray[np.float64],
+    m: ArrayLike,
+    n_terms: ArrayLike,
+    overlapping: bool,
+    used: ArrayLike,
+    edf: NDArray[np.float64],
+    term: str,
+    confidence: float,
+) -> UpperBound: ...
 def fit(
     taus: NDArray[np.float64],
     variance: NDArray[np.float64],

@@ -70,6 +70,11 @@ TERM_NAMES: dict[str, dict[str, str]] = {
 }
 
 
+def _percent(confidence: float | None) -> str:
+    """0.95 → ``"95 %"`` (``"?"`` when unknown)."""
+    return "?" if confidence is None else f"{100.0 * confidence:.4g} %"
+
+
 @dataclass(frozen=True)
 class Term:
     """One noise coefficient with its standard uncertainty and unit, or why it is missing.
@@ -94,6 +99,31 @@ class Term:
         τ = √3, 1, 3, √2 s for Q, N, K, R; at the minimum (σ = 0.664·B) for B.
     missing : str or None
         Why the term is missing (``value is None``).
+    upper_bound : float or None
+        For a term the data do not show (``value is None``, the fit set it to zero or the
+        read-off found no region): the largest value consistent with them, in ``unit`` — the
+        coefficient whose Allan-variance asymptote stays under the one-sided upper confidence
+        bound ``σ̂²·edf/χ²_edf(1 − bound_confidence)`` of the curve at every τ the fit used, the
+        other terms held at zero (``gyrocore::noise::bound``: held at their fit they would
+        have absorbed part of the term and the bound would under-cover). ``None`` for an
+        identified term, a term not requested, or coefficients not from data.
+    bound_confidence : float or None
+        One-sided confidence level of :attr:`upper_bound` (0.95).
+    bound_reason : str or None
+        How the bound was obtained (points, τ range, the binding τ).
+
+    Examples
+    --------
+    A log too short to show a rate random walk: K is bounded, not zero.
+
+    >>> import gyrobias
+    >>> rate = gyrobias.noise.simulate(60_000, 100.0, arw=0.2 / 60, bias_instability=3 / 3600,
+    ...                                rrw=1e-5, seed=4)
+    >>> k = gyrobias.noise.fit(gyrobias.allan.adev(rate, 100.0, units="deg/s")).K
+    >>> k.value is None, k.bounded, k.bound_confidence
+    (True, True, 0.95)
+    >>> k.upper_bound > 1e-5
+    True
     """
 
     symbol: str
@@ -104,10 +134,14 @@ class Term:
     tau_range: tuple[float, float] | None = None
     marker: tuple[float, float] | None = None
     missing: str | None = None
+    upper_bound: float | None = None
+    bound_confidence: float | None = None
+    bound_reason: str | None = None
 
     @classmethod
     def _from_core(cls, raw: Mapping[str, Any], name: str, unit: str | None) -> Term:
         """The one place a :class:`Term` is built from the core's ``TermEstimate``."""
+        bound = raw.get("upper_bound")
         return cls(
             symbol=raw["symbol"],
             name=name,
@@ -117,12 +151,20 @@ class Term:
             tau_range=raw["tau_range"],
             marker=raw["marker"],
             missing=raw["missing"],
+            upper_bound=None if bound is None else float(bound["value"]),
+            bound_confidence=None if bound is None else float(bound["confidence"]),
+            bound_reason=None if bound is None else str(bound["reason"]),
         )
 
     @property
     def present(self) -> bool:
         """True when the term was identified."""
         return self.value is not None
+
+    @property
+    def bounded(self) -> bool:
+        """True when the term was not identified but the data bound it from above."""
+        return self.value is None and self.upper_bound is not None
 
     def to(self, unit: str) -> Term:
         """This term converted to ``unit`` (e.g. ``"deg/h"``, ``"rad/s/√Hz"``).
@@ -160,6 +202,7 @@ class Term:
             self,
             value=None if self.value is None else self.value * f,
             uncertainty=None if self.uncertainty is None else self.uncertainty * f,
+            upper_bound=None if self.upper_bound is None else self.upper_bound * f,
             unit=unit,
         )
 
@@ -173,10 +216,18 @@ class Term:
             "unit": self.unit,
             "tau_range_s": None if self.tau_range is None else list(self.tau_range),
             "missing": self.missing,
+            "upper_bound": self.upper_bound,
+            "bound_confidence": self.bound_confidence,
+            "bound_reason": self.bound_reason,
         }
 
     def __str__(self) -> str:
         unit = f" {self.unit}" if self.unit else ""
+        if self.value is None and self.upper_bound is not None:
+            return (
+                f"{self.symbol} ({self.name}) ≤ {self.upper_bound:.4g}{unit} "
+                f"({_percent(self.bound_confidence)} upper bound; not identified — {self.missing})"
+            )
         if self.value is None:
             return f"{self.symbol} ({self.name}): missing — {self.missing}"
         if self.uncertainty is None:  # datasheet values and conservative sets carry none
@@ -810,6 +861,12 @@ class NoiseCoefficients:
         names = TERM_NAMES.get(self.sensor or "gyro", TERM_NAMES["gyro"])
         for t in self.terms:
             label = f"  {t.symbol}  {names[t.symbol]:<27}"
+            if t.value is None and t.upper_bound is not None:
+                lines.append(
+                    f"{label} ≤ {t.upper_bound:10.5g}   {'':<8} {t.unit or '':<12}  "
+                    f"({_percent(t.bound_confidence)} upper bound: not visible above the others)"
+                )
+                continue
             if t.value is None:
                 lines.append(f"{label} missing: {t.missing}")
                 continue

@@ -1352,7 +1352,7 @@ pub(crate) fn finish(
             .collect();
         visible.first().map(|a| (*a, *visible.last().unwrap_or(a)))
     };
-    let terms = Term::ALL
+    let mut terms: Vec<TermEstimate> = Term::ALL
         .into_iter()
         .map(|t| {
             let j = t.index();
@@ -1387,9 +1387,12 @@ pub(crate) fn finish(
                 tau_range: visible_range(&|tau| c[j] * t.basis(tau)),
                 marker,
                 missing: None,
+                upper_bound: None,
             }
         })
         .collect();
+    // A requested term the fit set to zero is bounded from above by the points it used.
+    super::bound::attach(&mut terms, enabled, curve, used, &inner.edf);
     let mut gauss_markov_terms = Vec::new();
     for (g, &(q2, t)) in inner.gm.iter().enumerate() {
         if q2 <= 0.0 {
