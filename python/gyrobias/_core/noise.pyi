@@ -136,6 +136,7 @@ class Gmwm(TypedDict):
     chi2: float
     dof: int
     tau_range: tuple[float, float]
+    lines: list[LineEstimate]
     diagnostics: Diagnostics
 
     wavelet: WaveletVariance
