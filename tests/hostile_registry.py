@@ -65,7 +65,8 @@ REGISTRY: dict[str, str] = {
     # --- allan ----------------------------------------------------------------------------------
     "allan.AllanResult.__init__": "taus:field avar:field n_terms:field fs:field data_type:field "
     "kind:field overlapping:field unit:field confidence:field edf:field alpha:field "
-    "ci_low:field ci_high:field axis:field noise_type:field factors:field deviation:field",
+    "ci_low:field ci_high:field axis:field noise_type:field factors:field deviation:field "
+    "lines:field",
     "allan.AllanResult.plot": "ax:object? label:text? fit:object? kwargs:forwarded",
     "allan.AllanResult.table": "",
     "allan.AllanResult.to_dict": "",
@@ -120,8 +121,11 @@ REGISTRY: dict[str, str] = {
     "exports.atomic_write": "path:path_out text:text",
     "exports.discrete": "coefficients:object rate:pos",
     "exports.export": "gyro:object? fmt:option path:path_out? accel:object? rate:pos? "
-    "rostopic:text",
-    "exports.export_all": "gyro:object? directory:path_out? accel:object? rate:pos? rostopic:text",
+    "rostopic:text strict:flag",
+    "exports.export_all": "gyro:object? directory:path_out? accel:object? rate:pos? rostopic:text "
+    "strict:flag",
+    "exports.write_kalibr": "path:path_out gyro:spec accel:spec update_rate:pos? rostopic:text "
+    "strict:flag",
     # --- fir --------------------------------------------------------------------------------------
     "fir.FrequencyResponse.__init__": "frequencies:field response:field zero_phase:field",
     "fir.KaiserLowpass.__init__": "fs:field fpass:field fstop:field apass_db:field "
@@ -186,7 +190,7 @@ REGISTRY: dict[str, str] = {
     "kalman.steady_state_gain": "q_omega:nonneg q_b:nonneg r_d:pos",
     # --- noise ------------------------------------------------------------------------------------
     "noise.FitDiagnostics.__init__": "chi2:field dof:field p_value:field residuals:field "
-    "taus:field tau_range:field excluded:field warnings:field",
+    "taus:field tau_range:field excluded:field warnings:field lines:field",
     "noise.FitDiagnostics.summary": "",
     "noise.FitDiagnostics.to_dict": "",
     "noise.GaussMarkovTerm.__init__": "sigma:field correlation_time:field tau_range:field "
@@ -195,7 +199,8 @@ REGISTRY: dict[str, str] = {
     "noise.NoiseCoefficients.__getitem__": "symbol:key",
     "noise.NoiseCoefficients.__init__": "Q:field N:field B:field K:field R:field method:field "
     "data_unit:field sensor:field fs:field tau_range:field edf_source:field axis:field "
-    "chi2:field dof:field squared:field gauss_markov:field diagnostics:field allan:field",
+    "chi2:field dof:field squared:field gauss_markov:field diagnostics:field allan:field "
+    "sinusoids:field",
     "noise.NoiseCoefficients.conservative": "confidence:level terms:spec?",
     "noise.NoiseCoefficients.discrete": "rate:pos",
     "noise.NoiseCoefficients.export": "fmt:option path:path_out? accel:object? rate:pos? "
@@ -208,17 +213,33 @@ REGISTRY: dict[str, str] = {
     "noise.NoiseCoefficients.to_json": "path:path_out? kwargs:forwarded",
     "noise.NoiseCoefficients.to_kalibr": "path:path_out update_rate:pos? rostopic:text",
     "noise.Term.__init__": "symbol:field name:field value:field uncertainty:field unit:field "
-    "tau_range:field marker:field missing:field",
+    "tau_range:field marker:field missing:field upper_bound:field bound_confidence:field "
+    "bound_reason:field",
     "noise.Term.to": "unit:unit",
     "noise.Term.to_dict": "",
     "noise.fit": "allan:object method:option terms:spec tau_range:pair? regions:spec? "
-    "slope_tolerance:pos min_points:count unit:unit? correlation_time:pair? auto_range:flag",
+    "slope_tolerance:pos min_points:count unit:unit? correlation_time:pair? auto_range:flag "
+    "lines:spec",
     "noise.gauss_markov_avar": "sigma:nonneg correlation_time:pos taus:array",
     "noise.gmwm": "data:array fs:pos terms:spec units:unit? axis_names:text? select:flag "
-    "bootstrap:count seed:count?",
+    "bootstrap:count seed:count? auto_range:flag lines:spec",
+    "noise.detect_lines": "data:array fs:pos false_alarm:level units:unit? max_lines:count "
+    "axis_names:text?",
+    "noise.sinusoid_avar": "amplitude:nonneg frequency:pos taus:array fs:pos?",
+    "noise.wvar": "data:array fs:pos robust:flag efficiency:level confidence:level levels:count? "
+    "units:unit? axis_names:text?",
+    "noise.SinusoidTerm.__init__": "frequency:field amplitude:field tau_range:field missing:field",
+    "noise.SinusoidTerm.to_dict": "",
+    "noise.SpectralLine.__init__": "frequency:field amplitude:field unit:field ratio:field "
+    "p_value:field resolution:field",
+    "noise.SpectralLine.to_dict": "",
+    "noise.WaveletVariance.__init__": "levels:field scales:field variance:field ci_low:field "
+    "ci_high:field edf:field n_coefficients:field robust:field efficiency:field "
+    "confidence:field fs:field unit:field axis:field",
+    "noise.WaveletVariance.plot": "ax:object?",
+    "noise.WaveletVariance.to_dict": "",
     "noise.simulate": "n:count fs:pos quantization:nonneg arw:nonneg bias_instability:nonneg "
-    "rrw:nonneg rate_ramp:real ar1:spec? bias:real axes:count seed:count?",
-    "noise.write_kalibr": "path:path_out gyro:spec accel:spec update_rate:pos? rostopic:text",
+    "rrw:nonneg rate_ramp:real ar1:spec? bias:real axes:count seed:count? sinusoids:spec",
     # --- plotting ---------------------------------------------------------------------------------
     "plotting.allan_report_svg": "result:object fit:object? conservative:object? title:text? "
     "width:pos height:pos",
@@ -227,6 +248,7 @@ REGISTRY: dict[str, str] = {
     "plotting.plot_dynamic_allan": "result:object ax:object? title:text? cmap:option colorbar:flag",
     "plotting.plot_fleet": "table:object fig:object? title:text?",
     "plotting.plot_noise_model": "coefficients:object ax:object? allan:object? show_data:flag",
+    "plotting.plot_wvar": "result:object ax:object?",
     "plotting.save_allan_plot": "results:object path:path_out labels:text? title:text? "
     "dpi:count fits:spec? kwargs:forwarded",
     "plotting.save_comparison_plot": "before:object after:object path:path_out labels:text "

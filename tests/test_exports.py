@@ -180,7 +180,7 @@ def test_log_user_gets_all_seven_with_the_largest_axis() -> None:
 def test_kalibr_export_agrees_with_write_kalibr(tmp_path: Path) -> None:
     gyro, accel = simulated_axes(9)
     ours = load_yaml(exports.export(gyro, "kalibr", accel=accel))
-    theirs = load_yaml(gyrobias.noise.write_kalibr(tmp_path / "k.yaml", gyro=gyro, accel=accel))
+    theirs = load_yaml(gyrobias.exports.write_kalibr(tmp_path / "k.yaml", gyro=gyro, accel=accel))
     for key in (
         "gyroscope_noise_density",
         "gyroscope_random_walk",

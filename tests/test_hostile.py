@@ -274,8 +274,14 @@ BASE: dict[str, Callable[[], tuple[Callable[..., Any], dict[str, Any]]]] = {
     ),
     "noise.gmwm": lambda: (noise.gmwm, {"data": FX.rate[:2000], "fs": 100.0, "seed": 1}),
     "noise.simulate": lambda: (noise.simulate, {"n": 100, "fs": 100.0, "arw": 0.1, "seed": 1}),
-    "noise.write_kalibr": lambda: (
-        noise.write_kalibr,
+    "noise.detect_lines": lambda: (noise.detect_lines, {"data": FX.rate[:2000], "fs": 100.0}),
+    "noise.sinusoid_avar": lambda: (
+        noise.sinusoid_avar,
+        {"amplitude": 0.1, "frequency": 23.0, "taus": [0.01, 0.02], "fs": 100.0},
+    ),
+    "noise.wvar": lambda: (noise.wvar, {"data": FX.rate[:2000], "fs": 100.0, "robust": True}),
+    "exports.write_kalibr": lambda: (
+        gyrobias.exports.write_kalibr,
         {"path": _tmp() / "w.yaml", "gyro": [FX.gyro]},
     ),
     "plotting.allan_report_svg": lambda: (gyrobias.plotting.allan_report_svg, {"result": FX.allan}),

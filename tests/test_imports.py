@@ -165,6 +165,7 @@ def test_value_types_import_no_algorithm_module() -> None:
         "gyrobias.noise._types",
         "gyrobias.io._types",
         "gyrobias.exports._types",
+        "gyrobias._spectral_lines",
     }
     leaves = {"gyrobias._generics", "gyrobias._files", "gyrobias._validation", "gyrobias.units"}
     for name in sorted(types):
@@ -198,12 +199,14 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
             "gyrobias.noise._types",
             "gyrobias.io._types",
             "gyrobias.exports._types",
+            "gyrobias._spectral_lines",
             "gyrobias.fleet.table",
         ),
     ),
     (
         "science",
         (
+            "gyrobias._line_detection",
             "gyrobias.allan",
             "gyrobias.noise",
             "gyrobias.io",

@@ -352,7 +352,7 @@ def test_accelerometer_terms_are_named_and_converted() -> None:
 def test_kalibr_file_round_trips_through_yaml(eight_hour_fits: list, tmp_path) -> None:
     axes = [j for j, _ in eight_hour_fits[:3]]
     path = tmp_path / "imu.yaml"
-    text = noise.write_kalibr(path, gyro=axes, update_rate=200.0)
+    text = gyrobias.exports.write_kalibr(path, gyro=axes, update_rate=200.0)
     data = yaml.safe_load(path.read_text())
     assert text == path.read_text()
     expect_n = max(a.N.value for a in axes) * math.pi / 180.0
@@ -361,7 +361,7 @@ def test_kalibr_file_round_trips_through_yaml(eight_hour_fits: list, tmp_path) -
     assert data["gyroscope_random_walk"] == pytest.approx(expect_k, rel=1e-6)
     assert data["update_rate"] == 200.0
     assert data["rostopic"] == "/imu0"
-    assert "continuous-time" in text.lower()
+    assert ", continuous" in text.lower()
     assert "accelerometer_noise_density" not in data
     # Single-axis method; update rate defaults to fs.
     axes[0].to_kalibr(tmp_path / "one.yaml")
@@ -372,17 +372,30 @@ def test_kalibr_file_round_trips_through_yaml(eight_hour_fits: list, tmp_path) -
 def test_kalibr_missing_term_is_a_comment_and_bad_input(tmp_path) -> None:
     rate = noise.simulate(50_000, FS, arw=0.01, seed=1)
     c = noise.fit(_curve(rate), terms=("N", "B"))
-    text = noise.write_kalibr(tmp_path / "k.yaml", gyro=[c])
+    # K not requested: neither identified nor bounded; the one writer (exports) refuses it.
+    with pytest.raises(ValueError, match=r"gyro K \(random walk K\): required by the kalibr"):
+        gyrobias.exports.write_kalibr(tmp_path / "k.yaml", gyro=[c])
+    assert not (tmp_path / "k.yaml").exists()
+    # K requested but invisible: the bound is written, marked.
+    bounded = noise.fit(_curve(rate))
+    assert bounded.K.bounded
+    text = gyrobias.exports.write_kalibr(tmp_path / "k.yaml", gyro=[bounded])
     data = yaml.safe_load(text)
-    assert "gyroscope_random_walk" not in data
-    assert "# gyroscope_random_walk: not identified" in text
+    assert data["gyroscope_random_walk"] == pytest.approx(
+        bounded.K.to("rad/s²/√Hz").upper_bound, rel=1e-6
+    )
+    assert "UPPER BOUND" in text
+    # gyrobias.noise.write_kalibr is the exports writer itself (one Kalibr writer).
+    assert noise.write_kalibr is gyrobias.exports.write_kalibr
+    with pytest.raises(AttributeError, match="no attribute 'nope'"):
+        _ = noise.nope  # type: ignore[attr-defined]
     with pytest.raises(ValueError, match="gyro and/or accel"):
-        noise.write_kalibr(tmp_path / "x.yaml")
+        gyrobias.exports.write_kalibr(tmp_path / "x.yaml")
     with pytest.raises(ValueError, match="not accel"):
-        noise.write_kalibr(tmp_path / "x.yaml", accel=[c])
+        gyrobias.exports.write_kalibr(tmp_path / "x.yaml", accel=[c])
     unitless = noise.fit(adev(rate, FS, confidence=None))
     with pytest.raises(ValueError, match="unit"):
-        noise.write_kalibr(tmp_path / "x.yaml", gyro=[unitless])
+        gyrobias.exports.write_kalibr(tmp_path / "x.yaml", gyro=[unitless])
     with pytest.raises(ValueError, match="unit"):
         unitless.to("ieee")
 
@@ -396,7 +409,7 @@ def test_json_and_summary(eight_hour_fits: list, tmp_path) -> None:
     assert data["terms"]["N"]["value"] == pytest.approx(joint.N.value)
     assert data["terms"]["R"]["value"] is None and data["terms"]["R"]["missing"]
     s = joint.summary()
-    for needle in ("deg/√h", "deg/h", "±", "angle random walk", "missing"):
+    for needle in ("deg/√h", "deg/h", "±", "angle random walk", "upper bound"):
         assert needle in s
 
 

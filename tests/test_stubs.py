@@ -159,8 +159,16 @@ def _public_api_calls(tmp_path: Path) -> None:
     gyrobias.noise.fit(a, method="ieee")
     joint.conservative(0.95)
     gyrobias.noise.gmwm(rate, 100.0, terms=("N", "K"), units="deg/s")
+    gyrobias.noise.wvar(rate, 100.0, robust=True)
+    # A log with a spectral line: detect_lines, and fit/gmwm with a fitted sinusoid.
+    lined = gyrobias.noise.simulate(20_000, 100.0, arw=0.3 / 60, sinusoids=[(23.0, 0.05)], seed=2)
+    gyrobias.noise.fit(gyrobias.allan.adev(lined, 100.0), terms=("N",))
     design = np.abs(rng.normal(size=(6, 3))) + 0.1
     _core.noise.overbound(design, design.sum(axis=1))  # no public caller: the LP itself
+    edf = np.full(a.taus.size, 5.0)  # no public caller: the bound on given points and EDF
+    _core.noise.upper_bound(
+        a.taus, a.avar, a.m, a.n_terms, True, np.arange(a.taus.size), edf, "K", 0.9
+    )
     gyrobias.fir.kaiser_lowpass(100.0, 10.0, 20.0)
     gyrobias.fractional.elw(rng.normal(size=512))
     gyrobias.FractionalKalmanPredictor(d=0.3).predict(rng.normal(size=64), 8)

@@ -97,7 +97,7 @@ GROUPS: list[tuple[str, str, list[str]]] = [
         [
             "gyrobias.datasheet",
             "gyrobias.conservative",
-            "gyrobias.noise.write_kalibr",
+            "gyrobias.exports.write_kalibr",
             "gyrobias.exports",
         ],
     ),

@@ -31,7 +31,7 @@ unit-aware Python interfaces:
 """
 
 # The package façade: it imports the science modules and every module that registers the
-# result objects' methods (plotting: ``.plot()``; exports, conservative, noise.kalibr:
+# result objects' methods (plotting: ``.plot()``; exports (kalibr included), conservative:
 # ``.export()`` and kin; see gyrobias._generics), so these are loaded whatever the caller
 # imports first. plotting loads matplotlib only when a plot is drawn. The layers:
 # docs/architecture.md.

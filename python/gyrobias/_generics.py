@@ -5,7 +5,7 @@ their kin are one-line delegations to the generic functions here
 (:func:`functools.singledispatch`). The module that owns a behaviour registers its method for
 each value type when it is imported — :mod:`gyrobias.plotting` registers ``plot``,
 :mod:`gyrobias.exports` ``export``/``export_all``/``discrete``, :mod:`gyrobias.conservative`
-``conservative``, :mod:`gyrobias.noise.kalibr` ``to_kalibr``, :mod:`gyrobias.codegen` ``to_c`` — much as R packages register S3 methods when their namespace loads. The
+``conservative``, :mod:`gyrobias.exports.kalibr` ``to_kalibr``, :mod:`gyrobias.codegen` ``to_c`` — much as R packages register S3 methods when their namespace loads. The
 value types thus import no behaviour module and the dependency points one way (behaviour →
 types). ``import gyrobias`` (run before any ``gyrobias.*`` submodule) imports every registering
 module, so the methods are always in place.
@@ -60,7 +60,7 @@ def conservative(obj: object, confidence: float = 0.95, **kwargs: Any) -> Any:
 
 @singledispatch
 def to_kalibr(obj: object, path: str | os.PathLike[str], **kwargs: Any) -> str:
-    """Write a Kalibr ``imu.yaml`` for ``obj`` (method registered by :mod:`gyrobias.noise.kalibr`)."""
+    """Write a Kalibr ``imu.yaml`` for ``obj`` (method registered by :mod:`gyrobias.exports.kalibr`)."""
     raise _missing("to_kalibr", obj)
 
 

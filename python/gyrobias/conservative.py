@@ -38,6 +38,11 @@ __all__ = ["ConservativeCoefficients", "conservative"]
 
 _SYMBOLS = ("Q", "N", "B", "K", "R")
 
+#: Terms whose upper bound (:attr:`gyrobias.noise.Term.upper_bound`) a conservative set uses
+#: when the fit does not identify them: the white noise and random walk every estimator file
+#: needs. (Bounds of Q, B and R would add terms the files do not carry.)
+_BOUNDED_TERMS = ("N", "K")
+
 
 @dataclass(frozen=True)
 class ConservativeCoefficients:
@@ -53,6 +58,7 @@ class ConservativeCoefficients:
     inflation : dict of str to float or None
         ``√(c_conservative / c_best)`` per term symbol (≥ 1: no term goes below the best fit);
         ``None`` where neither set has the term; ``inf`` where only the conservative set has it.
+        A bounded N or K (not identified, bounded from above) is inflated against its bound.
     confidence : float
         One-sided confidence level ``p`` of the upper bound.
     taus : ndarray
@@ -118,6 +124,8 @@ class ConservativeCoefficients:
                 continue
             value = "dropped" if t.value is None else f"{t.value:.4g} {t.unit or ''}"
             ref = "—" if b.value is None else f"{b.value:.4g}"
+            if b.value is None and b.upper_bound is not None:
+                ref = f"≤ {b.upper_bound:.4g}"
             infl = "—" if f is None else ("new term" if math.isinf(f) else f"×{f:.3g}")
             lines.append(f"  {s}  {value:<24} best fit {ref:<12} inflation {infl}")
         return "\n".join(lines)
@@ -162,7 +170,10 @@ def conservative(
     ``(1/n) Σ_i σ²_model(τ_i; c)/U_i`` subject to ``σ²_model(τ_i; c) ≥ U_i`` for every point
     the fit used and ``c ≥ c_best`` (a conservative set inflates terms, it never trades one term
     for another below its estimate) — a linear programme, solved exactly by the simplex method
-    in the core.
+    in the core. A white noise N or random walk K the fit did not identify but bounds from
+    above (:attr:`gyrobias.noise.Term.upper_bound`) takes the place of the best fit at its
+    bound, ``c_j ≥ bound_j²``: the conservative set then carries the term (and can be exported)
+    at the largest value the data allow; its inflation is reported against the bound.
 
     References
     ----------
@@ -192,6 +203,13 @@ def conservative(
     ):
         raise TypeError(f"confidence must be a real number, got {type(confidence).__name__}")
     reference = coefficients._squared_base()
+    # A bounded N or K (a term the estimator files need that the log does not show) enters at
+    # its upper bound: the conservative set assumes as much of it as the data allow.
+    base = coefficients.to("base") if coefficients.data_unit is not None else coefficients
+    for k, s in enumerate(_SYMBOLS):
+        t = base[s]
+        if s in _BOUNDED_TERMS and t.bounded and t.upper_bound is not None:
+            reference[k] = max(reference[k], float(t.upper_bound) ** 2)
     if terms is None:
         allowed = [s for s, c in zip(_SYMBOLS, reference) if c > 0.0]
         if not allowed:

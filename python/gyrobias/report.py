@@ -201,6 +201,14 @@ def _coefficient_table(c: NoiseCoefficients) -> str:
     shown = c.to("ieee") if c.data_unit is not None else c
     rows = []
     for t in shown.terms:
+        if t.value is None and t.upper_bound is not None:
+            level = "?" if t.bound_confidence is None else f"{100 * t.bound_confidence:.4g} %"
+            rows.append(
+                f"<tr><td>{t.symbol}</td><td>{_e(t.name)}</td><td class=num>≤ {_num(t.upper_bound)}"
+                f" <b>(upper bound, {level})</b></td><td>{_e(t.unit or '')}</td>"
+                f"<td>not visible above the others: {_e(t.bound_reason or '')}</td></tr>"
+            )
+            continue
         if t.value is None:
             rows.append(
                 f"<tr><td>{t.symbol}</td><td>{_e(t.name)}</td><td colspan=3>missing: {_e(t.missing)}</td></tr>"
@@ -337,8 +345,14 @@ def _exports_section(channels: list[ChannelReport], rate: float | None) -> str:
                 parts.append(f'<p><b>{fmt}</b>: <span class="error">{_e(exc)}</span></p>')
                 continue
             ident = f"export-{n}"
+            marked = ""
+            if "UPPER BOUND" in text:
+                marked = (
+                    ' <span class="error"><b>contains upper bounds</b> (terms the log does not '
+                    "show; marked UPPER BOUND in the file)</span>"
+                )
             parts.append(
-                f'<div class="export"><p><b>{fmt}</b> — <code>{DEFAULT_FILENAMES[fmt]}</code></p>'
+                f'<div class="export"><p><b>{fmt}</b> — <code>{DEFAULT_FILENAMES[fmt]}</code>{marked}</p>'
                 f'<button class="copy" data-target="{ident}" type="button">copy</button>'
                 f'<pre><code id="{ident}">{_e(text)}</code></pre></div>'
             )

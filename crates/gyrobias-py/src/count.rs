@@ -161,6 +161,11 @@ pub(crate) fn n_terms(obj: &Bound<'_, PyAny>) -> PyResult<Vec<usize>> {
     sizes(obj, "n_terms")
 }
 
+/// Indices of curve points `used` (see [`sizes`]).
+pub(crate) fn used(obj: &Bound<'_, PyAny>) -> PyResult<Vec<usize>> {
+    sizes(obj, "used")
+}
+
 macro_rules! extractors {
     ($kind:ident -> $ty:ty: $($name:ident),+ $(,)?) => {
         $(
@@ -173,9 +178,9 @@ macro_rules! extractors {
 }
 
 extractors!(size -> usize:
-    axes, block, bootstrap, calibration, calibration_length, degree, horizon, iterations, min_blocks,
-    min_points, n, n_known, n_params, n_samples, n_threads, noverlap, nperseg, padlen,
-    per_decade, resamples, rows, step, window,
+    axes, block, bootstrap, calibration, calibration_length, degree, half_width, horizon,
+    iterations, max_lines, min_blocks, min_points, n, n_known, n_params, n_samples, n_threads,
+    noverlap, nperseg, padlen, per_decade, resamples, rows, step, window,
 );
 extractors!(unsigned -> u64: samples, seed);
-extractors!(optional_size -> Option<usize>: m, row_width);
+extractors!(optional_size -> Option<usize>: levels, m, row_width);

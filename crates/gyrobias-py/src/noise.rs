@@ -1,8 +1,8 @@
 //! Bindings of `gyrocore::noise`.
 
 use gyrocore::noise::{
-    self, Ar1, Curve, Diagnostics, FitOptions, GaussMarkovEstimate, GmwmOptions, NoiseSpec,
-    ReadOffOptions, TermEstimate,
+    self, Ar1, Curve, Diagnostics, FitOptions, GaussMarkovEstimate, GmwmOptions, LineEstimate,
+    NoiseSpec, ReadOffOptions, Term, TermEstimate, UpperBound, sinusoid, wavelet,
 };
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -53,9 +53,59 @@ fn terms_to_py<'py>(py: Python<'py>, terms: &[TermEstimate]) -> PyResult<Vec<Bou
             d.set_item("tau_range", t.tau_range)?;
             d.set_item("marker", t.marker)?;
             d.set_item("missing", t.missing.clone())?;
+            let bound = t
+                .upper_bound
+                .as_ref()
+                .map(|b| bound_dict(py, b))
+                .transpose()?;
+            d.set_item("upper_bound", bound)?;
             Ok(d)
         })
         .collect()
+}
+
+fn bound_dict<'py>(py: Python<'py>, b: &UpperBound) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("value", b.value)?;
+    d.set_item("confidence", b.confidence)?;
+    d.set_item("tau", b.tau)?;
+    d.set_item("tau_range", b.tau_range)?;
+    d.set_item("points", b.points)?;
+    d.set_item("reason", b.reason.clone())?;
+    Ok(d)
+}
+
+/// Upper bound of one term from the curve points `used` with their EDF
+/// (`gyrocore::noise::upper_bound`).
+#[pyfunction]
+#[pyo3(signature = (taus, variance, m, n_terms, overlapping, used, edf, term, confidence))]
+#[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
+fn upper_bound<'py>(
+    py: Python<'py>,
+    taus: PyReadonlyArray1<'py, f64>,
+    variance: PyReadonlyArray1<'py, f64>,
+    #[pyo3(from_py_with = count::factors)] m: Vec<usize>,
+    #[pyo3(from_py_with = count::n_terms)] n_terms: Vec<usize>,
+    overlapping: bool,
+    #[pyo3(from_py_with = count::used)] used: Vec<usize>,
+    edf: PyReadonlyArray1<'py, f64>,
+    term: &str,
+    confidence: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let term = core(Term::parse(term))?;
+    let taus = c_order(&taus);
+    let variance = c_order(&variance);
+    let edf = c_order(&edf);
+    let curve = Curve {
+        taus: &taus,
+        variance: &variance,
+        m: &m,
+        n_terms: &n_terms,
+        overlapping,
+        edf: None,
+    };
+    let b = core(noise::upper_bound(&curve, &used, &edf, term, confidence))?;
+    bound_dict(py, &b)
 }
 
 /// IEEE-952 read-off of the noise terms from an Allan-variance curve
@@ -215,6 +265,132 @@ fn gauss_markov_dicts<'py>(
         .collect()
 }
 
+fn line_dicts<'py>(py: Python<'py>, lines: &[LineEstimate]) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    lines
+        .iter()
+        .map(|l| {
+            let d = PyDict::new(py);
+            d.set_item("frequency", l.frequency)?;
+            d.set_item("frequency_uncertainty", l.frequency_uncertainty)?;
+            d.set_item("amplitude", l.amplitude)?;
+            d.set_item(
+                "amplitude_uncertainty",
+                l.amplitude.map(|_| l.amplitude_uncertainty),
+            )?;
+            d.set_item("tau_range", l.tau_range)?;
+            d.set_item("missing", l.missing.clone())?;
+            Ok(d)
+        })
+        .collect()
+}
+
+/// Spectral lines of a rate series (`gyrocore::noise::sinusoid::detect`): one dict per line.
+#[pyfunction]
+#[pyo3(signature = (data, t0, false_alarm, half_width, max_lines))]
+#[allow(clippy::needless_pass_by_value)]
+fn detect_lines<'py>(
+    py: Python<'py>,
+    data: PyReadonlyArray1<'py, f64>,
+    t0: f64,
+    false_alarm: f64,
+    #[pyo3(from_py_with = count::half_width)] half_width: usize,
+    #[pyo3(from_py_with = count::max_lines)] max_lines: usize,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let rate = c_order(&data);
+    let options = sinusoid::DetectOptions {
+        false_alarm,
+        half_width,
+        max_lines,
+    };
+    let lines = core(py.detach(|| sinusoid::detect(&rate, t0, &options)))?;
+    lines
+        .iter()
+        .map(|l| {
+            let d = PyDict::new(py);
+            d.set_item("frequency", l.frequency)?;
+            d.set_item("amplitude", l.amplitude)?;
+            d.set_item("ratio", l.ratio)?;
+            d.set_item("p_value", l.p_value)?;
+            d.set_item("resolution", l.resolution)?;
+            Ok(d)
+        })
+        .collect()
+}
+
+/// Allan variance of a sinusoid at `taus` (`gyrocore::noise::sinusoid::avar`, sampled at
+/// period `t0`, or the continuous IEEE form when `t0` is `None`).
+#[pyfunction]
+#[pyo3(signature = (amplitude, frequency, taus, t0=None))]
+#[allow(clippy::needless_pass_by_value)]
+fn sinusoid_avar<'py>(
+    py: Python<'py>,
+    amplitude: f64,
+    frequency: f64,
+    taus: PyReadonlyArray1<'py, f64>,
+    t0: Option<f64>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let taus = c_order(&taus);
+    let out = core(sinusoid::avar_curve(amplitude, frequency, t0, &taus))?;
+    Ok(out.into_pyarray(py))
+}
+
+/// `data + Σ Ω₀ sin(2π f k t0 + φ)` for sinusoids `(f, Ω₀, φ)` (`gyrocore::noise::sinusoid::add_lines`).
+#[pyfunction]
+#[allow(clippy::needless_pass_by_value)]
+fn add_lines<'py>(
+    py: Python<'py>,
+    data: PyReadonlyArray1<'py, f64>,
+    t0: f64,
+    lines: Vec<(f64, f64, f64)>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let mut rate = c_order(&data).into_owned();
+    core(py.detach(|| sinusoid::add_lines(&mut rate, t0, &lines)))?;
+    Ok(rate.into_pyarray(py))
+}
+
+/// Haar MODWT wavelet variance with intervals (`gyrocore::noise::wavelet::wvar`).
+#[pyfunction]
+#[pyo3(signature = (data, t0, efficiency, confidence, levels))]
+#[allow(clippy::needless_pass_by_value)]
+fn wvar<'py>(
+    py: Python<'py>,
+    data: PyReadonlyArray1<'py, f64>,
+    t0: f64,
+    efficiency: Option<f64>,
+    confidence: f64,
+    #[pyo3(from_py_with = count::levels)] levels: Option<usize>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let rate = c_order(&data);
+    let w = core(py.detach(|| wavelet::wvar(&rate, t0, efficiency, confidence, levels)))?;
+    let as_u64 = |v: &[usize]| v.iter().map(|&x| x as u64).collect::<Vec<u64>>();
+    let d = PyDict::new(py);
+    d.set_item("levels", as_u64(&w.levels).into_pyarray(py))?;
+    d.set_item("m", as_u64(&w.m).into_pyarray(py))?;
+    d.set_item("scales", w.scales.into_pyarray(py))?;
+    d.set_item("variance", w.variance.into_pyarray(py))?;
+    d.set_item("n_coefficients", as_u64(&w.n_coefficients).into_pyarray(py))?;
+    d.set_item("edf", w.edf.into_pyarray(py))?;
+    d.set_item("ci_low", w.ci_low.into_pyarray(py))?;
+    d.set_item("ci_high", w.ci_high.into_pyarray(py))?;
+    d.set_item("tuning", w.tuning)?;
+    Ok(d)
+}
+
+/// Asymptotic Gaussian efficiency of the biweight wavelet-variance estimator with tuning
+/// constant `c`, and the constant for a given efficiency (`gyrocore::noise::wavelet`).
+#[pyfunction]
+fn biweight_constant(efficiency: f64) -> PyResult<f64> {
+    core(wavelet::biweight_constant(efficiency))
+}
+
+/// Robust (biweight) variance of zero-mean coefficients with tuning constant `c`
+/// (`gyrocore::noise::wavelet::robust_variance`).
+#[pyfunction]
+#[allow(clippy::needless_pass_by_value)]
+fn robust_variance(coefficients: PyReadonlyArray1<'_, f64>, tuning: f64) -> f64 {
+    wavelet::robust_variance(&c_order(&coefficients), tuning)
+}
+
 fn diagnostics_dict<'py>(
     py: Python<'py>,
     diagnostics: &Diagnostics,
@@ -233,8 +409,8 @@ fn diagnostics_dict<'py>(
 /// Joint fit with Gauss–Markov terms, diagnostics and automatic τ-range selection
 /// (`gyrocore::noise::fit`).
 #[pyfunction]
-#[pyo3(signature = (taus, variance, m, n_terms, overlapping, edf, terms, tau_range, correlation_time, automatic_range))]
-#[allow(clippy::needless_pass_by_value)]
+#[pyo3(signature = (taus, variance, m, n_terms, overlapping, edf, terms, tau_range, correlation_time, automatic_range, lines=Vec::new()))]
+#[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
 fn fit<'py>(
     py: Python<'py>,
     taus: PyReadonlyArray1<'py, f64>,
@@ -247,6 +423,7 @@ fn fit<'py>(
     tau_range: Option<(f64, f64)>,
     correlation_time: Option<(f64, f64)>,
     automatic_range: bool,
+    lines: Vec<(f64, f64)>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
     let (enabled, gauss_markov) = core(noise::parse_model_terms(&symbols))?;
@@ -267,6 +444,7 @@ fn fit<'py>(
         tau_range,
         correlation_time,
         automatic_range,
+        lines,
     };
     let fit = core(py.detach(|| noise::fit(&curve, &options)))?;
     let d = PyDict::new(py);
@@ -277,6 +455,12 @@ fn fit<'py>(
     d.set_item("chi2", fit.chi2)?;
     d.set_item("dof", fit.dof)?;
     d.set_item("tau_range", fit.tau_range)?;
+    d.set_item("lines", line_dicts(py, &fit.lines)?)?;
+    d.set_item(
+        "used",
+        fit.used.iter().map(|&u| u as u64).collect::<Vec<_>>(),
+    )?;
+    d.set_item("edf", fit.edf.clone().into_pyarray(py))?;
     d.set_item("diagnostics", diagnostics_dict(py, &fit.diagnostics)?)?;
     Ok(d)
 }
@@ -350,8 +534,8 @@ fn gauss_markov_avar<'py>(
 
 /// GMWM estimate of the noise model of one rate series (`gyrocore::noise::gmwm`).
 #[pyfunction]
-#[pyo3(signature = (data, t0, terms, select, bootstrap, seed, min_blocks))]
-#[allow(clippy::needless_pass_by_value)]
+#[pyo3(signature = (data, t0, terms, select, bootstrap, seed, min_blocks, automatic_range=false, lines=Vec::new()))]
+#[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
 fn gmwm<'py>(
     py: Python<'py>,
     data: PyReadonlyArray1<'py, f64>,
@@ -361,6 +545,8 @@ fn gmwm<'py>(
     #[pyo3(from_py_with = count::bootstrap)] bootstrap: usize,
     #[pyo3(from_py_with = count::seed)] seed: u64,
     #[pyo3(from_py_with = count::min_blocks)] min_blocks: usize,
+    automatic_range: bool,
+    lines: Vec<(f64, f64)>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
     let (enabled, gauss_markov) = core(noise::parse_model_terms(&symbols))?;
@@ -371,6 +557,8 @@ fn gmwm<'py>(
         bootstrap,
         seed,
         min_blocks,
+        automatic_range,
+        lines,
     };
     let rate = c_order(&data);
     let g = core(py.detach(|| noise::gmwm(&rate, t0, &options)))?;
@@ -383,6 +571,7 @@ fn gmwm<'py>(
     d.set_item("chi2", fit.chi2)?;
     d.set_item("dof", fit.dof)?;
     d.set_item("tau_range", fit.tau_range)?;
+    d.set_item("lines", line_dicts(py, &fit.lines)?)?;
     d.set_item("diagnostics", diagnostics_dict(py, &fit.diagnostics)?)?;
     let w = PyDict::new(py);
     w.set_item(
@@ -422,9 +611,16 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(model, m)?)?;
     m.add_function(wrap_pyfunction!(overbound, m)?)?;
     m.add_function(wrap_pyfunction!(conservative, m)?)?;
+    m.add_function(wrap_pyfunction!(upper_bound, m)?)?;
     m.add_function(wrap_pyfunction!(fit, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose, m)?)?;
     m.add_function(wrap_pyfunction!(gauss_markov_variance, m)?)?;
     m.add_function(wrap_pyfunction!(gauss_markov_avar, m)?)?;
+    m.add_function(wrap_pyfunction!(detect_lines, m)?)?;
+    m.add_function(wrap_pyfunction!(sinusoid_avar, m)?)?;
+    m.add_function(wrap_pyfunction!(add_lines, m)?)?;
+    m.add_function(wrap_pyfunction!(wvar, m)?)?;
+    m.add_function(wrap_pyfunction!(biweight_constant, m)?)?;
+    m.add_function(wrap_pyfunction!(robust_variance, m)?)?;
     m.add_function(wrap_pyfunction!(gmwm, m)?)
 }

@@ -7,8 +7,11 @@ from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "FLICKER_FACTOR",
+    "add_lines",
+    "biweight_constant",
     "conservative",
     "datasheet_coefficient",
+    "detect_lines",
     "diagnose",
     "discrete_gauss_markov",
     "discrete_random_walk",
@@ -21,7 +24,11 @@ __all__ = [
     "model",
     "overbound",
     "read_off",
+    "robust_variance",
     "simulate",
+    "sinusoid_avar",
+    "upper_bound",
+    "wvar",
 ]
 
 #: ``gyrocore::noise::FLICKER_FACTOR``: the Allan-deviation plateau ``√(2 ln 2 / π)`` of flicker
@@ -38,6 +45,18 @@ class TermEstimate(TypedDict):
     tau_range: tuple[float, float] | None
     marker: tuple[float, float] | None
     missing: str | None
+    upper_bound: UpperBound | None
+
+@type_check_only
+class UpperBound(TypedDict):
+    """Largest value of a term the data do not show (``gyrocore::noise::bound``)."""
+
+    value: float
+    confidence: float
+    tau: float
+    tau_range: tuple[float, float]
+    points: int
+    reason: str
 
 @type_check_only
 class ReadOff(TypedDict):
@@ -70,6 +89,17 @@ class Diagnostics(TypedDict):
     warnings: list[str]
 
 @type_check_only
+class LineEstimate(TypedDict):
+    """One fitted sinusoidal term (frequency in Hz, amplitude in the rate unit)."""
+
+    frequency: float
+    frequency_uncertainty: float
+    amplitude: float | None
+    amplitude_uncertainty: float | None
+    tau_range: tuple[float, float] | None
+    missing: str | None
+
+@type_check_only
 class JointFit(TypedDict):
     """Weighted joint fit of the noise model to an Allan curve."""
 
@@ -80,7 +110,10 @@ class JointFit(TypedDict):
     chi2: float
     dof: int
     tau_range: tuple[float, float]
+    lines: list[LineEstimate]
     diagnostics: Diagnostics
+    used: list[int]
+    edf: NDArray[np.float64]
 
 @type_check_only
 class WaveletVariance(TypedDict):
@@ -92,8 +125,19 @@ class WaveletVariance(TypedDict):
     n_coefficients: NDArray[np.uint64]
 
 @type_check_only
-class Gmwm(JointFit):
-    """GMWM fit: the joint-fit fields plus the wavelet moments and the model selection."""
+class Gmwm(TypedDict):
+    """GMWM fit: the joint-fit fields (without ``used``/``edf``) plus the wavelet moments and
+    the model selection."""
+
+    terms: list[TermEstimate]
+    squared: list[float]
+    gauss_markov: list[GaussMarkovTerm]
+    gauss_markov_squared: list[tuple[float, float]]
+    chi2: float
+    dof: int
+    tau_range: tuple[float, float]
+    lines: list[LineEstimate]
+    diagnostics: Diagnostics
 
     wavelet: WaveletVariance
     selected: list[str]
@@ -169,6 +213,17 @@ def conservative(
     tau_range: tuple[float, float] | None,
     confidence: float,
 ) -> Conservative: ...
+def upper_bound(
+    taus: NDArray[np.float64],
+    variance: NDArray[np.float64],
+    m: ArrayLike,
+    n_terms: ArrayLike,
+    overlapping: bool,
+    used: ArrayLike,
+    edf: NDArray[np.float64],
+    term: str,
+    confidence: float,
+) -> UpperBound: ...
 def fit(
     taus: NDArray[np.float64],
     variance: NDArray[np.float64],
@@ -180,6 +235,7 @@ def fit(
     tau_range: tuple[float, float] | None,
     correlation_time: tuple[float, float] | None,
     automatic_range: bool,
+    lines: list[tuple[float, float]] = ...,
 ) -> JointFit: ...
 def diagnose(
     taus: NDArray[np.float64],
@@ -206,7 +262,53 @@ def gmwm(
     bootstrap: int,
     seed: int,
     min_blocks: int,
+    automatic_range: bool = ...,
+    lines: list[tuple[float, float]] = ...,
 ) -> Gmwm: ...
+
+@type_check_only
+class SpectralLine(TypedDict):
+    """One detected spectral line (frequency Hz, amplitude, peak/floor, adjusted p-value)."""
+
+    frequency: float
+    amplitude: float
+    ratio: float
+    p_value: float
+    resolution: float
+
+def detect_lines(
+    data: NDArray[np.float64], t0: float, false_alarm: float, half_width: int, max_lines: int
+) -> list[SpectralLine]: ...
+def sinusoid_avar(
+    amplitude: float, frequency: float, taus: NDArray[np.float64], t0: float | None = None
+) -> NDArray[np.float64]: ...
+def add_lines(
+    data: NDArray[np.float64], t0: float, lines: list[tuple[float, float, float]]
+) -> NDArray[np.float64]: ...
+
+@type_check_only
+class Wvar(TypedDict):
+    """Haar MODWT wavelet variance with chi-square intervals."""
+
+    levels: NDArray[np.uint64]
+    m: NDArray[np.uint64]
+    scales: NDArray[np.float64]
+    variance: NDArray[np.float64]
+    n_coefficients: NDArray[np.uint64]
+    edf: NDArray[np.float64]
+    ci_low: NDArray[np.float64]
+    ci_high: NDArray[np.float64]
+    tuning: float
+
+def wvar(
+    data: NDArray[np.float64],
+    t0: float,
+    efficiency: float | None,
+    confidence: float,
+    levels: int | None,
+) -> Wvar: ...
+def biweight_constant(efficiency: float) -> float: ...
+def robust_variance(coefficients: NDArray[np.float64], tuning: float) -> float: ...
 def discrete_rate(rate: float) -> float: ...
 def discrete_white(
     n: float, uncertainty: float | None, rate: float

@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _generics
+from gyrobias._spectral_lines import SpectralLine
 
 __all__ = ["KINDS", "NOISE_NAMES", "AllanResult", "DynamicAllanResult", "Kind"]
 
@@ -114,6 +115,11 @@ class AllanResult:
         Confidence level of ``ci_low``/``ci_high``.
     axis : str or None
         Axis name (column name), if known.
+    lines : tuple of SpectralLine or None
+        Spectral lines (periodic disturbances) found in the rate data at false-alarm level 0.01
+        (:func:`gyrobias.noise.detect_lines`); :func:`gyrobias.noise.fit` models them with the
+        sinusoidal term "S" by default. ``None`` when the data were not searched (angle input,
+        other deviations, files read in pieces, fewer than 1024 samples).
     """
 
     taus: NDArray[np.float64]
@@ -133,6 +139,7 @@ class AllanResult:
     noise_type: tuple[str, ...] = field(default=())
     factors: NDArray[np.int64] | None = None
     deviation: NDArray[np.float64] | None = None
+    lines: tuple[SpectralLine, ...] | None = field(default=None, repr=False, compare=False)
 
     @classmethod
     def _from_core(

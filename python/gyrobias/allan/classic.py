@@ -34,11 +34,15 @@ References
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from typing import Any
 
-from numpy.typing import ArrayLike
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
+from gyrobias._line_detection import detect_lines
+from gyrobias._spectral_lines import MIN_SAMPLES, SpectralLine
 from gyrobias._validation import as_float_array, asarray, callback, choice, string
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.allan import stream as _stream
@@ -141,9 +145,24 @@ def _analyse(
         )
         for i, r in enumerate(raw)
     )
+    if kind == "adev" and data_type == "rate" and readers is None and gaps == "error":
+        # Periodic disturbances bias the Allan fit; noise.fit models the lines found here.
+        results = tuple(
+            replace(r, lines=_lines(matrix[:, i], fs, units)) for i, r in enumerate(results)
+        )
     if arr.ndim == 1:
         return results[0]
     return results
+
+
+def _lines(
+    column: NDArray[np.float64], fs: float, units: str | None
+) -> tuple[SpectralLine, ...] | None:
+    """Spectral lines of one rate column (``None`` below the detector's minimum length)."""
+    if column.shape[0] < MIN_SAMPLES:
+        return None
+    found = detect_lines(np.ascontiguousarray(column, dtype=np.float64), fs, units=units)
+    return found  # type: ignore[return-value]
 
 
 def adev_batch(

@@ -3,12 +3,12 @@
 Example::
 
     gyrobias allan LOG.csv --columns gx,gy,gz --units deg/s --json out.json --plot out.png
-    gyrobias allan imu.bag --fit --kalibr imu.yaml
+    gyrobias allan imu.bag --fit --export kalibr=imu.yaml
 
 The sample rate comes from ``--fs`` or from the log's timestamps (a time column, or a bag's
 ``header.stamp``); irregular sampling found in the timestamps is reported as warnings on
 stderr and in the JSON. Channels with different units (a 6-axis IMU: gyro in rad/s,
-accelerometer in m/s²) are analysed per unit and labelled with it; ``--kalibr`` then writes
+accelerometer in m/s²) are analysed per unit and labelled with it; ``--export kalibr=PATH`` then writes
 both sensors' terms to one file.
 """
 
@@ -60,7 +60,7 @@ def register(subparsers: Any) -> None:
             "intervals and the identified noise type, and optionally write JSON and a log-log plot."
         ),
         epilog="examples: gyrobias allan log.csv --columns gx,gy,gz --units deg/s --plot adev.png\n"
-        "          gyrobias allan imu.bag --fit --kalibr imu.yaml",
+        "          gyrobias allan imu.bag --fit --export kalibr=imu.yaml",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument(

@@ -1,10 +1,11 @@
 """Command-line pieces of the noise-coefficient identification.
 
-``add_fit_arguments(parser)`` adds ``--fit``, ``--fit-method``, ``--kalibr PATH`` and
-``--export FMT=PATH`` (estimator parameter files, :mod:`gyrobias.exports`) to the
-``gyrobias allan`` parser; ``run_fit(args, results)`` fits each Allan result, prints the
-coefficients with uncertainties and units, writes the Kalibr file, and leaves the coefficients
-in ``args.noise_coefficients`` for the plot. ``demo_section(...)`` is the demo's part.
+``add_fit_arguments(parser)`` adds ``--fit``, ``--fit-method``, ``--export FMT=PATH``
+(estimator parameter files, :mod:`gyrobias.exports`), ``--strict`` and the deprecated alias
+``--kalibr PATH`` (= ``--export kalibr=PATH``, the same writer) to the ``gyrobias allan``
+parser; ``run_fit(args, results)`` fits each Allan result, prints the coefficients with
+uncertainties and units, writes the export files, and leaves the coefficients in
+``args.noise_coefficients`` for the plot. ``demo_section(...)`` is the demo's part.
 """
 
 from __future__ import annotations
@@ -19,14 +20,15 @@ import numpy as np
 
 from gyrobias import noise
 from gyrobias.cli import _types
-from gyrobias.noise import NoiseCoefficients, fit, write_kalibr
+from gyrobias.noise import NoiseCoefficients, fit
 from gyrobias.units import conversion_factor
 
 __all__ = ["add_fit_arguments", "demo_section", "run_fit"]
 
 
 def add_fit_arguments(parser: argparse.ArgumentParser) -> None:
-    """Add ``--fit``, ``--fit-method`` and ``--kalibr`` to ``parser``."""
+    """Add ``--fit``, ``--fit-method``, ``--fit-terms``, ``--export``, ``--export-rate``,
+    ``--strict`` and the deprecated ``--kalibr`` to ``parser``."""
     group = parser.add_argument_group("noise coefficients (IEEE 952)")
     group.add_argument(
         "--fit",
@@ -51,7 +53,7 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> None:
         type=_types.path,
         metavar="PATH",
         default=None,
-        help="write a Kalibr imu.yaml (continuous-time densities, SI units; implies --fit)",
+        help="deprecated alias of --export kalibr=PATH (the same writer)",
     )
     group.add_argument(
         "--export",
@@ -69,6 +71,12 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         help="IMU rate written into the exports (default: the log's sample rate)",
     )
+    group.add_argument(
+        "--strict",
+        action="store_true",
+        help="refuse to export a required term the log only bounds from above (default: write "
+        "the 95 %% upper bound, marked UPPER BOUND in a comment)",
+    )
 
 
 def _display(c: NoiseCoefficients) -> NoiseCoefficients:
@@ -76,17 +84,21 @@ def _display(c: NoiseCoefficients) -> NoiseCoefficients:
 
 
 def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
-    """Fit every Allan result, print the table, write ``--kalibr``.
+    """Fit every Allan result, print the table, write the ``--export`` files.
 
     The coefficients are stored in ``args.noise_coefficients`` (a list, same order as
-    ``results``) for the caller's plot. Does nothing unless ``--fit`` or ``--kalibr`` was given.
-    Exits with a message when the fit or the Kalibr export is impossible.
+    ``results``) for the caller's plot. Does nothing unless ``--fit``, ``--export`` or
+    ``--kalibr`` was given. ``--kalibr PATH`` is a deprecated alias of ``--export
+    kalibr=PATH``: it goes through the same writer (:func:`gyrobias.exports.export`). Exits with
+    a message when the fit or an export is impossible.
     """
     want_fit = bool(getattr(args, "fit", False))
     kalibr = getattr(args, "kalibr", None)
     export_specs = _parse_exports(getattr(args, "export", None))
+    if kalibr is not None:
+        export_specs.append(("kalibr", Path(kalibr)))
     args.noise_coefficients = []
-    if not want_fit and kalibr is None and not export_specs:
+    if not want_fit and not export_specs:
         return
     method = getattr(args, "fit_method", "joint")
     terms = [
@@ -111,26 +123,23 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
                 file=sys.stderr,
             )
     args.noise_coefficients = coefficients
-    if kalibr is not None:
-        gyro = [c for c in coefficients if c.sensor == "gyro"]
-        accel = [c for c in coefficients if c.sensor == "accel"]
-        if not gyro and not accel:
-            raise ValueError(
-                "--kalibr needs the data unit (e.g. --units deg/s or rad/s, m/s^2) to "
-                "write SI values"
-            )
-        try:
-            write_kalibr(
-                kalibr, gyro=gyro, accel=accel, rostopic=getattr(args, "rostopic", None) or "/imu0"
-            )
-        except (ValueError, OSError) as exc:
-            raise ValueError(f"--kalibr: cannot write {kalibr}: {exc}") from None
-        print(
-            f"wrote {kalibr} (Kalibr imu.yaml, continuous-time densities in SI units)",
-            file=sys.stderr,
+    if kalibr is not None and not any(c.sensor for c in coefficients):
+        raise ValueError(
+            "--kalibr needs the data unit (e.g. --units deg/s or rad/s, m/s^2) to write SI values"
         )
     if export_specs:
-        _write_exports(export_specs, coefficients, getattr(args, "export_rate", None))
+        _write_exports(
+            export_specs,
+            coefficients,
+            getattr(args, "export_rate", None),
+            rostopic=getattr(args, "rostopic", None) or "/imu0",
+            strict=bool(getattr(args, "strict", False)),
+        )
+    if kalibr is not None:  # after the files: an error stays the only stderr line
+        print(
+            "gyrobias: warning: --kalibr is deprecated; use --export kalibr=PATH (same file)",
+            file=sys.stderr,
+        )
 
 
 def _parse_exports(specs: Sequence[tuple[str, str]] | None) -> list[tuple[str, Path]]:
@@ -139,7 +148,12 @@ def _parse_exports(specs: Sequence[tuple[str, str]] | None) -> list[tuple[str, P
 
 
 def _write_exports(
-    specs: list[tuple[str, Path]], coefficients: Sequence[NoiseCoefficients], rate: float | None
+    specs: list[tuple[str, Path]],
+    coefficients: Sequence[NoiseCoefficients],
+    rate: float | None,
+    *,
+    rostopic: str = "/imu0",
+    strict: bool = False,
 ) -> None:
     from gyrobias.exports import DEFAULT_FILENAMES, export, export_all
 
@@ -152,15 +166,45 @@ def _write_exports(
     for fmt, path in specs:
         try:
             if fmt == "all":
-                export_all(gyro or None, path, accel=accel or None, rate=rate)
+                export_all(
+                    gyro or None,
+                    path,
+                    accel=accel or None,
+                    rate=rate,
+                    rostopic=rostopic,
+                    strict=strict,
+                )
                 print(
                     f"wrote {', '.join(str(path / n) for n in DEFAULT_FILENAMES.values())}",
                     file=sys.stderr,
                 )
             else:
-                export(gyro or None, fmt, path, accel=accel or None, rate=rate)
+                export(
+                    gyro or None,
+                    fmt,
+                    path,
+                    accel=accel or None,
+                    rate=rate,
+                    rostopic=rostopic,
+                    strict=strict,
+                )
                 print(f"wrote {path} ({fmt})", file=sys.stderr)
-        except (ValueError, OSError) as exc:
+            bounded = sorted(
+                {
+                    f"{c.sensor} {t.symbol} (axis {c.axis or '?'})"
+                    for c in coefficients
+                    for t in (c.N, c.K)
+                    if t.bounded
+                }
+            )
+            if bounded:
+                print(
+                    f"gyrobias: note: --export {fmt}: upper bounds written for terms the log does "
+                    f"not show ({', '.join(bounded)}), marked UPPER BOUND in the file; --strict "
+                    "refuses them",
+                    file=sys.stderr,
+                )
+        except (ValueError, OSError) as exc:  # one line "gyrobias: error: ...", exit 2
             raise ValueError(f"--export {fmt}: cannot write {path}: {exc}") from None
 
 

@@ -59,6 +59,7 @@ from gyrobias.datasheet import Datasheet
 from gyrobias.exports._types import DiscreteNoise, DiscreteValue
 from gyrobias.exports.discretisation import discrete
 from gyrobias.exports.formats import DEFAULT_FILENAMES, FORMATS, export, export_all
+from gyrobias.exports.kalibr import write_kalibr
 from gyrobias.noise._types import NoiseCoefficients
 
 __all__ = [
@@ -67,6 +68,7 @@ __all__ = [
     "FORMATS",
     "export",
     "export_all",
+    "write_kalibr",
     # discrete-time parameters
     "DiscreteNoise",
     "DiscreteValue",

@@ -4,6 +4,7 @@ and JSON renderers, :func:`export` and :func:`export_all` (the conventions are t
 
 from __future__ import annotations
 
+import contextvars
 import json
 import math
 import os
@@ -79,26 +80,82 @@ def _split(gyro: Any, accel: Any) -> tuple[list[NoiseCoefficients], list[NoiseCo
     return g, a
 
 
+class _Bounded(float):
+    """A value written from an upper bound (a term the log does not show): the float, plus
+    the note that marks it in the file."""
+
+    note: str
+
+    def __new__(cls, value: float, note: str) -> _Bounded:
+        out = super().__new__(cls, value)
+        out.note = note
+        return out
+
+
+#: ``strict=`` of the :func:`export` call being rendered (read by :func:`_value`).
+_STRICT: contextvars.ContextVar[bool] = contextvars.ContextVar("_STRICT", default=False)
+
+
+def _one_line(text: str) -> str:
+    """``text`` on one line (a comment in the file must not end early)."""
+    return " ".join(str(text).split())
+
+
 def _value(group: list[NoiseCoefficients], symbol: str, kind: str, fmt: str | None) -> float | None:
-    """Largest value over the axes in SI units; ``None`` when absent and ``fmt`` is None."""
+    """Largest value over the axes in SI units; ``None`` when absent and ``fmt`` is None.
+
+    An axis whose term was not identified but is bounded by the data
+    (:attr:`gyrobias.noise.Term.upper_bound`) contributes its bound; the result is then a
+    :class:`_Bounded` whose note marks it in the file — unless ``strict=True`` was given to
+    :func:`export`, which refuses bounds for the terms a format requires.
+    """
+    label = "gyro" if kind == "gyro" else "accel"
+    unit = _SI[kind][symbol]
     values = []
     reasons = []
+    bounded = []
     for c in group:
         t = c[symbol]
-        if t.value is None:
-            reasons.append(f"axis {c.axis or '?'}: {t.missing or 'missing'}")
+        if t.value is not None:
+            values.append(float(t.to(unit).value or 0.0))
+        elif t.upper_bound is not None:
+            b = t.to(unit)
+            values.append(float(b.upper_bound or 0.0))
+            level = "?" if t.bound_confidence is None else f"{100.0 * t.bound_confidence:.4g} %"
+            bounded.append((c.axis or "?", level, float(b.upper_bound or 0.0)))
         else:
-            values.append(float(t.to(_SI[kind][symbol]).value or 0.0))
+            reasons.append(f"axis {c.axis or '?'}: {t.missing or 'missing'}")
     if reasons:
         if fmt is None:
             return None
-        label = "gyro" if kind == "gyro" else "accel"
         raise ValueError(
             f"{label} {symbol} ({_NAMES[symbol]}): required by the {fmt} format but not available "
             f"({'; '.join(reasons)}); identify it from a longer log (terms=/tau_range=) or give it "
             f"with gyrobias.noise.from_datasheet"
         )
-    return max(values) if values else None
+    if not values:
+        return None
+    best = max(values)
+    if not bounded:
+        return best
+    ascii_unit = unit.replace("²", "^2").replace("³", "^3").replace("√Hz", "sqrt(Hz)")
+    detail = "; ".join(
+        f"axis {_one_line(a)}: <= {v:.3e} {ascii_unit} at {lvl}" for a, lvl, v in bounded
+    )
+    if _STRICT.get():
+        need = f"required by the {fmt} format but " if fmt is not None else ""
+        raise ValueError(
+            f"{label} {symbol} ({_NAMES[symbol]}): {need}only bounded from above by the data "
+            f"({detail}; the log does not show the term); strict=True refuses upper bounds: "
+            "identify it from a longer log or give it with gyrobias.noise.from_datasheet"
+        )
+    if max(v for _, _, v in bounded) < best:
+        return best  # an identified axis is larger than every bound: the value is an estimate
+    note = _one_line(
+        f"UPPER BOUND, not an estimate: {label} {symbol} not identified ({detail}; one-sided "
+        "confidence, the log does not show the term)"
+    )
+    return _Bounded(best, note)
 
 
 def _rate(
@@ -128,6 +185,8 @@ def _fmt(v: float) -> str:
 def _yaml_pair(key: str, value: float | None, comment: str, missing: str, indent: str = "") -> str:
     if value is None:
         return f"{indent}# {key}: {missing}"
+    if isinstance(value, _Bounded):
+        comment = f"{comment}; {value.note}"
     return f"{indent}{key}: {_fmt(value)}  # {comment}"
 
 
@@ -151,10 +210,16 @@ def _header(
 ) -> list[str]:
     # one comment line whatever a hand-made NoiseCoefficients' method holds
     sources = sorted({" ".join(str(c.method).split()) for c in g + a})
-    return [
-        f"{comment} {fmt} IMU noise parameters written by gyrobias (from: {', '.join(sources)} coefficients)",
+    lines = [
+        f"{comment} {fmt} IMU noise model written by gyrobias (from: {', '.join(sources)} coefficients)",
         f"{comment} N, K: IEEE-952 coefficients (two-sided densities); see the convention table of the gyrobias docs (Estimator parameters).",
     ]
+    if any(c[s].bounded for c in g + a for s in ("N", "K")):
+        lines.append(
+            f"{comment} Values marked UPPER BOUND are terms the log does not show: the largest value "
+            "consistent with it (one-sided confidence), written in place of an estimate."
+        )
+    return lines
 
 
 def _kalibr_like(
@@ -208,7 +273,7 @@ def _render_kalibr(
 ) -> str:
     f = _rate(rate, g + a, "kalibr", True)
     assert f is not None
-    lines = _header("Kalibr imu.yaml", g, a)
+    lines = _header("Kalibr", g, a)
     lines.append(
         "# Kalibr discretises with update_rate: sigma_d = sigma*sqrt(rate), sigma_bd = sigma_b/sqrt(rate)."
     )
@@ -260,10 +325,16 @@ def _render_vins(
     v = _densities(g, a, "vins")
 
     def white(x: float | None) -> float | None:  # N·√rate: the core's discretisation
-        return None if x is None else _core.noise.discrete_white(x, None, f)[0]
+        if x is None:
+            return None
+        v = float(_core.noise.discrete_white(float(x), None, f)[0])
+        return _Bounded(v, x.note) if isinstance(x, _Bounded) else v  # keeps the bound's mark
 
     def walk(x: float | None) -> float | None:  # K/√rate
-        return None if x is None else _core.noise.discrete_random_walk(x, None, f)[0]
+        if x is None:
+            return None
+        v = float(_core.noise.discrete_random_walk(float(x), None, f)[0])
+        return _Bounded(v, x.note) if isinstance(x, _Bounded) else v
 
     lines = ["%YAML:1.0", *_header("VINS-Mono/VINS-Fusion", g, a)]
     lines.append(f"# Discrete-time values at the IMU rate {f:.6g} Hz (VINS-Mono issue #280):")
@@ -353,15 +424,25 @@ def _render_matlab(
         if not group:
             lines.append(f"% {ctor}: no {kind} coefficients given (ideal {kind})")
             continue
-        props = [f"'NoiseDensity', {_fmt(_value(group, 'N', kind, 'matlab') or 0.0)}"]
+        density = _value(group, "N", kind, "matlab") or 0.0
+        props = [f"'NoiseDensity', {_fmt(density)}"]
+        if isinstance(density, _Bounded):
+            lines.append(f"% {kind} NoiseDensity: {density.note}")
+        gm = _gauss_markov(group)
+        # With a Gauss–Markov bias and no identified B, the GM term is imuSensor's bias
+        # instability (below), not B's upper bound.
+        b_identified = all(c.B.value is not None for c in group)
         for symbol, prop in (("B", "BiasInstability"), ("K", "RandomWalk")):
             value = _value(group, symbol, kind, None)
+            if symbol == "B" and gm and f is not None and not b_identified:
+                continue
             if value is None:
                 lines.append(f"% {kind} {prop}: not identified, left at 0")
             else:
                 props.append(f"'{prop}', {_fmt(value)}")
-        gm = _gauss_markov(group)
-        if gm and f is not None and _value(group, "B", kind, None) is None:
+                if isinstance(value, _Bounded):
+                    lines.append(f"% {kind} {prop}: {value.note}")
+        if gm and f is not None and not b_identified:
             # First-order Gauss–Markov bias as imuSensor's bias-instability filter.
             t = gm[0]
             sigma = float(t.sigma.to(_SI[kind]["B"]).value)
@@ -420,7 +501,14 @@ def _render_json(
         si = {}
         for symbol in ("N", "B", "K"):
             value = _value(group, symbol, kind, None)
-            si[symbol] = {"value": value, "unit": _SI[kind][symbol]}
+            entry: dict[str, Any] = {
+                "value": None if value is None else float(value),
+                "unit": _SI[kind][symbol],
+                "upper_bound": isinstance(value, _Bounded),
+            }
+            if isinstance(value, _Bounded):
+                entry["note"] = value.note
+            si[symbol] = entry
         doc["estimator_values"][kind] = si
         if f is not None:
             doc.setdefault("discrete", {})[kind] = [
@@ -460,6 +548,7 @@ def export(
     accel: NoiseCoefficients | Sequence[NoiseCoefficients] | None = None,
     rate: float | None = None,
     rostopic: str = "/imu0",
+    strict: bool = False,
 ) -> str:
     """Render (and optionally write) an estimator parameter file.
 
@@ -480,6 +569,12 @@ def export(
         vins and orbslam3 when the coefficients have none (datasheet values).
     rostopic : str
         Topic written by kalibr and openvins.
+    strict : bool
+        Refuse (ValueError) to write any term (N, K; B for matlab and json) that the data only
+        bound from above.
+        Default: write the bound (:attr:`gyrobias.noise.Term.upper_bound`) in its place, marked
+        ``UPPER BOUND, not an estimate`` in a comment on its line (MATLAB: a ``%`` line; JSON:
+        ``"upper_bound": true`` and a ``"note"``) and in the file's header.
 
     Returns
     -------
@@ -489,9 +584,16 @@ def export(
     Raises
     ------
     ValueError
-        Unknown format, missing rate, coefficients without units or of the wrong sensor, or a
-        term the format needs (N, K; N for matlab) that was not identified — the message names
-        the sensor and the term.
+        Unknown format, missing rate, coefficients without units or of the wrong sensor, a
+        term the format needs (N, K; N for matlab) that was neither identified nor bounded, or
+        (``strict=True``) only bounded — the message names the sensor and the term.
+
+    Notes
+    -----
+    Several axes: each value is the largest over the axes, an axis' upper bound included (the
+    value is marked as a bound when a bound is the largest). A term the log does not show is
+    written as its upper bound rather than zero or a refusal: the filter then assumes at most
+    as much noise as the data allow, which over- rather than under-states it.
 
     Examples
     --------
@@ -504,8 +606,14 @@ def export(
     """
     fmt = choice("fmt", fmt, FORMATS)
     ros_topic("rostopic", rostopic)  # written verbatim into YAML: a ROS name, nothing else
+    if not isinstance(strict, bool):
+        raise TypeError(f"strict must be a bool, got {type(strict).__name__}")
     g, a = _split(gyro, accel)
-    text = _RENDER[fmt](g, a, rate, rostopic)
+    token = _STRICT.set(strict)
+    try:
+        text = _RENDER[fmt](g, a, rate, rostopic)
+    finally:
+        _STRICT.reset(token)
     if path is not None:
         atomic_write(path, text)
     return text
@@ -518,13 +626,17 @@ def export_all(
     accel: NoiseCoefficients | Sequence[NoiseCoefficients] | None = None,
     rate: float | None = None,
     rostopic: str = "/imu0",
+    strict: bool = False,
 ) -> dict[str, str]:
     """Every format at once: ``{fmt: text}``; files named by :data:`DEFAULT_FILENAMES`.
 
     All formats are rendered before any file is written, so an error (e.g. a missing random
-    walk) leaves ``directory`` unchanged.
+    walk, or a bounded one with ``strict=True``) leaves ``directory`` unchanged.
     """
-    texts = {fmt: export(gyro, fmt, accel=accel, rate=rate, rostopic=rostopic) for fmt in FORMATS}
+    texts = {
+        fmt: export(gyro, fmt, accel=accel, rate=rate, rostopic=rostopic, strict=strict)
+        for fmt in FORMATS
+    }
     if directory is not None:
         out = Path(os.fspath(directory))
         out.mkdir(parents=True, exist_ok=True)

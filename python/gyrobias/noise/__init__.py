@@ -20,10 +20,14 @@ The package, by task:
 - **Simulation** (:mod:`gyrobias.noise.simulation`): :func:`simulate`.
 - **Identification** (:mod:`gyrobias.noise.fitting`, :mod:`gyrobias.noise.wavelet`): :func:`fit`
   (joint weighted fit or IEEE read-off on an Allan curve), :func:`gmwm` (wavelet moments on the
-  raw data), :func:`gauss_markov_avar`.
+  raw data), :func:`gauss_markov_avar`, :func:`sinusoid_avar`.
+- **Periodic disturbances and the wavelet variance**: :func:`detect_lines` (spectral lines with a
+  false-alarm level, :class:`SpectralLine`; fitted as :class:`SinusoidTerm`), :func:`wvar`
+  (Haar wavelet variance, classical and robust, :class:`WaveletVariance`).
 - **Datasheet values in** (:mod:`gyrobias.datasheet`): :func:`from_datasheet`, :class:`Datasheet`.
-- **Files out** (:mod:`gyrobias.noise.kalibr`): :func:`write_kalibr`; every other estimator
-  format is in :mod:`gyrobias.exports`.
+- **Files out**: every estimator format, Kalibr's included, is written by
+  :func:`gyrobias.exports.export`; ``write_kalibr`` (here and in :mod:`gyrobias.exports`) is
+  its keyword form for Kalibr, the same code.
 
 References
 ----------
@@ -32,6 +36,11 @@ References
 .. [NR] Xue et al., "Noise reduction of MEMS gyroscope based on direct modeling for an angular
    rate signal", Micromachines 6 (2015) 266, Table 1.
 """
+
+from typing import Any
+
+from gyrobias._line_detection import detect_lines
+from gyrobias._spectral_lines import SpectralLine
 
 # Datasheet values in (issue 13): gyrobias.datasheet builds NoiseCoefficients from
 # gyrobias.noise._types, so importing it here closes no cycle.
@@ -42,13 +51,14 @@ from gyrobias.noise._types import (
     FitDiagnostics,
     GaussMarkovTerm,
     NoiseCoefficients,
+    SinusoidTerm,
     Term,
+    WaveletVariance,
 )
 from gyrobias.noise._types import REJECT_P as REJECT_P
-from gyrobias.noise.fitting import fit, gauss_markov_avar
-from gyrobias.noise.kalibr import write_kalibr
+from gyrobias.noise.fitting import fit, gauss_markov_avar, sinusoid_avar
 from gyrobias.noise.simulation import simulate
-from gyrobias.noise.wavelet import gmwm
+from gyrobias.noise.wavelet import gmwm, wvar
 
 __all__ = [
     # coefficients
@@ -57,16 +67,35 @@ __all__ = [
     "FitDiagnostics",
     "GaussMarkovTerm",
     "NoiseCoefficients",
+    "SinusoidTerm",
+    "SpectralLine",
     "Term",
+    "WaveletVariance",
     # simulation
     "simulate",
     # identification
     "fit",
     "gauss_markov_avar",
     "gmwm",
+    "sinusoid_avar",
+    # periodic disturbances and the wavelet variance
+    "detect_lines",
+    "wvar",
     # datasheet values in
     "Datasheet",
     "from_datasheet",
-    # files out
+    # files out (gyrobias.exports.write_kalibr, resolved by __getattr__ below)
     "write_kalibr",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    """``write_kalibr``: the one Kalibr writer, :func:`gyrobias.exports.write_kalibr` (the
+    keyword form of ``gyrobias.exports.export(..., "kalibr")``), looked up on first use — the
+    exports package builds on these coefficient types, so ``gyrobias.noise`` cannot import it
+    while it loads."""
+    if name == "write_kalibr":
+        from gyrobias.exports.kalibr import write_kalibr
+
+        return write_kalibr
+    raise AttributeError(f"module 'gyrobias.noise' has no attribute {name!r}")

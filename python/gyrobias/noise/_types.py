@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _core, _files, _generics
+from gyrobias._spectral_lines import SpectralLine
 from gyrobias._validation import (
     as_float_array,
     asarray,
@@ -69,6 +70,11 @@ TERM_NAMES: dict[str, dict[str, str]] = {
 }
 
 
+def _percent(confidence: float | None) -> str:
+    """0.95 → ``"95 %"`` (``"?"`` when unknown)."""
+    return "?" if confidence is None else f"{100.0 * confidence:.4g} %"
+
+
 @dataclass(frozen=True)
 class Term:
     """One noise coefficient with its standard uncertainty and unit, or why it is missing.
@@ -93,6 +99,31 @@ class Term:
         τ = √3, 1, 3, √2 s for Q, N, K, R; at the minimum (σ = 0.664·B) for B.
     missing : str or None
         Why the term is missing (``value is None``).
+    upper_bound : float or None
+        For a term the data do not show (``value is None``, the fit set it to zero or the
+        read-off found no region): the largest value consistent with them, in ``unit`` — the
+        coefficient whose Allan-variance asymptote stays under the one-sided upper confidence
+        bound ``σ̂²·edf/χ²_edf(1 − bound_confidence)`` of the curve at every τ the fit used, the
+        other terms held at zero (``gyrocore::noise::bound``: held at their fit they would
+        have absorbed part of the term and the bound would under-cover). ``None`` for an
+        identified term, a term not requested, or coefficients not from data.
+    bound_confidence : float or None
+        One-sided confidence level of :attr:`upper_bound` (0.95).
+    bound_reason : str or None
+        How the bound was obtained (points, τ range, the binding τ).
+
+    Examples
+    --------
+    A log too short to show a rate random walk: K is bounded, not zero.
+
+    >>> import gyrobias
+    >>> rate = gyrobias.noise.simulate(60_000, 100.0, arw=0.2 / 60, bias_instability=3 / 3600,
+    ...                                rrw=1e-5, seed=4)
+    >>> k = gyrobias.noise.fit(gyrobias.allan.adev(rate, 100.0, units="deg/s")).K
+    >>> k.value is None, k.bounded, k.bound_confidence
+    (True, True, 0.95)
+    >>> k.upper_bound > 1e-5
+    True
     """
 
     symbol: str
@@ -103,10 +134,14 @@ class Term:
     tau_range: tuple[float, float] | None = None
     marker: tuple[float, float] | None = None
     missing: str | None = None
+    upper_bound: float | None = None
+    bound_confidence: float | None = None
+    bound_reason: str | None = None
 
     @classmethod
     def _from_core(cls, raw: Mapping[str, Any], name: str, unit: str | None) -> Term:
         """The one place a :class:`Term` is built from the core's ``TermEstimate``."""
+        bound = raw.get("upper_bound")
         return cls(
             symbol=raw["symbol"],
             name=name,
@@ -116,12 +151,20 @@ class Term:
             tau_range=raw["tau_range"],
             marker=raw["marker"],
             missing=raw["missing"],
+            upper_bound=None if bound is None else float(bound["value"]),
+            bound_confidence=None if bound is None else float(bound["confidence"]),
+            bound_reason=None if bound is None else str(bound["reason"]),
         )
 
     @property
     def present(self) -> bool:
         """True when the term was identified."""
         return self.value is not None
+
+    @property
+    def bounded(self) -> bool:
+        """True when the term was not identified but the data bound it from above."""
+        return self.value is None and self.upper_bound is not None
 
     def to(self, unit: str) -> Term:
         """This term converted to ``unit`` (e.g. ``"deg/h"``, ``"rad/s/√Hz"``).
@@ -159,6 +202,7 @@ class Term:
             self,
             value=None if self.value is None else self.value * f,
             uncertainty=None if self.uncertainty is None else self.uncertainty * f,
+            upper_bound=None if self.upper_bound is None else self.upper_bound * f,
             unit=unit,
         )
 
@@ -172,10 +216,18 @@ class Term:
             "unit": self.unit,
             "tau_range_s": None if self.tau_range is None else list(self.tau_range),
             "missing": self.missing,
+            "upper_bound": self.upper_bound,
+            "bound_confidence": self.bound_confidence,
+            "bound_reason": self.bound_reason,
         }
 
     def __str__(self) -> str:
         unit = f" {self.unit}" if self.unit else ""
+        if self.value is None and self.upper_bound is not None:
+            return (
+                f"{self.symbol} ({self.name}) ≤ {self.upper_bound:.4g}{unit} "
+                f"({_percent(self.bound_confidence)} upper bound; not identified — {self.missing})"
+            )
         if self.value is None:
             return f"{self.symbol} ({self.name}): missing — {self.missing}"
         if self.uncertainty is None:  # datasheet values and conservative sets carry none
@@ -268,6 +320,168 @@ class GaussMarkovTerm:
 
 
 @dataclass(frozen=True)
+class SinusoidTerm:
+    """A sinusoidal rate term (IEEE Std 952-1997 Annex C): a periodic disturbance
+    ``Ω₀·sin(2πf₀t + φ)`` (vibration, a fan, an aliased mechanical mode).
+
+    Its Allan variance for data sampled at period t0 is
+    ``Ω₀²·sin⁴(πf₀τ)/(m·sin(πf₀t0))²`` at ``τ = m·t0`` (the IEEE form
+    ``Ω₀²·(sin²(πf₀τ)/(πf₀τ))²`` is its continuous-time limit).
+
+    Attributes
+    ----------
+    frequency : Term
+        f₀ in Hz, refined in the fit.
+    amplitude : Term
+        Ω₀ in the rate unit of the data.
+    tau_range : (float, float) or None
+        τ range (s) of the Allan points where the term is ≥ 10 % of the fitted variance.
+    missing : str or None
+        Why the term is missing (the non-negative fit set it to zero).
+    """
+
+    frequency: Term
+    amplitude: Term
+    tau_range: tuple[float, float] | None = None
+    missing: str | None = None
+
+    @classmethod
+    def _from_core(cls, raw: Mapping[str, Any], index: int, rate_unit: str | None) -> SinusoidTerm:
+        """The one place a :class:`SinusoidTerm` is built from the core's ``LineEstimate``
+        (the ``index``-th line: symbol ``S``, ``S2``, …)."""
+        symbol = "S" if index == 0 else f"S{index + 1}"
+        rng = (
+            None
+            if raw["tau_range"] is None
+            else (float(raw["tau_range"][0]), float(raw["tau_range"][1]))
+        )
+        f_unc = float(raw["frequency_uncertainty"])
+        return cls(
+            frequency=Term(
+                symbol,
+                "sinusoid frequency",
+                float(raw["frequency"]),
+                f_unc if np.isfinite(f_unc) else None,
+                "Hz",
+                rng,
+                None,
+                raw["missing"],
+            ),
+            amplitude=Term(
+                symbol,
+                "sinusoid amplitude",
+                raw["amplitude"],
+                raw["amplitude_uncertainty"],
+                rate_unit,
+                rng,
+                None,
+                raw["missing"],
+            ),
+            tau_range=rng,
+            missing=raw["missing"],
+        )
+
+    @property
+    def present(self) -> bool:
+        """True when the term was identified."""
+        return self.amplitude.value is not None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {
+            "frequency": self.frequency.to_dict(),
+            "amplitude": self.amplitude.to_dict(),
+            "tau_range_s": None if self.tau_range is None else list(self.tau_range),
+            "missing": self.missing,
+        }
+
+    def __str__(self) -> str:
+        f = self.frequency.value
+        if not self.present:
+            return f"S (sinusoid at {f:.6g} Hz): missing — {self.missing}"
+        a = self.amplitude
+        unc = f" ± {a.uncertainty:.2g}" if a.uncertainty is not None else ""
+        return f"S (sinusoid) at {f:.6g} Hz: amplitude {a.value:.4g}{unc} {a.unit or ''}".rstrip()
+
+
+@dataclass(frozen=True)
+class WaveletVariance:
+    """Haar MODWT wavelet variance of one rate series with confidence intervals.
+
+    Attributes
+    ----------
+    levels : ndarray of int
+        Levels j = 1 … J.
+    scales : ndarray
+        Scales ``τ_j = 2^j/fs`` (s): the Haar filter width, as the R ``wv`` package labels them.
+    variance : ndarray
+        ``ν̂²_j`` in ``unit`` squared (classical: ``½·σ̂²_OAVAR(τ = 2^{j−1}/fs)`` exactly).
+    ci_low, ci_high : ndarray
+        Confidence limits of ``ν²_j`` at level ``confidence``.
+    edf : ndarray
+        Equivalent degrees of freedom of the intervals.
+    n_coefficients : ndarray of int
+        Wavelet coefficients ``M_j = n − 2^j + 1`` per level.
+    robust : bool
+        Robust (biweight M-) estimator instead of the mean of squares.
+    efficiency : float or None
+        Gaussian efficiency of the robust estimator.
+    confidence : float
+        Confidence level of the intervals.
+    fs : float
+        Sample rate (Hz).
+    unit : str or None
+        Rate unit of the data.
+    axis : str or None
+        Axis name.
+    """
+
+    levels: NDArray[np.int64] = field(compare=False)
+    scales: NDArray[np.float64] = field(compare=False)
+    variance: NDArray[np.float64] = field(compare=False)
+    ci_low: NDArray[np.float64] = field(compare=False)
+    ci_high: NDArray[np.float64] = field(compare=False)
+    edf: NDArray[np.float64] = field(compare=False)
+    n_coefficients: NDArray[np.int64] = field(compare=False)
+    robust: bool
+    efficiency: float | None
+    confidence: float
+    fs: float
+    unit: str | None = None
+    axis: str | None = None
+
+    @property
+    def allan_variance(self) -> NDArray[np.float64]:
+        """The Allan-variance equivalent ``2ν̂²_j`` at ``τ = scales/2``."""
+        return np.asarray(2.0 * self.variance, dtype=np.float64)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary with units."""
+        return {
+            "estimator": "robust (biweight)" if self.robust else "classical",
+            "efficiency": self.efficiency,
+            "confidence": self.confidence,
+            "fs_hz": self.fs,
+            "unit": None if self.unit is None else f"({self.unit})^2",
+            "axis": self.axis,
+            "levels": [int(v) for v in self.levels],
+            "scales_s": [float(v) for v in self.scales],
+            "variance": [float(v) for v in self.variance],
+            "ci_low": [float(v) for v in self.ci_low],
+            "ci_high": [float(v) for v in self.ci_high],
+            "edf": [float(v) for v in self.edf],
+            "n_coefficients": [int(v) for v in self.n_coefficients],
+        }
+
+    def plot(self, ax: Any = None) -> Any:
+        """Draw ν̂ (the wavelet deviation) against scale with its interval.
+
+        Drawn by :func:`gyrobias.plotting.plot_wvar`; returns the matplotlib Axes.
+        """
+        return _generics.plot(self, ax)
+
+
+@dataclass(frozen=True)
 class FitDiagnostics:
     """Goodness of fit of an identification and what it left out.
 
@@ -293,6 +507,9 @@ class FitDiagnostics:
         Excluded τ ranges (s) with the reason.
     warnings : tuple of str
         Plain sentences about anything to know before trusting the numbers.
+    lines : tuple of SpectralLine
+        Spectral lines found in the data (frequency, amplitude, p-value) that the fit took into
+        account as sinusoidal terms (see :func:`gyrobias.noise.detect_lines`).
     """
 
     chi2: float
@@ -303,6 +520,7 @@ class FitDiagnostics:
     tau_range: tuple[float, float]
     excluded: tuple[tuple[float, float, str], ...] = ()
     warnings: tuple[str, ...] = ()
+    lines: tuple[SpectralLine, ...] = ()
 
     @property
     def passed(self) -> bool:
@@ -339,6 +557,7 @@ class FitDiagnostics:
                 {"tau_low_s": a, "tau_high_s": b, "reason": r} for a, b, r in self.excluded
             ],
             "warnings": list(self.warnings),
+            "lines": [line.to_dict() for line in self.lines],
         }
 
     def summary(self) -> str:
@@ -349,12 +568,36 @@ class FitDiagnostics:
         ]
         for a, b, r in self.excluded:
             lines.append(f"  excluded τ {a:.3g}–{b:.3g} s: {r}")
+        for line in self.lines:
+            lines.append(f"  spectral {line}")
         for w in self.warnings:
             lines.append(f"  WARNING: {w}")
         return "\n".join(lines)
 
     def __str__(self) -> str:
         return self.summary()
+
+
+def _with_lines(
+    diagnostics: FitDiagnostics, detected: Sequence[SpectralLine], method: str
+) -> FitDiagnostics:
+    """The diagnostics with the spectral lines the fit modelled and the sentence that says so."""
+    if not detected:
+        return diagnostics
+    found = "; ".join(
+        f"{x.frequency:.4g} Hz (amplitude {x.amplitude:.3g}{' ' + x.unit if x.unit else ''}, "
+        f"p = {x.p_value:.2g})"
+        for x in detected
+    )
+    n = len(detected)
+    plural = n > 1
+    warning = (
+        f"{n} spectral line{'s' if plural else ''} found in the rate data ({found}): "
+        f"periodic disturbance{'s' if plural else ''} (vibration, a fan, an aliased mode) that "
+        f"would bias N and Q; the {method} fit models {'them' if plural else 'it'} with the "
+        "IEEE-952 sinusoidal term 'S' (see sinusoids); pass lines=None to fit without"
+    )
+    return replace(diagnostics, lines=tuple(detected), warnings=(warning, *diagnostics.warnings))
 
 
 @dataclass(frozen=True)
@@ -389,6 +632,8 @@ class NoiseCoefficients:
     gauss_markov : tuple of GaussMarkovTerm
         First-order Gauss–Markov terms (``terms`` containing ``"GM"``/``"GM2"``), sorted by
         correlation time.
+    sinusoids : tuple of SinusoidTerm
+        Sinusoidal terms ("S", IEEE 952), one per spectral line the fit modelled.
     diagnostics : FitDiagnostics or None
         Goodness of fit, excluded τ ranges and warnings (always set by :func:`fit` and
         :func:`gmwm`; ``None`` only for coefficients that did not come from data).
@@ -414,6 +659,7 @@ class NoiseCoefficients:
     gauss_markov: tuple[GaussMarkovTerm, ...] = ()
     diagnostics: FitDiagnostics | None = None
     allan: AllanResult | None = field(default=None, repr=False, compare=False)
+    sinusoids: tuple[SinusoidTerm, ...] = ()
 
     @classmethod
     def _from_core(
@@ -429,12 +675,15 @@ class NoiseCoefficients:
         axis: str | None,
         edf_source: str,
         allan: AllanResult | None,
+        detected: Sequence[SpectralLine] = (),
     ) -> NoiseCoefficients:
         """The one place :class:`NoiseCoefficients` are built from the core's output.
 
         ``raw`` is the binding's ``JointFit`` or ``Gmwm`` (terms, Gauss–Markov components,
         χ², fitted squares, τ range) or ``ReadOff`` (terms only: the τ range is then the
-        curve's, ``taus[0]``…``taus[-1]``); ``diagnostics`` the matching ``Diagnostics``.
+        curve's, ``taus[0]``…``taus[-1]``); ``diagnostics`` the matching ``Diagnostics``;
+        ``detected`` the spectral lines the fit modelled as sinusoidal terms (reported in the
+        diagnostics with a warning that says so).
         """
         names = TERM_NAMES[sensor or "gyro"]
         built = {
@@ -468,7 +717,10 @@ class NoiseCoefficients:
                 GaussMarkovTerm._from_core(g, k, rate_unit)
                 for k, g in enumerate(raw.get("gauss_markov", ()))
             ),
-            diagnostics=FitDiagnostics._from_core(diagnostics, taus),
+            diagnostics=_with_lines(FitDiagnostics._from_core(diagnostics, taus), detected, method),
+            sinusoids=tuple(
+                SinusoidTerm._from_core(d, k, rate_unit) for k, d in enumerate(raw.get("lines", ()))
+            ),
         )
 
     @property
@@ -545,13 +797,27 @@ class NoiseCoefficients:
                 choice("system key", key, _SYMBOLS)
         conv = {s: self[s].to(mapping[s]) if s in mapping else self[s] for s in _SYMBOLS}
         gm = self.gauss_markov
-        if "B" in mapping:  # σ of a Gauss–Markov term has the dimension of B (a rate)
+        sines = self.sinusoids
+        if "B" in mapping:  # σ of a Gauss–Markov term and Ω₀ have the dimension of B (a rate)
             gm = tuple(
                 replace(g, sigma=g.sigma.to(mapping["B"])) if g.sigma.unit is not None else g
                 for g in gm
             )
+            sines = tuple(
+                replace(w, amplitude=w.amplitude.to(mapping["B"]))
+                if w.amplitude.unit is not None
+                else w
+                for w in sines
+            )
         return replace(
-            self, Q=conv["Q"], N=conv["N"], B=conv["B"], K=conv["K"], R=conv["R"], gauss_markov=gm
+            self,
+            Q=conv["Q"],
+            N=conv["N"],
+            B=conv["B"],
+            K=conv["K"],
+            R=conv["R"],
+            gauss_markov=gm,
+            sinusoids=sines,
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -572,6 +838,7 @@ class NoiseCoefficients:
             "uncertainty": "standard (1 sigma)",
             "terms": {t.symbol: t.to_dict() for t in self.terms},
             "gauss_markov": [g.to_dict() for g in self.gauss_markov],
+            "sinusoids": [w.to_dict() for w in self.sinusoids],
             "diagnostics": None if self.diagnostics is None else self.diagnostics.to_dict(),
         }
 
@@ -594,6 +861,12 @@ class NoiseCoefficients:
         names = TERM_NAMES.get(self.sensor or "gyro", TERM_NAMES["gyro"])
         for t in self.terms:
             label = f"  {t.symbol}  {names[t.symbol]:<27}"
+            if t.value is None and t.upper_bound is not None:
+                lines.append(
+                    f"{label} ≤ {t.upper_bound:10.5g}   {'':<8} {t.unit or '':<12}  "
+                    f"({_percent(t.bound_confidence)} upper bound: not visible above the others)"
+                )
+                continue
             if t.value is None:
                 lines.append(f"{label} missing: {t.missing}")
                 continue
@@ -612,6 +885,8 @@ class NoiseCoefficients:
                 f"{label} {g.sigma.value:12.5g} ± {g.sigma.uncertainty or float('nan'):<8.2g} "
                 f"{g.sigma.unit or '':<12}  T = {t.value:.4g} ± {t.uncertainty or float('nan'):.2g} s"
             )
+        for w in self.sinusoids:
+            lines.append(f"  {w}")
         if self.diagnostics is not None:
             lines.append(self.diagnostics.summary())
         return "\n".join(lines)
@@ -674,6 +949,15 @@ class NoiseCoefficients:
             for g, v in zip(self.gauss_markov, _core.noise.gauss_markov_variance(gm, t)):
                 total = total + v
                 out[g.sigma.symbol] = np.sqrt(v)
+        base = self.to("base") if self.data_unit is not None else self
+        for k, w in enumerate(base.sinusoids):
+            if w.amplitude.value is None or w.frequency.value is None:
+                continue
+            v = _core.noise.sinusoid_avar(
+                float(w.amplitude.value), float(w.frequency.value), t, 1.0 / self.fs
+            )
+            total = total + v
+            out["S" if k == 0 else f"S{k + 1}"] = np.sqrt(v)
         return np.sqrt(total), out
 
     def _gauss_markov_base(self) -> list[tuple[float, float]]:

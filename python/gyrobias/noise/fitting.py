@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _core
+from gyrobias._spectral_lines import SpectralLine
 from gyrobias._validation import (
     as_float_array,
     asarray,
@@ -19,6 +20,7 @@ from gyrobias._validation import (
     integer,
     pair,
     real,
+    sample_rate,
 )
 from gyrobias.noise._types import (
     _GM_SYMBOLS,
@@ -68,6 +70,91 @@ def gauss_markov_avar(sigma: float, correlation_time: float, taus: Any) -> NDArr
     )
 
 
+def sinusoid_avar(
+    amplitude: float, frequency: float, taus: Any, *, fs: float | None = None
+) -> NDArray[np.float64]:
+    """Allan variance of a sinusoidal rate ``Ω₀·sin(2πf₀t + φ)`` (IEEE 952 term "S").
+
+    Parameters
+    ----------
+    amplitude : float
+        Ω₀ in the rate unit u (≥ 0).
+    frequency : float
+        f₀ in Hz (> 0; with ``fs``, at most fs/2).
+    taus : array_like
+        Averaging times τ in seconds (multiples of 1/fs for sampled data).
+    fs : float, optional
+        Sample rate of the data (Hz): the sampled form. ``None``: the continuous IEEE form.
+
+    Returns
+    -------
+    ndarray
+        σ²(τ) in u².
+
+    Notes
+    -----
+    Continuous time (IEEE Std 952-1997 Annex C): ``σ²(τ) = Ω₀²·(sin²(πf₀τ)/(πf₀τ))²``. For data
+    sampled at period ``t0 = 1/fs`` the mean of ``m`` samples has the Dirichlet gain
+    ``sin(πf₀mt0)/(m·sin(πf₀t0))``, so ``σ²(m·t0) = Ω₀²·sin⁴(πf₀τ)/(m·sin(πf₀t0))²``: the
+    continuous form times ``(πf₀t0/sin(πf₀t0))²`` at every τ (1.19 at f₀ = 23 Hz, fs = 100 Hz;
+    2.47 at Nyquist), the difference that matters near τ ≈ 1/f₀ when f₀ is a sizeable
+    fraction of fs. The sampled form is fs-periodic and even in f₀: a line above fs/2 looks
+    like its alias ``|f₀ − k·fs|``, which is what must be passed.
+
+    Raises
+    ------
+    ValueError
+        A negative or non-finite amplitude, a frequency ≤ 0 or (with ``fs``) above fs/2.
+
+    Examples
+    --------
+    >>> import gyrobias
+    >>> v = gyrobias.noise.sinusoid_avar(1.0, 23.0, [0.01, 0.5], fs=100.0)
+    >>> c = gyrobias.noise.sinusoid_avar(1.0, 23.0, [0.01, 0.5])
+    >>> [round(float(a / b), 3) for a, b in zip(v, c)]
+    [1.194, 1.194]
+    """
+    tau = as_float_array("taus", np.atleast_1d(asarray("taus", taus)), ndims=(1,))
+    period = None if fs is None else 1.0 / sample_rate(fs)
+    return _core.noise.sinusoid_avar(
+        real("amplitude", amplitude), real("frequency", frequency), tau, period
+    )
+
+
+def _line_windows(
+    result: Any, lines: str | Sequence[float | SpectralLine] | None
+) -> tuple[list[tuple[float, float]], tuple[SpectralLine, ...]]:
+    """The fit's line windows ``(seed Hz, half-width Hz)`` and the detected lines behind them.
+
+    A detected line is refined within ±1 periodogram bin (its frequency is already the
+    periodogram maximum), a given frequency within ±1 % (the frequency must be in (0, fs/2]: the
+    core's check).
+    """
+    if lines is None:
+        return [], ()
+    if isinstance(lines, str):
+        if lines != "auto":
+            raise ValueError(
+                f"lines must be 'auto', None or a sequence of frequencies, got {lines!r}"
+            )
+        found = getattr(result, "lines", None)
+        detected = tuple(found) if found else ()
+    else:
+        if not isinstance(lines, Sequence):
+            raise TypeError(
+                f"lines must be 'auto', None or a sequence of frequencies, got {type(lines).__name__}"
+            )
+        detected = tuple(x for x in lines if isinstance(x, SpectralLine))
+        windows = [
+            (x.frequency, x.resolution)
+            if isinstance(x, SpectralLine)
+            else (real("lines", x), 0.01 * abs(real("lines", x)))
+            for x in lines
+        ]
+        return windows, detected
+    return [(x.frequency, x.resolution) for x in detected], detected
+
+
 def _edf_source(result: AllanResult) -> str:
     return "noise identification" if result.edf is not None else "SP1065 simple approximation"
 
@@ -85,6 +172,7 @@ def fit(
     unit: str | None = ...,
     correlation_time: tuple[float, float] | None = ...,
     auto_range: bool = ...,
+    lines: str | Sequence[float | SpectralLine] | None = ...,
 ) -> NoiseCoefficients: ...
 
 
@@ -101,6 +189,7 @@ def fit(
     unit: str | None = ...,
     correlation_time: tuple[float, float] | None = ...,
     auto_range: bool = ...,
+    lines: str | Sequence[float | SpectralLine] | None = ...,
 ) -> tuple[NoiseCoefficients, ...]: ...
 
 
@@ -116,6 +205,7 @@ def fit(
     unit: str | None = None,
     correlation_time: tuple[float, float] | None = None,
     auto_range: bool = True,
+    lines: str | Sequence[float | SpectralLine] | None = "auto",
 ) -> NoiseCoefficients | tuple[NoiseCoefficients, ...]:
     """Identify the IEEE-952 noise coefficients from an Allan-deviation result.
 
@@ -128,9 +218,11 @@ def fit(
         ``"joint"``: weighted non-negative least squares of the model (the better estimator).
         ``"ieee"``: IEEE-952 read-off from fixed-slope lines on the detected slope regions and B
         from the minimum.
-    terms : iterable of {"Q", "N", "B", "K", "R", "GM", "GM2"}
+    terms : iterable of {"Q", "N", "B", "K", "R", "GM", "GM2", "S"}
         Terms to identify; the others are reported missing ("not requested"). ``"GM"`` adds a
-        first-order Gauss–Markov term, ``"GM2"`` a second one (joint fit only).
+        first-order Gauss–Markov term, ``"GM2"`` a second one (joint fit only). ``"S"`` asks
+        for the sinusoidal term of every line in ``lines`` and is an error when there is none
+        (with the default ``lines="auto"`` the terms are added anyway when the data show a line).
     tau_range : (float, float), optional
         Only use Allan points with τ in this range (seconds) for the joint fit; turns the
         automatic range selection off.
@@ -151,6 +243,13 @@ def fit(
         Joint fit without ``tau_range``: exclude long-τ points with fewer than 3 EDF and, while
         the goodness-of-fit test rejects the model (p < 0.01), systematic departures at the
         ends of the curve (Notes). ``False`` fits every point.
+    lines : "auto", sequence of float or SpectralLine, or None
+        Periodic disturbances to model with the IEEE-952 sinusoidal term "S" (joint fit).
+        ``"auto"`` (default): the spectral lines :func:`gyrobias.allan.adev` found in the rate
+        data (``allan.lines``, a Bonferroni test at false-alarm level 0.01, see
+        :func:`gyrobias.noise.detect_lines`); when there are any, one "S" term per line is added
+        and a warning says so. A sequence gives the frequencies (Hz, in (0, fs/2]; a
+        :class:`SpectralLine` or a float); ``None`` fits no sinusoid.
 
     Returns
     -------
@@ -163,15 +262,23 @@ def fit(
     ValueError
         Not an Allan-deviation result (the model is the Allan variance's), constant data
         (σ = 0 everywhere), fewer than 3 usable points in the fit range, unknown terms, units
-        or methods, a region that contains no τ, a Gauss–Markov term with ``method="ieee"`` or
-        a ``correlation_time`` range outside the data's τ range.
+        or methods, a region that contains no τ, a Gauss–Markov term with ``method="ieee"``,
+        a ``correlation_time`` range outside the data's τ range, a line frequency outside
+        (0, fs/2], or ``"S"`` in ``terms`` without any line.
 
     Notes
     -----
     Model: ``σ²(τ) = 3Q²/τ² + N²/τ + (0.664282·B)² + K²τ/3 + R²τ²/2`` plus, per Gauss–Markov
     term of standard deviation σ and correlation time T,
     ``(σ²T²/τ²)(2τ/T − 3 + 4e^{−τ/T} − e^{−2τ/T})`` (IEEE Std 952-1997 Annex C; white noise
-    ``N² = 2σ²T`` for τ ≫ T, random walk ``K² = 2σ²/T`` for τ ≪ T).
+    ``N² = 2σ²T`` for τ ≫ T, random walk ``K² = 2σ²/T`` for τ ≪ T), plus, per sinusoid
+    ``Ω₀·sin(2πf₀t + φ)`` of data sampled at period t0, ``Ω₀²·sin⁴(πf₀τ)/(m·sin(πf₀t0))²`` at
+    ``τ = m·t0`` (IEEE Std 952-1997 Annex C gives the continuous-time form
+    ``Ω₀²·(sin²(πf₀τ)/(πf₀τ))²``; sampling multiplies it by ``(πf₀t0/sin(πf₀t0))²``, 1.19 at
+    f₀ = 0.23·fs, so near τ ≈ 1/f₀ only the sampled form fits a real log; a line above fs/2
+    acts as its alias). Ω₀² enters linearly; f₀ is refined within ±1 periodogram bin of the
+    detected line (±1 % of a given float) by a grid and golden-section profile of the
+    weighted χ². A sinusoid counts as white noise for the EDF of the weights.
 
     *Joint*: linear in ``c = (Q², N², B², K², R², σ_k²) ≥ 0`` for fixed correlation times, which
     are profiled out (grid and golden-section search in ln T). Weights ``w_i = edf_i/(2σ_i⁴)``
@@ -189,7 +296,7 @@ def fit(
     freedom. p < 0.001 is reported in ``diagnostics.warnings`` and in the printed summary.
 
     *Automatic τ range* (joint, default): long-τ points with EDF < 3 are excluded; then, while
-    p < 0.01, the leading run of points with ``z < −2`` (the curve bends below the −½ line at
+    p < 0.01, the leading points up to the last one with ``z < −2`` before any ``z > 2`` (the curve bends below the −½ line at
     short τ: a sensor's anti-alias/decimation filter correlates the samples) or the trailing
     run with ``z > 2`` (drift) is excluded and the model refitted, keeping at least half of the
     points. ``diagnostics.excluded`` says what was dropped and why.
@@ -234,6 +341,7 @@ def fit(
                 unit=unit,
                 correlation_time=correlation_time,
                 auto_range=auto_range,
+                lines=lines,
             )
             for a in allan
         )
@@ -244,7 +352,15 @@ def fit(
             f"allan must be an Allan-deviation result (kind 'adev'); the five-term model does not "
             f"hold for kind {result.kind!r}"
         )
-    term_list = [str(t) for t in terms] if not isinstance(terms, str) else [terms]
+    term_list_in = [str(t) for t in terms] if not isinstance(terms, str) else [terms]
+    want_sine = "S" in term_list_in
+    line_windows, detected = _line_windows(result, lines)
+    if want_sine and not line_windows:
+        raise ValueError(
+            "terms contains 'S' but there is no line to model: pass lines=[f0, ...] (Hz) or "
+            "the SpectralLine objects of gyrobias.noise.detect_lines"
+        )
+    term_list = [t for t in term_list_in if t != "S"]
     # The symbols are parsed by the core (noise::parse_model_terms), whose message names terms.
     data_unit = unit if unit is not None else result.unit
     sensor: str | None = None
@@ -283,9 +399,14 @@ def fit(
             tau_range,
             correlation_time,
             auto_range,
+            line_windows,
         )
         diagnostics_raw = raw["diagnostics"]
     else:
+        if want_sine:
+            raise ValueError(
+                "the sinusoidal term 'S' needs method='joint' (or gyrobias.noise.gmwm)"
+            )
         if any(t in _GM_SYMBOLS for t in term_list):
             raise ValueError(
                 "Gauss–Markov terms ('GM', 'GM2') need method='joint' (or gyrobias.noise.gmwm)"
@@ -333,4 +454,5 @@ def fit(
         axis=result.axis,
         edf_source=_edf_source(result),
         allan=result,
+        detected=detected if method == "joint" else (),
     )

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -26,6 +28,7 @@ def simulate(
     bias: float = 0.0,
     axes: int = 1,
     seed: int | None = None,
+    sinusoids: Sequence[Sequence[float]] = (),
 ) -> NDArray[np.float64]:
     """Simulate rate-sensor noise with exactly the given IEEE-952 coefficients.
 
@@ -55,6 +58,10 @@ def simulate(
     seed : int or None
         Seed (0 ≤ seed < 2**64). The same seed gives the same samples; axis ``a`` does not
         depend on ``axes`` and each component has its own stream. ``None`` draws a fresh seed.
+    sinusoids : sequence of (frequency, amplitude) or (frequency, amplitude, phase)
+        Periodic disturbances ``Ω₀·sin(2πf₀·k·t0 + φ)`` added to every axis (Hz, rate unit u,
+        radians; phase 0 by default): vibration, a fan, an aliased mechanical mode. Frequencies
+        in (0, fs/2] (a line above fs/2 is its alias), amplitudes ≥ 0.
 
     Returns
     -------
@@ -64,7 +71,8 @@ def simulate(
     Raises
     ------
     ValueError
-        Negative coefficients, ``n < 1``, ``fs <= 0``, ``|c| >= 1``.
+        Negative coefficients, ``n < 1``, ``fs <= 0``, ``|c| >= 1``, a sinusoid above fs/2
+        or with a negative amplitude.
 
     Notes
     -----
@@ -73,7 +81,8 @@ def simulate(
     spectral shaping of white noise to the two-sided PSD ``S(f) = B²/(2πf)`` (FFT of length
     ≥ 2n, first n samples kept); rate random walk ``Σ_{i≤k} K√t0·ξ_i``; ramp ``R·k·t0``;
     AR(1) drift; bias. Their Allan variances are ``3Q²/τ²``, ``N²/τ``, ``(0.664282 B)²``
-    (τ ≫ t0), ``K²τ/3`` and ``R²τ²/2``.
+    (τ ≫ t0), ``K²τ/3`` and ``R²τ²/2``; a sinusoid's is ``Ω₀²·sin⁴(πf₀τ)/(m·sin(πf₀t0))²``
+    (:func:`gyrobias.noise.sinusoid_avar`).
 
     Examples
     --------
@@ -105,4 +114,23 @@ def simulate(
         axes,
         seed_value("seed", seed),
     )
-    return flat if axes == 1 else flat.reshape(n, axes)
+    out = flat if axes == 1 else flat.reshape(n, axes)
+    lines: list[tuple[float, float, float]] = []
+    for item in sinusoids:
+        values = [real("sinusoids", v) for v in item]
+        if len(values) not in (2, 3):
+            raise TypeError(
+                f"sinusoids must hold (frequency, amplitude) or (frequency, amplitude, phase), "
+                f"got {item!r}"
+            )
+        phase = values[2] if len(values) == 3 else 0.0
+        lines.append((values[0], values[1], phase))
+    if not lines:
+        return out
+    t0 = 1.0 / real("fs", fs)
+    if axes == 1:
+        return _core.noise.add_lines(out, t0, lines)
+    columns = [
+        _core.noise.add_lines(np.ascontiguousarray(out[:, a]), t0, lines) for a in range(axes)
+    ]
+    return np.stack(columns, axis=1)

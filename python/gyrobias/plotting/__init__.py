@@ -15,11 +15,11 @@ from typing import Any
 
 from gyrobias import _generics
 from gyrobias.allan._types import AllanResult, DynamicAllanResult
-from gyrobias.noise._types import NoiseCoefficients
+from gyrobias.noise._types import NoiseCoefficients, WaveletVariance
 from gyrobias.noise.fitting import fit as fit_noise
 from gyrobias.plotting.deviations import plot_allan, plot_dynamic_allan, save_allan_plot
 from gyrobias.plotting.fleets import plot_fleet, save_fleet_plot
-from gyrobias.plotting.models import plot_noise_model, save_noise_model_plot
+from gyrobias.plotting.models import plot_noise_model, plot_wvar, save_noise_model_plot
 from gyrobias.plotting.predictions import save_comparison_plot, save_prediction_plot
 from gyrobias.plotting.report import allan_report_svg
 
@@ -30,6 +30,7 @@ __all__ = [
     "save_allan_plot",
     # noise models
     "plot_noise_model",
+    "plot_wvar",
     "save_noise_model_plot",
     # fleets
     "plot_fleet",
@@ -68,3 +69,8 @@ def _plot_coefficients(
     show_data: bool = True,
 ) -> Any:
     return plot_noise_model(coefficients, ax, allan=allan, show_data=show_data)
+
+
+@_generics.plot.register(WaveletVariance)
+def _plot_wvar(result: WaveletVariance, ax: Any = None, **kwargs: Any) -> Any:
+    return plot_wvar(result, ax=ax, **kwargs)

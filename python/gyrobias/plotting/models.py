@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from gyrobias.allan._types import AllanResult
-from gyrobias.noise._types import NoiseCoefficients
+from gyrobias.noise._types import NoiseCoefficients, WaveletVariance
 from gyrobias.plotting._common import (
     _require_matplotlib,
     _save_atomically,
@@ -142,3 +142,37 @@ def save_noise_model_plot(
     if title:
         ax.set_title(title)
     _save_atomically(fig, path, dpi)
+
+
+def plot_wvar(result: WaveletVariance, ax: Any = None) -> Any:
+    """Wavelet deviation ν̂_j against the scale τ_j = 2^j/fs (log-log) with its interval.
+
+    Parameters
+    ----------
+    result : WaveletVariance
+        From :func:`gyrobias.noise.wvar`.
+    ax : matplotlib Axes, optional
+        Axes to draw on (a new figure otherwise).
+
+    Returns
+    -------
+    matplotlib Axes
+    """
+    _require_matplotlib()
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        _, ax = plt.subplots(figsize=(6.0, 4.2), layout="constrained")
+    scales = np.asarray(result.scales, dtype=np.float64)
+    nu = np.sqrt(np.asarray(result.variance, dtype=np.float64))
+    low = np.sqrt(np.asarray(result.ci_low, dtype=np.float64))
+    high = np.sqrt(np.asarray(result.ci_high, dtype=np.float64))
+    kind = "robust" if result.robust else "classical"
+    ax.fill_between(scales, low, high, alpha=0.25, label=f"{result.confidence:.0%} interval")
+    ax.loglog(scales, nu, "o-", ms=3, label=f"{kind} wavelet deviation")
+    ax.set_xlabel("scale τ_j = 2^j/fs (s)")
+    unit = f" ({result.unit})" if result.unit else ""
+    ax.set_ylabel(f"ν{unit}")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    return ax

@@ -1,6 +1,7 @@
 //! The Allan curve a fit works on, its validation, and the per-term results both
 //! identification methods return.
 
+use super::bound::UpperBound;
 use super::model::{Term, approximate_edf};
 use crate::{Error, Result};
 
@@ -135,6 +136,9 @@ pub struct TermEstimate {
     pub marker: Option<(f64, f64)>,
     /// Why the term is missing.
     pub missing: Option<String>,
+    /// For a requested term the data do not show (`value` is `None`): the largest value
+    /// consistent with them ([`super::bound`]).
+    pub upper_bound: Option<UpperBound>,
 }
 
 impl TermEstimate {
@@ -146,6 +150,7 @@ impl TermEstimate {
             tau_range: None,
             marker: None,
             missing: Some(reason.into()),
+            upper_bound: None,
         }
     }
 }

@@ -41,8 +41,8 @@
 //! **Automatic τ range** (when no range is given): (1) the longest-τ points whose EDF is below
 //! [`MIN_EDF`] are excluded (a chi-square with fewer than 3 degrees of freedom spans more than a
 //! factor 10 at 90 %, and such points are where non-stationary drift shows); (2) while the fit is
-//! rejected (p < [`REFIT_P`]) the leading run of points with `z < −2` (σ below the model at
-//! the shortest τ: a sensor's anti-alias/decimation filter correlates the samples and bends the
+//! rejected (p < [`REFIT_P`]) the leading points up to the last one with `z < −2` before any
+//! `z > 2` (within the first half; [`leading_run`]) (σ below the model at the shortest τ: a sensor's anti-alias/decimation filter correlates the samples and bends the
 //! curve below the −½ line, which no positive term can follow) or the trailing run with `z > 2`
 //! (σ above the model at long τ: drift the terms do not describe) is excluded and the model
 //! refitted, keeping at least half of the points. What was excluded and why is recorded.
@@ -59,6 +59,7 @@ use super::covariance::correlation_with;
 use super::curve::{Curve, TermEstimate};
 use super::gauss_markov;
 use super::model::{FLICKER_FACTOR, Term, approximate_edf, model_variance};
+use super::sinusoid;
 use crate::stats;
 use crate::{Error, Result};
 
@@ -82,6 +83,23 @@ pub struct GaussMarkovEstimate {
     pub correlation_time: Option<f64>,
     /// Standard uncertainty of `T` (s).
     pub correlation_time_uncertainty: f64,
+    /// τ range (s) of the points where the term is ≥ 10 % of the model.
+    pub tau_range: Option<(f64, f64)>,
+    /// Why the term is missing.
+    pub missing: Option<String>,
+}
+
+/// One fitted sinusoidal term (IEEE 952 "S", [`super::sinusoid`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LineEstimate {
+    /// Frequency `f₀` (Hz) after refinement in the fit.
+    pub frequency: f64,
+    /// Standard uncertainty of `frequency` (Hz; NaN when not available).
+    pub frequency_uncertainty: f64,
+    /// Amplitude `Ω₀` (rate unit); `None` when the fit set it to zero.
+    pub amplitude: Option<f64>,
+    /// Standard uncertainty of `amplitude`.
+    pub amplitude_uncertainty: f64,
     /// τ range (s) of the points where the term is ≥ 10 % of the model.
     pub tau_range: Option<(f64, f64)>,
     /// Why the term is missing.
@@ -120,6 +138,10 @@ pub struct FitOptions {
     pub correlation_time: Option<(f64, f64)>,
     /// Select the τ range automatically (module docs) when `tau_range` is `None`.
     pub automatic_range: bool,
+    /// Sinusoidal terms: `(seed frequency, half-width)` in Hz. Each adds the sampled-sine Allan
+    /// variance `Ω₀² sin⁴(π f₀ τ)/(m sin(π f₀ t0))²` ([`super::sinusoid::avar`]) with `Ω₀² ≥ 0`
+    /// linear and `f₀` refined within `seed ± half-width` (profiled, golden section).
+    pub lines: Vec<(f64, f64)>,
 }
 
 impl Default for FitOptions {
@@ -130,6 +152,7 @@ impl Default for FitOptions {
             tau_range: None,
             correlation_time: None,
             automatic_range: true,
+            lines: Vec::new(),
         }
     }
 }
@@ -147,6 +170,10 @@ pub struct JointFit {
     pub gauss_markov_squared: Vec<(f64, f64)>,
     /// The Gauss–Markov terms as reported.
     pub gauss_markov: Vec<GaussMarkovEstimate>,
+    /// Fitted sinusoidal components `(Ω₀², f₀)`, in the order of [`FitOptions::lines`].
+    pub lines_squared: Vec<(f64, f64)>,
+    /// The sinusoidal terms as reported.
+    pub lines: Vec<LineEstimate>,
     /// Weighted residual sum of squares of the least-squares fit.
     pub chi2: f64,
     /// Degrees of freedom `points − fitted parameters`.
@@ -185,6 +212,26 @@ pub fn full_model(c: &[f64; 5], gm: &[(f64, f64)], tau: f64) -> f64 {
     model_variance(c, tau)
         + gm.iter()
             .map(|&(q2, t)| q2 * gauss_markov::basis(t, tau))
+            .sum::<f64>()
+}
+
+/// Sampling period of a curve (`τ_i / m_i` of its first point).
+pub(crate) fn curve_t0(curve: &Curve<'_>) -> f64 {
+    curve.taus[0] / curve.m[0] as f64
+}
+
+/// Model variance of power-law, Gauss–Markov and sinusoidal (`(Ω₀², f₀)`, period `t0`) terms.
+pub fn model_with_lines(
+    c: &[f64; 5],
+    gm: &[(f64, f64)],
+    lines: &[(f64, f64)],
+    t0: f64,
+    tau: f64,
+) -> f64 {
+    full_model(c, gm, tau)
+        + lines
+            .iter()
+            .map(|&(a2, f)| a2 * sinusoid::basis(f, t0, tau))
             .sum::<f64>()
 }
 
@@ -347,8 +394,15 @@ pub(crate) fn nnls(
     best
 }
 
-/// Basis columns (values at `taus`) of the requested power-law terms and of GM terms at `ts`.
-pub(crate) fn design(taus: &[f64], requested: &[Term], ts: &[f64]) -> Vec<Vec<f64>> {
+/// Basis columns (values at `taus`) of the requested power-law terms, of GM terms at `ts` and
+/// of sinusoids at frequencies `fl` (period `t0`).
+pub(crate) fn design(
+    taus: &[f64],
+    requested: &[Term],
+    ts: &[f64],
+    fl: &[f64],
+    t0: f64,
+) -> Vec<Vec<f64>> {
     let mut cols: Vec<Vec<f64>> = requested
         .iter()
         .map(|t| taus.iter().map(|&tau| t.basis(tau)).collect())
@@ -357,6 +411,13 @@ pub(crate) fn design(taus: &[f64], requested: &[Term], ts: &[f64]) -> Vec<Vec<f6
         cols.push(
             taus.iter()
                 .map(|&tau| gauss_markov::basis(t, tau))
+                .collect(),
+        );
+    }
+    for &f in fl {
+        cols.push(
+            taus.iter()
+                .map(|&tau| sinusoid::basis(f, t0, tau))
                 .collect(),
         );
     }
@@ -388,8 +449,13 @@ fn golden(mut a: f64, mut b: f64, f: &mut dyn FnMut(f64) -> f64) -> (f64, f64) {
     if f1 <= f2 { (x1, f1) } else { (x2, f2) }
 }
 
-/// Profiles the correlation times: the `ts` (ascending, within `bounds`) minimising the NNLS
-/// χ² for fixed whitening, with the coefficients there.
+/// What [`profile_times`] returns: correlation times, line frequencies, coefficients, χ².
+pub(crate) type Profiled = (Vec<f64>, Vec<f64>, Vec<f64>, f64);
+
+/// Profiles the correlation times and line frequencies: the `ts` (ascending, within `bounds`)
+/// and `fl` (each within its `lines` window `seed ± half-width`) minimising the NNLS χ² for fixed
+/// whitening, with the coefficients there (power-law, then GM, then line columns).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn profile_times(
     taus: &[f64],
     y: &[f64],
@@ -397,62 +463,108 @@ pub(crate) fn profile_times(
     n_gm: usize,
     bounds: (f64, f64),
     whitener: &Whitener<'_>,
-) -> Option<(Vec<f64>, Vec<f64>, f64)> {
-    let eval = |ts: &[f64]| -> f64 {
-        nnls(&design(taus, requested, ts), y, whitener).map_or(f64::INFINITY, |s| s.1)
+    lines: &[(f64, f64)],
+    t0: f64,
+) -> Option<Profiled> {
+    let eval = |ts: &[f64], fl: &[f64]| -> f64 {
+        nnls(&design(taus, requested, ts, fl, t0), y, whitener).map_or(f64::INFINITY, |s| s.1)
     };
-    let (lo, hi) = (bounds.0.ln(), bounds.1.ln());
-    let ts: Vec<f64> = match n_gm {
-        0 => Vec::new(),
-        1 => {
-            let k = 24;
-            let grid: Vec<f64> = (0..=k)
-                .map(|i| lo + (hi - lo) * i as f64 / k as f64)
-                .collect();
-            let values: Vec<f64> = grid.iter().map(|&g| eval(&[g.exp()])).collect();
-            let best = (0..=k).min_by(|&a, &b| values[a].total_cmp(&values[b]))?;
-            let a = grid[best.saturating_sub(1)];
-            let b = grid[(best + 1).min(k)];
-            let (x, fx) = golden(a, b, &mut |x| eval(&[x.exp()]));
-            vec![if fx <= values[best] { x } else { grid[best] }.exp()]
-        }
-        _ => {
-            let k = 14;
-            let grid: Vec<f64> = (0..=k)
-                .map(|i| lo + (hi - lo) * i as f64 / k as f64)
-                .collect();
-            let mut best = (0, 1, f64::INFINITY);
-            for i in 0..k {
-                for j in i + 1..=k {
-                    let v = eval(&[grid[i].exp(), grid[j].exp()]);
-                    if v < best.2 {
-                        best = (i, j, v);
+    let mut fl: Vec<f64> = lines.iter().map(|l| l.0).collect();
+    let search_times = |fl: &[f64]| -> Option<Vec<f64>> {
+        let (lo, hi) = (bounds.0.ln(), bounds.1.ln());
+        Some(match n_gm {
+            0 => Vec::new(),
+            1 => {
+                let k = 24;
+                let grid: Vec<f64> = (0..=k)
+                    .map(|i| lo + (hi - lo) * i as f64 / k as f64)
+                    .collect();
+                let values: Vec<f64> = grid.iter().map(|&g| eval(&[g.exp()], fl)).collect();
+                let best = (0..=k).min_by(|&a, &b| values[a].total_cmp(&values[b]))?;
+                let a = grid[best.saturating_sub(1)];
+                let b = grid[(best + 1).min(k)];
+                let (x, fx) = golden(a, b, &mut |x| eval(&[x.exp()], fl));
+                vec![if fx <= values[best] { x } else { grid[best] }.exp()]
+            }
+            _ => {
+                let k = 14;
+                let grid: Vec<f64> = (0..=k)
+                    .map(|i| lo + (hi - lo) * i as f64 / k as f64)
+                    .collect();
+                let mut best = (0, 1, f64::INFINITY);
+                for i in 0..k {
+                    for j in i + 1..=k {
+                        let v = eval(&[grid[i].exp(), grid[j].exp()], fl);
+                        if v < best.2 {
+                            best = (i, j, v);
+                        }
                     }
                 }
+                let mut t1 = grid[best.0];
+                let mut t2 = grid[best.1];
+                let step = (hi - lo) / k as f64;
+                for _ in 0..3 {
+                    let (x, _) = golden((t1 - step).max(lo), (t1 + step).min(t2), &mut |x| {
+                        eval(&[x.exp(), t2.exp()], fl)
+                    });
+                    t1 = x;
+                    let (x, _) = golden((t2 - step).max(t1), (t2 + step).min(hi), &mut |x| {
+                        eval(&[t1.exp(), x.exp()], fl)
+                    });
+                    t2 = x;
+                }
+                vec![t1.exp(), t2.exp()]
             }
-            let mut t1 = grid[best.0];
-            let mut t2 = grid[best.1];
-            let step = (hi - lo) / k as f64;
-            for _ in 0..3 {
-                let (x, _) = golden((t1 - step).max(lo), (t1 + step).min(t2), &mut |x| {
-                    eval(&[x.exp(), t2.exp()])
-                });
-                t1 = x;
-                let (x, _) = golden((t2 - step).max(t1), (t2 + step).min(hi), &mut |x| {
-                    eval(&[t1.exp(), x.exp()])
-                });
-                t2 = x;
-            }
-            vec![t1.exp(), t2.exp()]
-        }
+        })
     };
-    let (coef, chi2) = nnls(&design(taus, requested, &ts), y, whitener)?;
-    Some((ts, coef, chi2))
+    let mut ts = search_times(&fl)?;
+    if !lines.is_empty() {
+        // Each frequency: a grid over its window (the χ² is oscillatory in f₀ at long τ), then
+        // golden section around the best node; two sweeps over the lines, then the times again.
+        for _ in 0..2 {
+            for (k, &(seed, half)) in lines.iter().enumerate() {
+                if half <= 0.0 {
+                    continue;
+                }
+                let nodes = 16;
+                let (a, b) = (seed - half, seed + half);
+                let mut best = (fl[k], eval(&ts, &fl));
+                for i in 0..=nodes {
+                    let f = a + (b - a) * i as f64 / nodes as f64;
+                    let mut trial = fl.clone();
+                    trial[k] = f;
+                    let v = eval(&ts, &trial);
+                    if v < best.1 {
+                        best = (f, v);
+                    }
+                }
+                let width = (b - a) / nodes as f64;
+                let (x, fx) = golden((best.0 - width).max(a), (best.0 + width).min(b), &mut |f| {
+                    let mut trial = fl.clone();
+                    trial[k] = f;
+                    eval(&ts, &trial)
+                });
+                fl[k] = if fx <= best.1 { x } else { best.0 };
+            }
+            if n_gm > 0 {
+                ts = search_times(&fl)?;
+            }
+        }
+    }
+    let (coef, chi2) = nnls(&design(taus, requested, &ts, &fl, t0), y, whitener)?;
+    Some((ts, fl, coef, chi2))
 }
 
-/// EDF of point `i` under the model `(c, gm)`: the caller's, else SP1065's approximation for
-/// the noise type that dominates there.
-pub(crate) fn edf_model(curve: &Curve<'_>, i: usize, c: &[f64; 5], gm: &[(f64, f64)]) -> f64 {
+/// EDF of point `i` under the model `(c, gm, lines)`: the caller's, else SP1065's approximation
+/// for the noise type that dominates there (a sinusoid counts as white rate noise: its estimate
+/// varies less than a noise's of the same variance, so this is conservative).
+pub(crate) fn edf_model(
+    curve: &Curve<'_>,
+    i: usize,
+    c: &[f64; 5],
+    gm: &[(f64, f64)],
+    lines: &[(f64, f64)],
+) -> f64 {
     if curve.edf.is_some() {
         return edf_given(curve, i);
     }
@@ -473,6 +585,13 @@ pub(crate) fn edf_model(curve: &Curve<'_>, i: usize, c: &[f64; 5], gm: &[(f64, f
             alpha = if tau < t { -2 } else { 0 };
         }
     }
+    let t0 = curve_t0(curve);
+    for &(a2, f) in lines {
+        if a2 * sinusoid::basis(f, t0, tau) > best {
+            best = a2 * sinusoid::basis(f, t0, tau);
+            alpha = 0;
+        }
+    }
     approximate_edf(curve.n_phase(), curve.m[i], alpha)
 }
 
@@ -490,6 +609,11 @@ fn edf_given(curve: &Curve<'_>, i: usize) -> f64 {
 pub(crate) struct Inner {
     pub(crate) c: [f64; 5],
     pub(crate) gm: Vec<(f64, f64)>,
+    /// Sinusoids `(Ω₀², f₀)`.
+    pub(crate) lines: Vec<(f64, f64)>,
+    /// The line windows `(seed, half-width)` the frequencies were refined in.
+    pub(crate) windows: Vec<(f64, f64)>,
+    pub(crate) t0: f64,
     pub(crate) edf: Vec<f64>,
     pub(crate) sqrt_w: Vec<f64>,
     pub(crate) chi2: f64,
@@ -515,12 +639,15 @@ pub(crate) fn irls(
     requested: &[Term],
     n_gm: usize,
     bounds: Option<(f64, f64)>,
+    windows: &[(f64, f64)],
 ) -> Result<Inner> {
+    let t0 = curve_t0(curve);
     let taus: Vec<f64> = used.iter().map(|&i| curve.taus[i]).collect();
     let y: Vec<f64> = used.iter().map(|&i| curve.variance[i]).collect();
     let bounds = bounds.unwrap_or_else(|| default_time_bounds(taus[0], taus[taus.len() - 1]));
     let mut c = [0.0_f64; 5];
     let mut gm: Vec<(f64, f64)> = Vec::new();
+    let mut lines: Vec<(f64, f64)> = Vec::new();
     let mut reference = y.clone();
     let mut edf: Vec<f64> = used
         .iter()
@@ -544,13 +671,15 @@ pub(crate) fn irls(
             .zip(&edf)
             .map(|(r, e)| (e / 2.0).sqrt() / r)
             .collect();
-        let Some((ts, coef, x2)) = profile_times(
+        let Some((ts, fl, coef, x2)) = profile_times(
             &taus,
             &y,
             requested,
             n_gm,
             bounds,
             &Whitener::Diagonal(&sqrt_w),
+            windows,
+            t0,
         ) else {
             return Err(Error::Singular {
                 reason: "no subset of the requested terms gives a non-negative weighted \
@@ -567,6 +696,11 @@ pub(crate) fn irls(
             .zip(&coef[requested.len()..])
             .map(|(t, q2)| (*q2, *t))
             .collect();
+        let next_lines: Vec<(f64, f64)> = fl
+            .iter()
+            .zip(&coef[requested.len() + ts.len()..])
+            .map(|(f, a2)| (*a2, *f))
+            .collect();
         let rel = |a: f64, b: f64| (a - b).abs() / a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
         let mut change = (0..5).map(|j| rel(next[j], c[j])).fold(0.0_f64, f64::max);
         if gm.len() == next_gm.len() {
@@ -576,8 +710,16 @@ pub(crate) fn irls(
         } else {
             change = f64::INFINITY;
         }
+        if lines.len() == next_lines.len() {
+            for (a, b) in lines.iter().zip(&next_lines) {
+                change = change.max(rel(a.0, b.0)).max(rel(a.1, b.1));
+            }
+        } else {
+            change = f64::INFINITY;
+        }
         c = next;
         gm = next_gm;
+        lines = next_lines;
         chi2 = x2;
         if pass > 0 && change < tolerance {
             break;
@@ -585,16 +727,22 @@ pub(crate) fn irls(
         reference = taus
             .iter()
             .zip(&y)
-            .map(|(t, obs)| full_model(&c, &gm, *t).max(0.01 * obs))
+            .map(|(t, obs)| model_with_lines(&c, &gm, &lines, t0, *t).max(0.01 * obs))
             .collect();
         if curve.edf.is_none() {
-            edf = used.iter().map(|&i| edf_model(curve, i, &c, &gm)).collect();
+            edf = used
+                .iter()
+                .map(|&i| edf_model(curve, i, &c, &gm, &lines))
+                .collect();
         }
     }
     gm.sort_by(|a, b| a.1.total_cmp(&b.1));
     Ok(Inner {
         c,
         gm,
+        lines,
+        windows: windows.to_vec(),
+        t0,
         edf,
         sqrt_w,
         chi2,
@@ -645,21 +793,24 @@ impl CorrelationMemo {
 type MemoKey = (Vec<usize>, [u64; 5], Vec<(u64, u64)>);
 
 /// Goodness of fit on the points `used` (module docs): (χ², ν, p, z per used point).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn goodness(
     curve: &Curve<'_>,
     used: &[usize],
     c: &[f64; 5],
     gm: &[(f64, f64)],
+    lines: &[(f64, f64)],
     edf: &[f64],
     n_params: usize,
     memo: &mut CorrelationMemo,
 ) -> (f64, usize, f64, Vec<f64>) {
     let n = used.len();
+    let t0 = curve_t0(curve);
     let z: Vec<f64> = used
         .iter()
         .zip(edf)
         .map(|(&i, &nu)| {
-            let mu = full_model(c, gm, curve.taus[i]).max(f64::MIN_POSITIVE);
+            let mu = model_with_lines(c, gm, lines, t0, curve.taus[i]).max(f64::MIN_POSITIVE);
             let half = nu / 2.0;
             let r = (curve.variance[i] / mu).ln() - (digamma(half) - half.ln());
             r / trigamma(half).sqrt()
@@ -695,10 +846,18 @@ pub(crate) enum Param {
     Linear(Term),
     Variance(usize),
     LogTime(usize),
+    LineVariance(usize),
+    LineFrequency(usize),
 }
 
 /// `∂σ²(τ_i)/∂θ_k` of the active parameters at `taus`.
-pub(crate) fn jacobian(taus: &[f64], gm: &[(f64, f64)], params: &[Param]) -> DMatrix<f64> {
+pub(crate) fn jacobian(
+    taus: &[f64],
+    gm: &[(f64, f64)],
+    lines: &[(f64, f64)],
+    t0: f64,
+    params: &[Param],
+) -> DMatrix<f64> {
     let mut j = DMatrix::zeros(taus.len(), params.len());
     for (i, &tau) in taus.iter().enumerate() {
         for (k, par) in params.iter().enumerate() {
@@ -706,6 +865,8 @@ pub(crate) fn jacobian(taus: &[f64], gm: &[(f64, f64)], params: &[Param]) -> DMa
                 Param::Linear(t) => t.basis(tau),
                 Param::Variance(g) => gauss_markov::basis(gm[g].1, tau),
                 Param::LogTime(g) => gm[g].0 * gauss_markov::basis_dlog_t(gm[g].1, tau),
+                Param::LineVariance(k) => sinusoid::basis(lines[k].1, t0, tau),
+                Param::LineFrequency(k) => lines[k].0 * sinusoid::basis_dfreq(lines[k].1, t0, tau),
             };
         }
     }
@@ -713,8 +874,15 @@ pub(crate) fn jacobian(taus: &[f64], gm: &[(f64, f64)], params: &[Param]) -> DMa
 }
 
 /// The active parameters of a fit: power-law terms with `c > 0`, then `(q², ln T)` of every
-/// Gauss–Markov term with `q² > 0`.
-pub(crate) fn active_params(requested: &[Term], c: &[f64; 5], gm: &[(f64, f64)]) -> Vec<Param> {
+/// Gauss–Markov term with `q² > 0`, then `(Ω₀², f₀)` of every line with `Ω₀² > 0` (the frequency
+/// only when it was refined, i.e. its window has a positive half-width).
+pub(crate) fn active_params(
+    requested: &[Term],
+    c: &[f64; 5],
+    gm: &[(f64, f64)],
+    lines: &[(f64, f64)],
+    windows: &[(f64, f64)],
+) -> Vec<Param> {
     let mut params: Vec<Param> = requested
         .iter()
         .filter(|t| c[t.index()] > 0.0)
@@ -724,6 +892,14 @@ pub(crate) fn active_params(requested: &[Term], c: &[f64; 5], gm: &[(f64, f64)])
         if x.0 > 0.0 {
             params.push(Param::Variance(g));
             params.push(Param::LogTime(g));
+        }
+    }
+    for (k, x) in lines.iter().enumerate() {
+        if x.0 > 0.0 {
+            params.push(Param::LineVariance(k));
+            if windows.get(k).is_some_and(|w| w.1 > 0.0) {
+                params.push(Param::LineFrequency(k));
+            }
         }
     }
     params
@@ -744,7 +920,7 @@ fn parameter_covariance(
     }
     let taus: Vec<f64> = used.iter().map(|&i| curve.taus[i]).collect();
     let y: Vec<f64> = used.iter().map(|&i| curve.variance[i]).collect();
-    let j = jacobian(&taus, &inner.gm, params);
+    let j = jacobian(&taus, &inner.gm, &inner.lines, inner.t0, params);
     // Column scaling keeps JᵀWJ well conditioned (coefficients span many decades).
     let scale: Vec<f64> = (0..p)
         .map(|k| {
@@ -771,7 +947,10 @@ fn parameter_covariance(
         .iter()
         .zip(&y)
         .zip(&inner.edf)
-        .map(|((t, obs), e)| full_model(&inner.c, &inner.gm, *t).max(0.01 * obs) * (2.0 / e).sqrt())
+        .map(|((t, obs), e)| {
+            model_with_lines(&inner.c, &inner.gm, &inner.lines, inner.t0, *t).max(0.01 * obs)
+                * (2.0 / e).sqrt()
+        })
         .collect();
     let mut v = DMatrix::zeros(n, n);
     for i in 0..n {
@@ -804,6 +983,7 @@ pub fn joint(
             tau_range,
             correlation_time: None,
             automatic_range: false,
+            lines: Vec::new(),
         },
     )
 }
@@ -850,8 +1030,27 @@ pub fn model_term_symbols(enabled: &[bool; 5], gauss_markov: usize) -> Vec<&'sta
     symbols
 }
 
+/// Length of the leading run of points to exclude when the fit is rejected: the longest prefix
+/// that ends at a point with `z < −2`, contains no point with `z > 2` and is at most half of
+/// the points. A sensor's anti-alias filter bends the curve below the −½ line at the shortest τ;
+/// when another term (a sinusoid) is free at those τ, the first point can still fit while the
+/// next ones fall below the model, so the run is not required to start with `z < −2`.
+pub(crate) fn leading_run(z: &[f64]) -> usize {
+    let limit = z.len() / 2;
+    let mut lead = 0;
+    for (i, &v) in z.iter().enumerate().take(limit) {
+        if v > 2.0 || v.is_nan() {
+            break;
+        }
+        if v < -2.0 {
+            lead = i + 1;
+        }
+    }
+    lead
+}
+
 /// Merges a newly excluded τ range into the list (adjacent ranges with the same reason join).
-fn exclude(list: &mut Vec<(f64, f64, String)>, lo: f64, hi: f64, reason: &str) {
+pub(crate) fn exclude(list: &mut Vec<(f64, f64, String)>, lo: f64, hi: f64, reason: &str) {
     if let Some(e) = list.iter_mut().find(|e| e.2 == reason) {
         e.0 = e.0.min(lo);
         e.1 = e.1.max(hi);
@@ -860,11 +1059,11 @@ fn exclude(list: &mut Vec<(f64, f64, String)>, lo: f64, hi: f64, reason: &str) {
     }
 }
 
-const SHORT_REASON: &str = "σ below the model at the shortest τ with correlated residuals \
+pub(crate) const SHORT_REASON: &str = "σ below the model at the shortest τ with correlated residuals \
                             (typically the sensor's anti-alias/decimation filter)";
-const LONG_REASON: &str = "σ above the model at the longest τ (drift or non-stationarity the \
+pub(crate) const LONG_REASON: &str = "σ above the model at the longest τ (drift or non-stationarity the \
                            requested terms do not describe)";
-const EDF_REASON: &str = "fewer than 3 equivalent degrees of freedom";
+pub(crate) const EDF_REASON: &str = "fewer than 3 equivalent degrees of freedom";
 
 /// Joint fit with Gauss–Markov terms, diagnostics and (optionally) automatic τ-range selection
 /// (module docs).
@@ -896,7 +1095,20 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
         .into_iter()
         .filter(|t| enabled[t.index()])
         .collect();
-    let n_max_params = requested.len() + 2 * n_gm;
+    let t0 = curve_t0(curve);
+    for &(f, half) in &options.lines {
+        sinusoid::validate_lines("lines", &[(f, 1.0)], t0)?;
+        if !(half.is_finite() && half >= 0.0 && half < f) {
+            return Err(Error::invalid(
+                "lines",
+                format!(
+                    "the refinement half-width of the line at {f} Hz must be finite, >= 0 and \
+                     below the frequency, got {half}"
+                ),
+            ));
+        }
+    }
+    let n_max_params = requested.len() + 2 * n_gm + 2 * options.lines.len();
     let needed = 3.max(n_max_params.min(3) + 1);
     if used.len() < needed {
         return Err(Error::TooShort {
@@ -930,11 +1142,24 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
     }
     let automatic = options.automatic_range && options.tau_range.is_none();
     let mut excluded: Vec<(f64, f64, String)> = Vec::new();
-    let mut inner = irls(curve, &used, &requested, n_gm, options.correlation_time)?;
+    let mut inner = irls(
+        curve,
+        &used,
+        &requested,
+        n_gm,
+        options.correlation_time,
+        &options.lines,
+    )?;
     let mut memo = CorrelationMemo::default();
     let count_params = |inner: &Inner| {
-        inner.c.iter().filter(|v| **v > 0.0).count()
-            + 2 * inner.gm.iter().filter(|g| g.0 > 0.0).count()
+        active_params(
+            &requested,
+            &inner.c,
+            &inner.gm,
+            &inner.lines,
+            &inner.windows,
+        )
+        .len()
     };
     if automatic {
         let min_keep = (n_max_params + 2).max(used.len().div_ceil(2)).max(3);
@@ -951,7 +1176,14 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
                 EDF_REASON,
             );
             used.truncate(cut);
-            inner = irls(curve, &used, &requested, n_gm, options.correlation_time)?;
+            inner = irls(
+                curve,
+                &used,
+                &requested,
+                n_gm,
+                options.correlation_time,
+                &options.lines,
+            )?;
         }
         for _ in 0..curve.len() {
             let (_, _, p, z) = goodness(
@@ -959,6 +1191,7 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
                 &used,
                 &inner.c,
                 &inner.gm,
+                &inner.lines,
                 &inner.edf,
                 count_params(&inner),
                 &mut memo,
@@ -966,7 +1199,7 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
             if p >= REFIT_P || p.is_nan() {
                 break;
             }
-            let lead = z.iter().take_while(|v| **v < -2.0).count();
+            let lead = leading_run(&z);
             let trail = z.iter().rev().take_while(|v| **v > 2.0).count();
             if lead > 0 && used.len() - lead >= min_keep {
                 exclude(
@@ -988,7 +1221,14 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
             } else {
                 break;
             }
-            inner = irls(curve, &used, &requested, n_gm, options.correlation_time)?;
+            inner = irls(
+                curve,
+                &used,
+                &requested,
+                n_gm,
+                options.correlation_time,
+                &options.lines,
+            )?;
         }
     }
     Ok(finish(
@@ -1026,10 +1266,18 @@ pub(crate) fn finish(
 ) -> JointFit {
     let taus: Vec<f64> = used.iter().map(|&i| curve.taus[i]).collect();
     let c = inner.c;
-    let params = active_params(requested, &c, &inner.gm);
+    let params = active_params(requested, &c, &inner.gm, &inner.lines, &inner.windows);
     let n_params = params.len();
-    let (gof_chi2, dof, p_value, z) =
-        goodness(curve, used, &c, &inner.gm, &inner.edf, n_params, memo);
+    let (gof_chi2, dof, p_value, z) = goodness(
+        curve,
+        used,
+        &c,
+        &inner.gm,
+        &inner.lines,
+        &inner.edf,
+        n_params,
+        memo,
+    );
     let mut warnings = Vec::new();
     if let Some((a, b, _)) = excluded.iter().find(|e| e.2 == LONG_REASON) {
         warnings.push(format!(
@@ -1086,7 +1334,10 @@ pub(crate) fn finish(
             }
         }
     }
-    let model: Vec<f64> = taus.iter().map(|t| full_model(&c, &inner.gm, *t)).collect();
+    let model: Vec<f64> = taus
+        .iter()
+        .map(|t| model_with_lines(&c, &inner.gm, &inner.lines, inner.t0, *t))
+        .collect();
     let tau_min = taus
         .iter()
         .zip(&model)
@@ -1101,7 +1352,7 @@ pub(crate) fn finish(
             .collect();
         visible.first().map(|a| (*a, *visible.last().unwrap_or(a)))
     };
-    let terms = Term::ALL
+    let mut terms: Vec<TermEstimate> = Term::ALL
         .into_iter()
         .map(|t| {
             let j = t.index();
@@ -1136,9 +1387,12 @@ pub(crate) fn finish(
                 tau_range: visible_range(&|tau| c[j] * t.basis(tau)),
                 marker,
                 missing: None,
+                upper_bound: None,
             }
         })
         .collect();
+    // A requested term the fit set to zero is bounded from above by the points it used.
+    super::bound::attach(&mut terms, enabled, curve, used, &inner.edf);
     let mut gauss_markov_terms = Vec::new();
     for (g, &(q2, t)) in inner.gm.iter().enumerate() {
         if q2 <= 0.0 {
@@ -1194,6 +1448,42 @@ pub(crate) fn finish(
             missing: Some("not identified".into()),
         });
     }
+    let mut line_terms = Vec::new();
+    for (k, &(a2, f)) in inner.lines.iter().enumerate() {
+        let kv = params
+            .iter()
+            .position(|p| matches!(p, Param::LineVariance(x) if *x == k));
+        let kf = params
+            .iter()
+            .position(|p| matches!(p, Param::LineFrequency(x) if *x == k));
+        if a2 <= 0.0 || kv.is_none() {
+            line_terms.push(LineEstimate {
+                frequency: f,
+                frequency_uncertainty: f64::NAN,
+                amplitude: None,
+                amplitude_uncertainty: f64::NAN,
+                tau_range: None,
+                missing: Some(format!(
+                    "the non-negative fit set it to zero: the sinusoid at {} Hz is not visible \
+                     above the noise in {}..{} s",
+                    sig(f, 6),
+                    sig(taus[0], 3),
+                    sig(taus[taus.len() - 1], 3)
+                )),
+            });
+            continue;
+        }
+        let amplitude = a2.sqrt();
+        line_terms.push(LineEstimate {
+            frequency: f,
+            frequency_uncertainty: kf.map_or(f64::NAN, |kf| variance_of(kf).sqrt()),
+            amplitude: Some(amplitude),
+            amplitude_uncertainty: kv.map_or(f64::NAN, |kv| variance_of(kv).sqrt())
+                / (2.0 * amplitude),
+            tau_range: visible_range(&|tau| a2 * sinusoid::basis(f, inner.t0, tau)),
+            missing: None,
+        });
+    }
     let mut residuals = vec![f64::NAN; curve.len()];
     for (k, &i) in used.iter().enumerate() {
         residuals[i] = z[k];
@@ -1205,6 +1495,8 @@ pub(crate) fn finish(
         covariance,
         gauss_markov_squared: inner.gm,
         gauss_markov: gauss_markov_terms,
+        lines_squared: inner.lines,
+        lines: line_terms,
         chi2: inner.chi2,
         dof,
         tau_range,
@@ -1235,12 +1527,16 @@ pub fn diagnose(
     let used: Vec<usize> = (0..curve.len())
         .filter(|&i| curve.variance[i] > 0.0)
         .collect();
-    let edf: Vec<f64> = used.iter().map(|&i| edf_model(curve, i, c, gm)).collect();
+    let edf: Vec<f64> = used
+        .iter()
+        .map(|&i| edf_model(curve, i, c, gm, &[]))
+        .collect();
     let (chi2, dof, p_value, z) = goodness(
         curve,
         &used,
         c,
         gm,
+        &[],
         &edf,
         n_params,
         &mut CorrelationMemo::default(),

@@ -54,12 +54,14 @@ use rayon::prelude::*;
 use super::covariance::correlation_with;
 use super::curve::{Curve, TermEstimate};
 use super::fit::{
-    CorrelationMemo, CovarianceSource, Inner, JointFit, Whitener, active_params, edf_model, finish,
-    full_model, irls, jacobian, profile_times,
+    CorrelationMemo, CovarianceSource, Inner, JointFit, LONG_REASON, REFIT_P, SHORT_REASON,
+    Whitener, active_params, edf_model, exclude, finish, goodness, irls, jacobian, leading_run,
+    model_with_lines, profile_times,
 };
 use super::gauss_markov;
 use super::model::Term;
 use super::simulate::{Ar1, NoiseSpec, simulate_axis};
+use super::sinusoid;
 use super::wavelet::{WaveletVariance, haar};
 use crate::random::NormalStream;
 use crate::{Error, Result};
@@ -79,6 +81,10 @@ pub struct GmwmOptions {
     pub seed: u64,
     /// Use scales whose half-width `m` satisfies `n/m ≥ min_blocks` (default 8).
     pub min_blocks: usize,
+    /// Select the scales automatically (module docs), as [`super::fit()`] selects its τ range.
+    pub automatic_range: bool,
+    /// Sinusoidal terms `(seed frequency, half-width)` in Hz (as [`super::FitOptions::lines`]).
+    pub lines: Vec<(f64, f64)>,
 }
 
 impl Default for GmwmOptions {
@@ -90,6 +96,8 @@ impl Default for GmwmOptions {
             bootstrap: 0,
             seed: 0,
             min_blocks: 8,
+            automatic_range: false,
+            lines: Vec::new(),
         }
     }
 }
@@ -129,6 +137,16 @@ impl Scales {
         }
     }
 
+    /// The scales at the indices `used`.
+    fn subset(&self, used: &[usize]) -> Self {
+        Scales {
+            taus: used.iter().map(|&i| self.taus[i]).collect(),
+            variance: used.iter().map(|&i| self.variance[i]).collect(),
+            m: used.iter().map(|&i| self.m[i]).collect(),
+            n_terms: used.iter().map(|&i| self.n_terms[i]).collect(),
+        }
+    }
+
     fn curve(&self) -> Curve<'_> {
         Curve {
             taus: &self.taus,
@@ -148,7 +166,8 @@ fn weight_factor(curve: &Curve<'_>, inner: &Inner) -> Option<DMatrix<f64>> {
     let rho = correlation_with(curve.m, curve.n_terms, t0, &inner.c, &inner.gm);
     let s: Vec<f64> = (0..n)
         .map(|i| {
-            let mu = full_model(&inner.c, &inner.gm, curve.taus[i]).max(0.01 * curve.variance[i]);
+            let mu = model_with_lines(&inner.c, &inner.gm, &inner.lines, inner.t0, curve.taus[i])
+                .max(0.01 * curve.variance[i]);
             mu * (2.0 / inner.edf[i]).sqrt()
         })
         .collect();
@@ -169,21 +188,28 @@ type Candidate = ([bool; 5], usize);
 type Estimate = (Inner, DMatrix<f64>, f64);
 
 /// One GMWM estimate of a fixed model.
-fn estimate(curve: &Curve<'_>, requested: &[Term], n_gm: usize) -> Result<Estimate> {
+fn estimate(
+    curve: &Curve<'_>,
+    requested: &[Term],
+    n_gm: usize,
+    windows: &[(f64, f64)],
+) -> Result<Estimate> {
     let used: Vec<usize> = (0..curve.len()).collect();
-    let mut inner = irls(curve, &used, requested, n_gm, None)?;
+    let mut inner = irls(curve, &used, requested, n_gm, None, windows)?;
     let singular = || Error::Singular {
         reason: "the wavelet-variance covariance is not positive definite".into(),
     };
     for _ in 0..3 {
         let l = weight_factor(curve, &inner).ok_or_else(singular)?;
-        let (ts, coef, _) = profile_times(
+        let (ts, fl, coef, _) = profile_times(
             curve.taus,
             curve.variance,
             requested,
             n_gm,
             inner.bounds,
             &Whitener::Cholesky(&l),
+            windows,
+            inner.t0,
         )
         .ok_or_else(|| Error::Singular {
             reason: "no subset of the requested terms gives a non-negative generalized \
@@ -200,15 +226,23 @@ fn estimate(curve: &Curve<'_>, requested: &[Term], n_gm: usize) -> Result<Estima
             .map(|(t, q2)| (*q2, *t))
             .collect();
         gm.sort_by(|a, b| a.1.total_cmp(&b.1));
+        inner.lines = fl
+            .iter()
+            .zip(&coef[requested.len() + ts.len()..])
+            .map(|(f, a2)| (*a2, *f))
+            .collect();
         inner.c = c;
         inner.gm = gm;
         inner.edf = (0..curve.len())
-            .map(|i| edf_model(curve, i, &inner.c, &inner.gm))
+            .map(|i| edf_model(curve, i, &inner.c, &inner.gm, &inner.lines))
             .collect();
     }
     let l = weight_factor(curve, &inner).ok_or_else(singular)?;
     let resid: Vec<f64> = (0..curve.len())
-        .map(|i| curve.variance[i] - full_model(&inner.c, &inner.gm, curve.taus[i]))
+        .map(|i| {
+            curve.variance[i]
+                - model_with_lines(&inner.c, &inner.gm, &inner.lines, inner.t0, curve.taus[i])
+        })
         .collect();
     let j: f64 = Whitener::Cholesky(&l)
         .apply(&resid)
@@ -226,8 +260,8 @@ fn asymptotic_covariance(
     l: &DMatrix<f64>,
     requested: &[Term],
 ) -> Option<DMatrix<f64>> {
-    let params = active_params(requested, &inner.c, &inner.gm);
-    let d = jacobian(curve.taus, &inner.gm, &params);
+    let params = active_params(requested, &inner.c, &inner.gm, &inner.lines, &inner.windows);
+    let d = jacobian(curve.taus, &inner.gm, &inner.lines, inner.t0, &params);
     let p = params.len();
     if p == 0 {
         return Some(DMatrix::zeros(0, 0));
@@ -263,17 +297,19 @@ fn mix(mut z: u64) -> u64 {
 }
 
 /// Parametric-bootstrap covariance of the active parameters.
+#[allow(clippy::too_many_arguments)]
 fn bootstrap_covariance(
     n: usize,
     t0: f64,
     min_blocks: usize,
+    used: &[usize],
     requested: &[Term],
     n_gm: usize,
     inner: &Inner,
     replicates: usize,
     seed: u64,
 ) -> Option<DMatrix<f64>> {
-    let params = active_params(requested, &inner.c, &inner.gm);
+    let params = active_params(requested, &inner.c, &inner.gm, &inner.lines, &inner.windows);
     let p = params.len();
     let amp = |t: Term| inner.c[t.index()].max(0.0).sqrt();
     let ar = |g: usize| {
@@ -308,9 +344,15 @@ fn bootstrap_covariance(
                     state = a.coefficient * state + a.sigma * g.next_normal();
                 }
             }
+            let lines: Vec<(f64, f64, f64)> = inner
+                .lines
+                .iter()
+                .map(|&(a2, f)| (f, a2.max(0.0).sqrt(), 0.0))
+                .collect();
+            sinusoid::add_lines(&mut rate, t0, &lines).ok()?;
             let wv = haar(&rate, t0, min_blocks).ok()?;
-            let scales = Scales::of(&wv, t0);
-            let (est, _, _) = estimate(&scales.curve(), requested, n_gm).ok()?;
+            let scales = Scales::of(&wv, t0).subset(used);
+            let (est, _, _) = estimate(&scales.curve(), requested, n_gm, &inner.windows).ok()?;
             Some(
                 params
                     .iter()
@@ -318,6 +360,8 @@ fn bootstrap_covariance(
                         super::fit::Param::Linear(t) => est.c[t.index()],
                         super::fit::Param::Variance(g) => est.gm[g].0,
                         super::fit::Param::LogTime(g) => est.gm[g].1.ln(),
+                        super::fit::Param::LineVariance(k) => est.lines[k].0,
+                        super::fit::Param::LineFrequency(k) => est.lines[k].1,
                     })
                     .collect(),
             )
@@ -371,21 +415,42 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
         return Err(Error::invalid("terms", "no term requested"));
     }
     let wv = haar(rate, t0, options.min_blocks)?;
-    let scales = Scales::of(&wv, t0);
-    let curve = scales.curve();
-    curve.validate()?;
-    let n_params = options.enabled.iter().filter(|e| **e).count() + 2 * options.gauss_markov;
-    if curve.len() <= n_params {
+    let all_scales = Scales::of(&wv, t0);
+    let full = all_scales.curve();
+    full.validate()?;
+    let n_params = options.enabled.iter().filter(|e| **e).count()
+        + 2 * options.gauss_markov
+        + 2 * options.lines.len();
+    if full.len() <= n_params {
         return Err(Error::invalid(
             "data",
             format!(
                 "{} dyadic scales (n = {}) for {n_params} parameters: too few scales to \
                  identify the model; use a longer record or fewer terms",
-                curve.len(),
+                full.len(),
                 rate.len()
             ),
         ));
     }
+    for &(f, half) in &options.lines {
+        sinusoid::validate_lines("lines", &[(f, 1.0)], t0)?;
+        if !(half.is_finite() && half >= 0.0 && half < f) {
+            return Err(Error::invalid(
+                "lines",
+                format!(
+                    "the refinement half-width of the line at {f} Hz must be finite, >= 0 and \
+                     below the frequency, got {half}"
+                ),
+            ));
+        }
+    }
+    let (used, excluded) = if options.automatic_range {
+        select_scales(&all_scales, options, n_params)?
+    } else {
+        ((0..full.len()).collect(), Vec::new())
+    };
+    let scales = all_scales.subset(&used);
+    let curve = scales.curve();
     let mut candidates: Vec<([bool; 5], usize)> = Vec::new();
     if options.select {
         let requested: Vec<Term> = Term::ALL
@@ -412,7 +477,7 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
         .par_iter()
         .map(|&(e, g)| {
             let requested: Vec<Term> = Term::ALL.into_iter().filter(|t| e[t.index()]).collect();
-            ((e, g), estimate(&curve, &requested, g))
+            ((e, g), estimate(&curve, &requested, g, &options.lines))
         })
         .collect();
     let mut best: Option<(Candidate, Inner, DMatrix<f64>, f64)> = None;
@@ -422,7 +487,14 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
         match r {
             Ok((inner, l, j)) => {
                 let requested: Vec<Term> = Term::ALL.into_iter().filter(|t| e[t.index()]).collect();
-                let p = active_params(&requested, &inner.c, &inner.gm).len();
+                let p = active_params(
+                    &requested,
+                    &inner.c,
+                    &inner.gm,
+                    &inner.lines,
+                    &inner.windows,
+                )
+                .len();
                 let wvic = j + 2.0 * p as f64;
                 if options.select {
                     table.push((symbols(e, g), wvic));
@@ -454,6 +526,7 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
             rate.len(),
             t0,
             options.min_blocks,
+            &used,
             &requested,
             n_gm,
             &inner,
@@ -463,16 +536,15 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
     } else {
         asymptotic_covariance(&curve, &inner, &l, &requested)
     };
-    let used: Vec<usize> = (0..curve.len()).collect();
     let mut fit = finish(
-        &curve,
+        &full,
         &used,
         &requested,
         // Terms the user asked for but the selection dropped are reported as such.
         options.enabled,
         options.gauss_markov,
         pad_gm(inner, options.gauss_markov),
-        Vec::new(),
+        excluded,
         CovarianceSource::Given(cov),
         &mut CorrelationMemo::default(),
     );
@@ -485,6 +557,111 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
         bootstrap: options.bootstrap,
         wavelet: wv,
     })
+}
+
+/// The scales used and the excluded τ ranges with their reasons.
+type Selection = (Vec<usize>, Vec<(f64, f64, String)>);
+
+/// Automatic scale selection (module docs): the scales of the full model `options` that the
+/// GMWM uses, and what was excluded with the reason. First [`super::fit()`]'s own automatic
+/// range on the Allan-variance equivalent `2ν̂²` (trailing scales with fewer than
+/// [`super::fit::MIN_EDF`]
+/// equivalent degrees of freedom, then the runs its diagonally weighted fit rejects); then, while the
+/// goodness-of-fit test rejects the model (p < [`REFIT_P`]), the leading scales up to the last
+/// one with standardised residual `z < −2` ([`super::fit::leading_run`]; failing that, the
+/// leading run of negative residuals: the generalized least squares spreads a misfit of the
+/// first scales over their correlated neighbours) — a sensor's anti-alias filter bends the
+/// first scales below the white-noise line — or the trailing run with `z > 2` (drift), keeping
+/// at least half of the scales and two more than the parameters.
+fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result<Selection> {
+    let requested: Vec<Term> = Term::ALL
+        .into_iter()
+        .filter(|t| options.enabled[t.index()])
+        .collect();
+    let full = all.curve();
+    // First the joint fit's own selection on the same points (2ν̂² is the Allan variance at
+    // τ = m t0): its diagonal weights are not dominated by the first scales, so filtered
+    // scales show as residuals there, where the GMWM's correlated metric would bend the
+    // model to them.
+    let joint = super::fit::fit(
+        &full,
+        &super::fit::FitOptions {
+            enabled: options.enabled,
+            gauss_markov: options.gauss_markov,
+            tau_range: None,
+            correlation_time: None,
+            automatic_range: true,
+            lines: options.lines.clone(),
+        },
+    )?;
+    let mut used = joint.used;
+    let mut excluded = joint.diagnostics.excluded;
+    let min_keep = (n_params + 2).max(full.len().div_ceil(2)).max(3);
+    let fit_on = |used: &[usize]| -> Result<Inner> {
+        let sub = all.subset(used);
+        estimate(
+            &sub.curve(),
+            &requested,
+            options.gauss_markov,
+            &options.lines,
+        )
+        .map(|e| e.0)
+    };
+    let mut inner = fit_on(&used)?;
+    let mut memo = CorrelationMemo::default();
+    for _ in 0..full.len() {
+        let p = active_params(
+            &requested,
+            &inner.c,
+            &inner.gm,
+            &inner.lines,
+            &inner.windows,
+        )
+        .len();
+        let (_, _, pv, z) = goodness(
+            &full,
+            &used,
+            &inner.c,
+            &inner.gm,
+            &inner.lines,
+            &inner.edf,
+            p,
+            &mut memo,
+        );
+        if pv >= REFIT_P || pv.is_nan() {
+            break;
+        }
+        let mut lead = leading_run(&z);
+        if lead == 0 {
+            // The generalized least squares spreads the misfit of filtered first scales over
+            // their correlated neighbours, whose standardised residuals then stay above −2: a
+            // leading run of negative residuals is excluded instead (while the test rejects).
+            lead = z.iter().take(z.len() / 2).take_while(|v| **v < 0.0).count();
+        }
+        let trail = z.iter().rev().take_while(|v| **v > 2.0).count();
+        if lead > 0 && used.len() - lead >= min_keep {
+            exclude(
+                &mut excluded,
+                full.taus[used[0]],
+                full.taus[used[lead - 1]],
+                SHORT_REASON,
+            );
+            used.drain(..lead);
+        } else if trail > 0 && used.len() - trail >= min_keep {
+            let cut = used.len() - trail;
+            exclude(
+                &mut excluded,
+                full.taus[used[cut]],
+                full.taus[used[used.len() - 1]],
+                LONG_REASON,
+            );
+            used.truncate(cut);
+        } else {
+            break;
+        }
+        inner = fit_on(&used)?;
+    }
+    Ok((used, excluded))
 }
 
 /// Terms the user asked for that the model selection left out are missing because of the

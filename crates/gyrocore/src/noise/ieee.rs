@@ -255,6 +255,7 @@ pub fn read_off(
                 tau_range: Some((taus[lo], taus[hi])),
                 marker: Some((taus[i_min], sigma)),
                 missing: None,
+                upper_bound: None,
             });
             continue;
         }
@@ -295,8 +296,13 @@ pub fn read_off(
             tau_range: Some((taus[a], taus[b])),
             marker: Some((read_tau, value)),
             missing: None,
+            upper_bound: None,
         });
     }
+    // A requested term the read-off did not find is bounded from above by every point.
+    let used: Vec<usize> = (0..curve.len()).filter(|&i| positive(i)).collect();
+    let used_edf: Vec<f64> = used.iter().map(|&i| edf[i]).collect();
+    super::bound::attach(&mut terms, enabled, curve, &used, &used_edf);
     Ok(ReadOff {
         terms,
         local_slopes: slopes,

@@ -21,10 +21,14 @@
 //!   minimum).
 //! * [`mod@overbound`]: conservative coefficients whose model overbounds the curve's upper
 //!   confidence bound (Lethander & Taylor 2023).
+//! * [`bound`]: upper bounds of the terms the curve does not show.
 //! * [`discrete`]: per-sample equivalents (white, random-walk step, Gauss–Markov φ) and the
 //!   datasheet conventions (one/two-sided densities, Allan-minimum bias instability).
+//! * [`sinusoid`]: the IEEE-952 sinusoidal term (a periodic disturbance) and spectral-line
+//!   detection against the local noise floor.
 //! * [`model`]: the basis functions, slopes, read-off times and simple EDF approximations.
 
+pub mod bound;
 pub mod covariance;
 pub mod curve;
 pub mod discrete;
@@ -35,12 +39,14 @@ pub mod ieee;
 pub mod model;
 pub mod overbound;
 pub mod simulate;
+pub mod sinusoid;
 pub mod wavelet;
 
+pub use bound::{BOUND_CONFIDENCE, UpperBound, upper_bound};
 pub use curve::{Curve, TermEstimate, parse_terms};
 pub use fit::{
-    Diagnostics, FitOptions, GaussMarkovEstimate, JointFit, diagnose, fit, full_model, joint,
-    model_term_symbols, parse_model_terms,
+    Diagnostics, FitOptions, GaussMarkovEstimate, JointFit, LineEstimate, diagnose, fit,
+    full_model, joint, model_term_symbols, parse_model_terms,
 };
 pub use gmwm::{GmwmFit, GmwmOptions, gmwm};
 pub use ieee::{ReadOff, ReadOffOptions, read_off};

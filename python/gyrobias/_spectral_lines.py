@@ -1,0 +1,64 @@
+"""The value type of a spectral line (a periodic disturbance of a rate signal).
+
+A value-type module like ``allan._types`` and ``noise._types`` (which carry it): it imports no
+algorithm. The detector is :mod:`gyrobias._line_detection`. Public name:
+``gyrobias.noise.SpectralLine``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+#: Half-width (bins) of the detector's running-median window.
+HALF_WIDTH = 128
+
+#: Smallest record the detector accepts: eight window half-widths.
+MIN_SAMPLES = 8 * HALF_WIDTH
+
+
+@dataclass(frozen=True)
+class SpectralLine:
+    """One spectral line: a sinusoid found in the rate above the local noise floor.
+
+    Attributes
+    ----------
+    frequency : float
+        Frequency (Hz), refined to the maximum of the windowed periodogram, in (0, fs/2].
+    amplitude : float
+        Amplitude Ω₀ of the sinusoid ``Ω₀·sin(2πf₀t + φ)`` in the rate unit.
+    unit : str or None
+        Rate unit of ``amplitude``.
+    ratio : float
+        Periodogram peak over the local noise floor.
+    p_value : float
+        Bonferroni-adjusted p-value ``min(1, K·exp(−ratio))`` over the K frequencies searched:
+        the probability that noise alone gives a peak this high anywhere in the spectrum.
+    resolution : float
+        Frequency resolution ``fs/n`` of the periodogram (Hz).
+    """
+
+    frequency: float
+    amplitude: float
+    unit: str | None
+    ratio: float
+    p_value: float
+    resolution: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary with units."""
+        return {
+            "frequency_hz": self.frequency,
+            "amplitude": self.amplitude,
+            "unit": self.unit,
+            "ratio": self.ratio,
+            "p_value": self.p_value,
+            "resolution_hz": self.resolution,
+        }
+
+    def __str__(self) -> str:
+        unit = f" {self.unit}" if self.unit else ""
+        return (
+            f"line at {self.frequency:.4f} Hz, amplitude {self.amplitude:.4g}{unit} "
+            f"(peak/floor {self.ratio:.3g}, p = {self.p_value:.2g})"
+        )
