@@ -1059,6 +1059,37 @@ pub(crate) fn exclude(list: &mut Vec<(f64, f64, String)>, lo: f64, hi: f64, reas
     }
 }
 
+/// One step of the automatic τ-range selection shared by the joint fit and GMWM: drops the
+/// `lead` shortest used points (filtered first scales, [`SHORT_REASON`]) or else the trailing
+/// run of standardised residuals `z` above +2 (drift, [`LONG_REASON`]), as long as `min_keep`
+/// points remain; records the excluded τ band. Returns `false` when nothing could be dropped.
+pub(crate) fn trim_ends(
+    used: &mut Vec<usize>,
+    excluded: &mut Vec<(f64, f64, String)>,
+    taus: &[f64],
+    z: &[f64],
+    lead: usize,
+    min_keep: usize,
+) -> bool {
+    let trail = z.iter().rev().take_while(|v| **v > 2.0).count();
+    if lead > 0 && used.len() - lead >= min_keep {
+        exclude(excluded, taus[used[0]], taus[used[lead - 1]], SHORT_REASON);
+        used.drain(..lead);
+    } else if trail > 0 && used.len() - trail >= min_keep {
+        let cut = used.len() - trail;
+        exclude(
+            excluded,
+            taus[used[cut]],
+            taus[used[used.len() - 1]],
+            LONG_REASON,
+        );
+        used.truncate(cut);
+    } else {
+        return false;
+    }
+    true
+}
+
 pub(crate) const SHORT_REASON: &str = "σ below the model at the shortest τ with correlated residuals \
                             (typically the sensor's anti-alias/decimation filter)";
 pub(crate) const LONG_REASON: &str = "σ above the model at the longest τ (drift or non-stationarity the \
@@ -1200,25 +1231,7 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
                 break;
             }
             let lead = leading_run(&z);
-            let trail = z.iter().rev().take_while(|v| **v > 2.0).count();
-            if lead > 0 && used.len() - lead >= min_keep {
-                exclude(
-                    &mut excluded,
-                    curve.taus[used[0]],
-                    curve.taus[used[lead - 1]],
-                    SHORT_REASON,
-                );
-                used.drain(..lead);
-            } else if trail > 0 && used.len() - trail >= min_keep {
-                let cut = used.len() - trail;
-                exclude(
-                    &mut excluded,
-                    curve.taus[used[cut]],
-                    curve.taus[used[used.len() - 1]],
-                    LONG_REASON,
-                );
-                used.truncate(cut);
-            } else {
+            if !trim_ends(&mut used, &mut excluded, curve.taus, &z, lead, min_keep) {
                 break;
             }
             inner = irls(

@@ -54,9 +54,9 @@ use rayon::prelude::*;
 use super::covariance::correlation_with;
 use super::curve::{Curve, TermEstimate};
 use super::fit::{
-    CorrelationMemo, CovarianceSource, Inner, JointFit, LONG_REASON, REFIT_P, SHORT_REASON,
-    Whitener, active_params, edf_model, exclude, finish, goodness, irls, jacobian, leading_run,
-    model_with_lines, profile_times,
+    CorrelationMemo, CovarianceSource, Inner, JointFit, REFIT_P, Whitener, active_params,
+    edf_model, finish, goodness, irls, jacobian, leading_run, model_with_lines, profile_times,
+    trim_ends,
 };
 use super::gauss_markov;
 use super::model::Term;
@@ -638,25 +638,7 @@ fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result
             // leading run of negative residuals is excluded instead (while the test rejects).
             lead = z.iter().take(z.len() / 2).take_while(|v| **v < 0.0).count();
         }
-        let trail = z.iter().rev().take_while(|v| **v > 2.0).count();
-        if lead > 0 && used.len() - lead >= min_keep {
-            exclude(
-                &mut excluded,
-                full.taus[used[0]],
-                full.taus[used[lead - 1]],
-                SHORT_REASON,
-            );
-            used.drain(..lead);
-        } else if trail > 0 && used.len() - trail >= min_keep {
-            let cut = used.len() - trail;
-            exclude(
-                &mut excluded,
-                full.taus[used[cut]],
-                full.taus[used[used.len() - 1]],
-                LONG_REASON,
-            );
-            used.truncate(cut);
-        } else {
+        if !trim_ends(&mut used, &mut excluded, full.taus, &z, lead, min_keep) {
             break;
         }
         inner = fit_on(&used)?;
