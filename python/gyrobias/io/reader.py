@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 from gyrobias._validation import callback, choice, count, sample_rate
 from gyrobias.io import _bag
 from gyrobias.io._store import Store
-from gyrobias.io._types import GyroLog, SamplingReport
+from gyrobias.io._types import GyroLog
 from gyrobias.io.columns import (
     ColumnSpec,
     UnitSpec,
@@ -256,9 +256,7 @@ def load(
         if repairs or fill_gaps:
             what = "repair" if repairs else "fill_gaps"
             raise ValueError(f"{what} needs timestamps, and {p.name} has no time column")
-        report = SamplingReport(
-            n_samples=len(table), fs=fs, fs_source=None if fs is None else "user", source_format=fmt
-        )
+        report = _sampling_report(len(table), None, None, None, fs, source_format=fmt)
     else:
         assert t_name is not None
         t_raw, table, fixes = _repair(p, t_raw, table, t_name, repairs, line_of, store)

@@ -90,9 +90,9 @@ def _stamps(t_raw: NDArray[Any]) -> NDArray[Any]:
 
 def _sampling_report(
     n: int,
-    time: NDArray[np.float64],
-    steps: NDArray[np.float64],
-    unit: str,
+    time: NDArray[np.float64] | None,
+    steps: NDArray[np.float64] | None,
+    unit: str | None,
     fs: float | None,
     *,
     unit_guessed: bool = False,
@@ -100,6 +100,15 @@ def _sampling_report(
     source_format: str | None = None,
     filling: bool = False,
 ) -> SamplingReport:
+    """The one constructor of :class:`SamplingReport`: from the timestamps when there are any
+    (``time``, ``steps`` and ``unit`` given), else only the sample count and the given rate."""
+    if time is None or steps is None or unit is None:
+        return SamplingReport(
+            n_samples=n,
+            fs=fs,
+            fs_source=None if fs is None else "user",
+            source_format=source_format,
+        )
     fixes = fixes if fixes is not None else _Fixes()
     warnings: list[str] = list(fixes.repairs)
     duration = float(time[-1])
