@@ -9,7 +9,7 @@
 //! ```
 //!
 //! (the true variance lies below `u²_i` with probability `1 − α`: σ̂²·edf/σ² ~ χ²_edf, the same
-//! bound as [`super::overbound`]) the bound of term `j` is the largest `c_j` whose asymptote stays
+//! bound as [`mod@super::overbound`]) the bound of term `j` is the largest `c_j` whose asymptote stays
 //! under `u²` at every τ used,
 //!
 //! ```text

@@ -42,7 +42,7 @@
 //! [`MIN_EDF`] are excluded (a chi-square with fewer than 3 degrees of freedom spans more than a
 //! factor 10 at 90 %, and such points are where non-stationary drift shows); (2) while the fit is
 //! rejected (p < [`REFIT_P`]) the leading points up to the last one with `z < −2` before any
-//! `z > 2` (within the first half; [`leading_run`]) (σ below the model at the shortest τ: a sensor's anti-alias/decimation filter correlates the samples and bends the
+//! `z > 2` (within the first half; `leading_run`) (σ below the model at the shortest τ: a sensor's anti-alias/decimation filter correlates the samples and bends the
 //! curve below the −½ line, which no positive term can follow) or the trailing run with `z > 2`
 //! (σ above the model at long τ: drift the terms do not describe) is excluded and the model
 //! refitted, keeping at least half of the points. What was excluded and why is recorded.
