@@ -8,7 +8,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import example, given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
@@ -337,6 +337,7 @@ def _stats(values: np.ndarray) -> predict.MethodStats:
     ),
     st.floats(-10.0, 10.0),
 )
+@example(np.zeros((1, 1)), 1.2063433163728976e-185)
 def test_scores_and_summaries_match_numpy(y: np.ndarray, shift: float) -> None:
     """IE, RSSE, mean and s.d. (ddof 1) from the core against NumPy (compensated vs pairwise
     sums: agreement to a few ulps of the largest term)."""
@@ -345,12 +346,15 @@ def test_scores_and_summaries_match_numpy(y: np.ndarray, shift: float) -> None:
     np.testing.assert_allclose(
         predict.integrated_error(y, yhat), np.sum(y - yhat, axis=1), rtol=0, atol=1e-13 * scale
     )
-    np.testing.assert_allclose(
-        predict.rsse(y, yhat), np.sqrt(np.sum((y - yhat) ** 2, axis=1)), rtol=1e-13, atol=1e-300
-    )
-    assert predict.rsse(y[0], yhat[0]) == pytest.approx(
-        float(np.sqrt(np.sum((y[0] - yhat[0]) ** 2)))
-    )
+    # The reference norm is scaled by each row's largest error (as LAPACK's dnrm2), so it
+    # neither under- nor overflows: an unscaled sqrt(sum(d²)) gives 0 for d = 1.2e-185, where
+    # the core (which scales too) rightly gives 1.2e-185.
+    d = y - yhat
+    peak = np.max(np.abs(d), axis=1)
+    unit = np.where(peak > 0, peak, 1.0)
+    reference = peak * np.sqrt(np.sum((d / unit[:, None]) ** 2, axis=1))
+    np.testing.assert_allclose(predict.rsse(y, yhat), reference, rtol=1e-13, atol=0)
+    assert predict.rsse(y[0], yhat[0]) == pytest.approx(float(reference[0]), rel=1e-13, abs=0)
     s = _stats(y.reshape(-1))
     assert s.mean_ie == pytest.approx(float(np.mean(y)), rel=1e-13, abs=1e-10)
     if y.size > 1:
