@@ -108,7 +108,8 @@ class Term:
         have absorbed part of the term and the bound would under-cover). ``None`` for an
         identified term, a term not requested, or coefficients not from data.
     bound_confidence : float or None
-        One-sided confidence level of :attr:`upper_bound` (0.95).
+        One-sided confidence level of :attr:`upper_bound`: the ``bound_confidence`` of the
+        fit (:func:`gyrobias.noise.fit`, :func:`gyrobias.noise.gmwm`; default 0.95).
     bound_reason : str or None
         How the bound was obtained (points, τ range, the binding τ).
 

@@ -173,6 +173,7 @@ def fit(
     correlation_time: tuple[float, float] | None = ...,
     auto_range: bool = ...,
     lines: str | Sequence[float | SpectralLine] | None = ...,
+    bound_confidence: float = ...,
 ) -> NoiseCoefficients: ...
 
 
@@ -190,6 +191,7 @@ def fit(
     correlation_time: tuple[float, float] | None = ...,
     auto_range: bool = ...,
     lines: str | Sequence[float | SpectralLine] | None = ...,
+    bound_confidence: float = ...,
 ) -> tuple[NoiseCoefficients, ...]: ...
 
 
@@ -206,6 +208,7 @@ def fit(
     correlation_time: tuple[float, float] | None = None,
     auto_range: bool = True,
     lines: str | Sequence[float | SpectralLine] | None = "auto",
+    bound_confidence: float = 0.95,
 ) -> NoiseCoefficients | tuple[NoiseCoefficients, ...]:
     """Identify the IEEE-952 noise coefficients from an Allan-deviation result.
 
@@ -250,6 +253,12 @@ def fit(
         :func:`gyrobias.noise.detect_lines`); when there are any, one "S" term per line is added
         and a warning says so. A sequence gives the frequencies (Hz, in (0, fs/2]; a
         :class:`SpectralLine` or a float); ``None`` fits no sinusoid.
+    bound_confidence : float
+        One-sided confidence level (in (0, 1), default 0.95) of the upper bound given to every
+        requested term the data do not show (:attr:`gyrobias.noise.Term.upper_bound`, Notes);
+        it is carried as :attr:`gyrobias.noise.Term.bound_confidence` and written into the
+        ``UPPER BOUND`` marks of exports and reports. A lower level gives a lower bound that
+        covers the true value less often.
 
     Returns
     -------
@@ -264,7 +273,8 @@ def fit(
         (σ = 0 everywhere), fewer than 3 usable points in the fit range, unknown terms, units
         or methods, a region that contains no τ, a Gauss–Markov term with ``method="ieee"``,
         a ``correlation_time`` range outside the data's τ range, a line frequency outside
-        (0, fs/2], or ``"S"`` in ``terms`` without any line.
+        (0, fs/2], ``"S"`` in ``terms`` without any line, or ``bound_confidence`` outside
+        (0, 1).
 
     Notes
     -----
@@ -309,6 +319,14 @@ def fit(
     still contribute at the minimum (SPEC §3: 3.6 instead of 3 deg/h on an 8 h log). Its
     diagnostics test the read-off model on every point.
 
+    *Upper bounds* (both methods): a requested term without a value gets the largest
+    coefficient ``c`` whose asymptote stays under the one-sided upper confidence bound of the
+    curve at every τ used, ``c²·g(τ_i) ≤ σ̂²_i·edf_i/χ²_{edf_i}(1 − bound_confidence)``, the
+    other terms held at zero (``gyrocore::noise::bound``; SPEC "Third wave"). At each τ the
+    true variance lies under its bound with probability ``bound_confidence``; the bound of an
+    invisible term then covers the truth at least about that often (measured: 95 % → ≥ 95 %
+    of simulated logs, tests/test_bounds.py).
+
     References
     ----------
     IEEE Std 952-1997 Annex C; NIST SP 1065 §5 (EDF); [NR] Table 1.
@@ -342,6 +360,7 @@ def fit(
                 correlation_time=correlation_time,
                 auto_range=auto_range,
                 lines=lines,
+                bound_confidence=bound_confidence,
             )
             for a in allan
         )
@@ -375,6 +394,7 @@ def fit(
     _core.validate.positive("slope_tolerance", real("slope_tolerance", slope_tolerance))
     min_points = count("min_points", min_points)
     auto_range = boolean("auto_range", auto_range)
+    bound_confidence = real("bound_confidence", bound_confidence)  # (0, 1): the core's check
     taus = np.ascontiguousarray(result.taus, dtype=np.float64)
     variance = np.ascontiguousarray(result.avar, dtype=np.float64)
     # Integer arrays: converted by the binding, which names m / n_terms if an element is
@@ -400,6 +420,7 @@ def fit(
             correlation_time,
             auto_range,
             line_windows,
+            bound_confidence,
         )
         diagnostics_raw = raw["diagnostics"]
     else:
@@ -430,6 +451,7 @@ def fit(
             region_list,
             slope_tolerance,
             int(min_points),
+            bound_confidence,
         )
         read = [0.0 if d["value"] is None else float(d["value"]) ** 2 for d in raw["terms"]]
         diagnostics_raw = _core.noise.diagnose(

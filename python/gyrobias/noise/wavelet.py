@@ -38,6 +38,7 @@ def gmwm(
     seed: int | None = None,
     auto_range: bool = True,
     lines: str | Sequence[float | SpectralLine] | None = "auto",
+    bound_confidence: float = 0.95,
 ) -> NoiseCoefficients | tuple[NoiseCoefficients, ...]:
     """Noise model by the generalized method of wavelet moments (GMWM).
 
@@ -58,8 +59,10 @@ def gmwm(
     select : bool
         Choose, among all sub-models of ``terms``, the one with the smallest wavelet-variance
         information criterion ``WVIC = J + 2p`` (Notes); the terms it drops are reported missing
-        with the reason "dropped by the model selection" (and the chosen sub-model), unlike
-        terms the non-negative fit sets to zero.
+        with the reason "dropped by the model selection" (and the chosen sub-model). Like a
+        term the non-negative fit sets to zero, a dropped term is one the data do not show: it
+        carries the same upper bound (:attr:`gyrobias.noise.Term.upper_bound`, at
+        ``bound_confidence``).
     bootstrap : int
         Number of parametric-bootstrap replicates for the uncertainties (0: asymptotic).
     seed : int or None
@@ -72,6 +75,11 @@ def gmwm(
         sampled-sine Allan variance, see :func:`fit`). ``"auto"``: the lines
         :func:`detect_lines` finds in each column (false-alarm level 0.01), said in a warning;
         ``None``: none.
+    bound_confidence : float
+        One-sided confidence level (in (0, 1), default 0.95) of the upper bounds of the
+        requested terms the estimate does not show (as in :func:`fit`: the largest coefficient
+        whose asymptote stays under the one-sided upper confidence bound of ``2ν̂²`` at every
+        scale used, the other terms held at zero).
 
     Returns
     -------
@@ -83,7 +91,7 @@ def gmwm(
     ------
     ValueError
         Constant or non-finite data, too few dyadic scales for the model, unknown terms or
-        units, ``bootstrap < 0``.
+        units, ``bootstrap < 0``, ``bound_confidence`` outside (0, 1).
 
     Notes
     -----
@@ -136,6 +144,7 @@ def gmwm(
     auto_range = boolean("auto_range", auto_range)
     replicates = integer("bootstrap", bootstrap)
     seed_number = seed_value("seed", seed)
+    bound_confidence = real("bound_confidence", bound_confidence)  # (0, 1): the core's check
     sensor = sensor_kind(units) if units is not None else None
     matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
     n_axes = matrix.shape[1]
@@ -165,6 +174,7 @@ def gmwm(
             4 if auto_range else 8,
             auto_range,
             windows,
+            bound_confidence,
         )
         name = None if axis_names is None else str(axis_names[a])
         allan = AllanResult._from_core(
