@@ -167,6 +167,36 @@ def test_time_unit_from_column_suffix(tmp_path: Path, name: str, scale: float, u
     assert log.fs == pytest.approx(50.0, rel=1e-9)
 
 
+@pytest.mark.parametrize(
+    ("name", "scale", "unit"),
+    [
+        ("Timestamp (us)", 1e6, "us"),  # x-IMU3 GUI export
+        ("Time (s)", 1.0, "s"),  # NGIMU
+        ("time [ms]", 1e3, "ms"),
+        ("t (µs)", 1e6, "us"),
+        ("TIME (ns)", 1e9, "ns"),
+    ],
+)
+def test_time_column_with_unit_in_parentheses(
+    tmp_path: Path, name: str, scale: float, unit: str
+) -> None:
+    # A real x-IMU3 log (scikit-kinematics 0.10.4, tests/data/data_xio3/Inertial.csv) has a
+    # "Timestamp (us)" column at 50 Hz: it was not found as the time column, and named, it was
+    # read as nanoseconds (median step 20000 ≥ 1000), giving fs = 49914 Hz.
+    t, x = _log(100, fs=50.0, k=1)
+    path = _write(
+        tmp_path / "log.csv",
+        f"{name},Gyroscope X (deg/s)",
+        np.column_stack([np.rint(t * scale * 1e3) / 1e3, x]),
+    )
+    log = load(path)
+    assert log.time_column == name
+    assert log.sampling.time_unit == unit
+    assert log.fs == pytest.approx(50.0, rel=1e-9)
+    assert log.columns == ("Gyroscope X (deg/s)",)
+    assert log.units == ("deg/s",)
+
+
 def test_explicit_time_unit_overrides(tmp_path: Path) -> None:
     path = _write(
         tmp_path / "log.csv", "t,g", np.column_stack([np.arange(100) * 10, np.ones(100)]), fmt="%d"

@@ -21,6 +21,7 @@ from gyrobias.io.columns import (
     UnitSpec,
     _check_finite,
     _expand_groups,
+    _header_unit,
     _resolve_units,
     _select,
     _take_columns,
@@ -74,10 +75,11 @@ def load(
     time_column : str or int, optional
         Column of timestamps (text and ``.npy``). Default ``None`` uses a header column named
         ``t``, ``time``, ``timestamp`` (optionally with a ``_s``/``_ms``/``_us``/``_ns``
-        suffix; case-insensitive) if there is one; ``False`` means the log has no time column.
+        suffix or the unit in parentheses or brackets, ``Timestamp (us)``, ``Time (s)``;
+        case-insensitive) if there is one; ``False`` means the log has no time column.
     time_unit : {"auto", "s", "ms", "us", "ns"}
         Unit of the timestamps. ``"auto"``: a ``_s``/``_ms``/``_us``/``_ns`` suffix of the
-        column name decides; otherwise nanoseconds if the median interval is ≥ 1000 (no gyro
+        column name, or the unit in parentheses or brackets (``Timestamp (us)``), decides; otherwise nanoseconds if the median interval is ≥ 1000 (no gyro
         log has samples 1000 s apart, and every rate below 1 MHz is ≥ 1000 ns apart), else
         seconds. Millisecond or microsecond stamps without such a suffix need ``time_unit``.
     fs : float, optional
@@ -94,7 +96,10 @@ def load(
         Unit of the samples (``"deg/s"``, ``"rad/s"``, ``"g"``, ``"m/s^2"``, …; see
         :mod:`gyrobias.units`): one unit for every channel, one per channel (a sequence or a
         comma-separated string), or ``{channel: unit}`` (also ``"gx=deg/s,ax=g"``). Bags
-        carry their units (rad/s, m/s²); a different ``units`` for a bag is an error.
+        carry their units (rad/s, m/s²); a different ``units`` for a bag is an error. In
+        a text file, a channel given no unit takes the one its header states at its end, as
+        ``Gyroscope X (deg/s)`` or ``gx [rad/s]`` (x-io, Xsens and many loggers), when it is a
+        known unit.
     topic : str, optional
         Bag topic to read (a ``sensor_msgs/Imu`` topic). Default: the only IMU topic; with
         none or several, the error lists every topic with its type and message count.
@@ -248,6 +253,10 @@ def load(
             ) from None
         fmt = "text"
     unit_tuple = _resolve_units(units, names, file_units, p.name)
+    if fmt == "text":  # a channel without a given unit takes the one its header states
+        unit_tuple = tuple(
+            u if u is not None else _header_unit(n) for u, n in zip(unit_tuple, names)
+        )
 
     _check_finite(p, table, names, line_of)
 
