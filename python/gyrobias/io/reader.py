@@ -6,6 +6,7 @@ import lzma
 import os
 import zlib
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, Literal
 
@@ -27,7 +28,7 @@ from gyrobias.io.columns import (
     _take_columns,
 )
 from gyrobias.io.npy import _read_npy
-from gyrobias.io.text import _read_text
+from gyrobias.io.text import _preamble_rate, _read_text
 from gyrobias.io.timestamps import (
     _TIME_UNITS,
     _fill_gaps,
@@ -85,11 +86,13 @@ def load(
     fs : float, optional
         Sample rate in Hz. Required when there is no time column; with one, a value
         differing by more than 1 % from the timestamps' estimate is reported in the warnings
-        (and ``fs`` is still used).
+        (and ``fs`` is still used). Without either, the rate an Xsens-style preamble states
+        (``// Sample rate: 120.0Hz``) is used (``sampling.fs_source == "file"``).
     delimiter : str, optional
         Field separator. Default: detected among ``,`` ``;`` tab and whitespace.
     skip_rows : int
-        Lines to skip at the top of a text file before the header / first data row.
+        Lines to skip at the top of a text file before the header / first data row. A
+        preamble of lines starting with ``//`` (Xsens MT Manager exports) is skipped anyway.
     comments : str
         Lines starting with this are ignored in text files.
     units : str, sequence of str, or mapping, optional
@@ -265,7 +268,13 @@ def load(
         if repairs or fill_gaps:
             what = "repair" if repairs else "fill_gaps"
             raise ValueError(f"{what} needs timestamps, and {p.name} has no time column")
-        report = _sampling_report(len(table), None, None, None, fs, source_format=fmt)
+        # an Xsens-style preamble's "// Sample rate: 120.0Hz" when no rate is given
+        stated = _preamble_rate(p, int(skip_rows)) if fmt == "text" and fs is None else None
+        report = _sampling_report(
+            len(table), None, None, None, fs if stated is None else stated[0], source_format=fmt
+        )
+        if stated is not None:
+            report = replace(report, fs_source="file")
     else:
         assert t_name is not None
         t_raw, table, fixes = _repair(p, t_raw, table, t_name, repairs, line_of, store)
