@@ -332,7 +332,9 @@ class SinusoidTerm:
     Attributes
     ----------
     frequency : Term
-        f₀ in Hz, refined in the fit.
+        f₀ in Hz, refined in the fit within its window, with the fit's standard uncertainty;
+        a frequency held fixed (``lines=[(f, 0.0)]``) is ``f`` exactly, without uncertainty
+        (``None``: given, not estimated).
     amplitude : Term
         Ω₀ in the rate unit of the data.
     tau_range : (float, float) or None

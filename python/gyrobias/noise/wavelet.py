@@ -37,7 +37,7 @@ def gmwm(
     bootstrap: int = 0,
     seed: int | None = None,
     auto_range: bool = True,
-    lines: str | Sequence[float | SpectralLine] | None = "auto",
+    lines: str | Sequence[float | SpectralLine | tuple[float, float]] | None = "auto",
     bound_confidence: float = 0.95,
 ) -> NoiseCoefficients | tuple[NoiseCoefficients, ...]:
     """Noise model by the generalized method of wavelet moments (GMWM).
@@ -70,11 +70,14 @@ def gmwm(
     auto_range : bool
         Select the scales as :func:`fit` selects its τ range (Notes); ``False`` uses every
         scale with half-width ``m ≤ n/8``.
-    lines : "auto", sequence of float or SpectralLine, or None
+    lines : "auto", sequence of float, SpectralLine or (float, float), or None
         Periodic disturbances modelled by sinusoidal terms (wavelet variance ``½`` of the
         sampled-sine Allan variance, see :func:`fit`). ``"auto"``: the lines
         :func:`detect_lines` finds in each column (false-alarm level 0.01), said in a warning;
-        ``None``: none.
+        ``None``: none. A sequence as in :func:`fit`: a SpectralLine (refined within ±1 bin),
+        a float seed (snapped to the line :func:`detect_lines` finds within ±1 % of it in the
+        column, else refined within ±1 %) or a ``(frequency, half_width)`` pair
+        (``half_width = 0``: held at exactly that frequency, reported without uncertainty).
     bound_confidence : float
         One-sided confidence level (in (0, 1), default 0.95) of the upper bounds of the
         requested terms the estimate does not show (as in :func:`fit`: the largest coefficient
@@ -154,11 +157,9 @@ def gmwm(
     for a in range(n_axes):
         column = np.ascontiguousarray(matrix[:, a], dtype=np.float64)
         found: tuple[SpectralLine, ...] | None = None
-        if isinstance(lines, str) and lines == "auto" and column.shape[0] >= MIN_SAMPLES:
+        if _needs_detection(lines) and column.shape[0] >= MIN_SAMPLES:
             found = detect_lines(column, fs, units=units)  # type: ignore[assignment]
-        windows, detected = _line_windows(
-            _Found(found), lines if not isinstance(lines, str) or lines != "auto" else "auto"
-        )
+        windows, detected = _line_windows(_Found(found), lines)
         if want_sine and not windows:
             raise ValueError(
                 "terms contains 'S' but there is no line to model: pass lines=[f0, ...] (Hz) "
@@ -205,6 +206,16 @@ def gmwm(
     if arr.ndim == 1:
         return out[0]
     return tuple(out)
+
+
+def _needs_detection(lines: Any) -> bool:
+    """Whether the column's spectral lines are needed: ``lines="auto"``, or a bare frequency
+    among ``lines`` (a seed snaps to the detected line near it, see :func:`fit`)."""
+    if isinstance(lines, str):
+        return lines == "auto"
+    if not isinstance(lines, Sequence):
+        return False
+    return any(not isinstance(x, (SpectralLine, Sequence, np.ndarray, str, bytes)) for x in lines)
 
 
 class _Found:
