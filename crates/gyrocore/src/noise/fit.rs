@@ -66,8 +66,11 @@
 //! (`InverseSquare`); a negative net is reported as `Diagnostics::filter_correlation_time`
 //! `τ_c = −c_Q/c_N` (uncertainty by the delta method) and Q as missing. Inside the filter's
 //! length the law is not exact (a real filter's curve may sit above it there: pass-band
-//! ripple), so in this mode a first point with `|z| > 2` is excluded too, one at a time, while
-//! the fit is rejected (`transition`). Spectral computations (correlations, EDF) use the noise
+//! ripple, a long FIR's ringing), so in this mode the leading points up to the first with
+//! `|z| > 2` are excluded too, one run per refit, while the fit is rejected (`transition`; also
+//! before any filter is seen when the rejection is gross, `χ²/ν > 10`: `gross`). A first point
+//! still inside the transition by less than its residual shows is caught by a Hausman test on
+//! N² (`hausman_trim`). Spectral computations (correlations, EDF) use the noise
 //! terms only (`spectral`): the correction is a few per cent of the white noise at the shortest
 //! τ used.
 //!
@@ -1168,13 +1171,55 @@ pub(crate) fn leading_run(z: &[f64]) -> usize {
     lead
 }
 
-/// Once a filter has been seen ([`InverseSquare`]), the first used point when it departs from the
-/// model either way (`|z| > 2`): the `N²/τ·(1 − 3τ_c/τ)` law holds exactly only for averaging
-/// lengths beyond the filter's impulse response, and in the transition a real filter's curve can
-/// sit above the line (pass-band ripple) as well as below it. One point at a time, while the fit
-/// is rejected.
+/// Once a filter has been seen ([`InverseSquare`]), the leading points up to the first one that
+/// departs from the model either way (`|z| > 2`, within the first half): the
+/// `N²/τ·(1 − 3τ_c/τ)` law holds exactly only for averaging lengths beyond the filter's impulse
+/// response, and inside it a real filter's curve can sit above the line (pass-band ripple, the
+/// ringing of a long FIR) as well as below it, with points on the line in between. One such
+/// run per refit, while the fit is rejected.
 pub(crate) fn transition(z: &[f64]) -> usize {
-    usize::from(z.len() > 1 && z[0].abs() > 2.0)
+    z.iter()
+        .take(z.len() / 2)
+        .position(|v| v.abs() > 2.0)
+        .map_or(0, |i| i + 1)
+}
+
+/// A gross rejection (`χ²/ν > 10`): the model misses the curve systematically, not by noise.
+/// A long filter (a 41-tap FIR at 0.3 Nyquist) can leave the first point on the model and the
+/// next ones far above and below it, which [`leading_run`] (built not to cut an unfiltered curve
+/// at a lone low point) does not take; under a gross rejection [`transition`] does, and the
+/// filter is then modelled as after any excluded leading run.
+pub(crate) fn gross(chi2: f64, dof: usize) -> bool {
+    dof > 0 && chi2 > 10.0 * dof as f64
+}
+
+/// Hausman's test of the first used point once a filter is modelled (module docs, "Sensor
+/// filter"): the law `N²/τ·(1 − 3τ_c/τ)` is exact only beyond the filter's impulse response, and
+/// the first point used may still sit in the transition by less than its residual shows yet more
+/// than N's uncertainty allows (a second-order Butterworth: +1 % at m = 2; a 41-tap FIR at 0.3
+/// Nyquist: −2 % at m = 8). Under the law, dropping the first point changes the estimate of `N²`
+/// by `d` with `Var(d) = Var(N²_without) − Var(N²_with)` (Hausman, Econometrica 46 (1978) 1251,
+/// for an efficient estimator); while `|d| > 2√Var(d)` the first point is dropped. `white`
+/// returns `(c_N, Var c_N)` of a fit on the given points.
+pub(crate) fn hausman_trim(
+    used: &mut Vec<usize>,
+    excluded: &mut Vec<(f64, f64, String)>,
+    taus: &[f64],
+    min_keep: usize,
+    white: impl Fn(&[usize]) -> Option<(f64, f64)>,
+) {
+    while used.len() > min_keep {
+        let (Some((kept, v_kept)), Some((dropped, v_dropped))) = (white(used), white(&used[1..]))
+        else {
+            return;
+        };
+        let var = v_dropped - v_kept;
+        if !(var > 0.0 && (dropped - kept).abs() > 2.0 * var.sqrt()) {
+            return;
+        }
+        exclude(excluded, taus[used[0]], taus[used[0]], SHORT_REASON);
+        used.remove(0);
+    }
 }
 
 /// Merges a newly excluded τ range into the list (adjacent ranges with the same reason join).
@@ -1338,7 +1383,7 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
         for _ in 0..curve.len() {
             let n_params =
                 active_params(&terms, &inner.c, &inner.gm, &inner.lines, &inner.windows).len();
-            let (_, _, p, z) = goodness(
+            let (chi2, dof, p, z) = goodness(
                 curve,
                 &used,
                 &inner.c,
@@ -1352,7 +1397,7 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
                 break;
             }
             let mut lead = leading_run(&z);
-            if lead == 0 && q != InverseSquare::Quantization {
+            if lead == 0 && (q != InverseSquare::Quantization || gross(chi2, dof)) {
                 lead = transition(&z);
             }
             let first = used[0];
@@ -1365,6 +1410,29 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
                 (terms, q) = InverseSquare::filtered(&requested);
             }
             inner = refit(&used, &terms, q)?;
+        }
+        if q != InverseSquare::Quantization {
+            let white = |used: &[usize]| -> Option<(f64, f64)> {
+                let inner = refit(used, &terms, q).ok()?;
+                let params =
+                    active_params(&terms, &inner.c, &inner.gm, &inner.lines, &inner.windows);
+                let k = params
+                    .iter()
+                    .position(|p| matches!(p, Param::Linear(Term::AngleRandomWalk)))?;
+                let cov = parameter_covariance(
+                    curve,
+                    used,
+                    &inner,
+                    &params,
+                    &mut CorrelationMemo::default(),
+                )?;
+                Some((inner.c[Term::AngleRandomWalk.index()], cov[(k, k)]))
+            };
+            let before = used.len();
+            hausman_trim(&mut used, &mut excluded, curve.taus, min_keep, white);
+            if used.len() != before {
+                inner = refit(&used, &terms, q)?;
+            }
         }
     }
     Ok(finish(
