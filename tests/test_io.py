@@ -12,6 +12,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import gyrobias
+from gyrobias.cli import main
 from gyrobias.io import GyroLog, SamplingReport, load
 
 RNG = np.random.default_rng(20121)
@@ -165,6 +166,58 @@ def test_time_unit_from_column_suffix(tmp_path: Path, name: str, scale: float, u
     log = load(path)
     assert log.sampling.time_unit == unit
     assert log.fs == pytest.approx(50.0, rel=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("name", "scale", "unit"),
+    [
+        ("Timestamp (us)", 1e6, "us"),  # x-IMU3 GUI export
+        ("Time (s)", 1.0, "s"),  # NGIMU
+        ("time [ms]", 1e3, "ms"),
+        ("t (µs)", 1e6, "us"),
+        ("TIME (ns)", 1e9, "ns"),
+    ],
+)
+def test_time_column_with_unit_in_parentheses(
+    tmp_path: Path, name: str, scale: float, unit: str
+) -> None:
+    # A real x-IMU3 log (scikit-kinematics 0.10.4, tests/data/data_xio3/Inertial.csv) has a
+    # "Timestamp (us)" column at 50 Hz: it was not found as the time column, and named, it was
+    # read as nanoseconds (median step 20000 ≥ 1000), giving fs = 49914 Hz.
+    t, x = _log(100, fs=50.0, k=1)
+    path = _write(
+        tmp_path / "log.csv",
+        f"{name},Gyroscope X (deg/s)",
+        np.column_stack([np.rint(t * scale * 1e3) / 1e3, x]),
+    )
+    log = load(path)
+    assert log.time_column == name
+    assert log.sampling.time_unit == unit
+    assert log.fs == pytest.approx(50.0, rel=1e-9)
+    assert log.columns == ("Gyroscope X (deg/s)",)
+    assert log.units == ("deg/s",)
+
+
+def test_xsens_preamble_is_skipped_and_its_rate_used(tmp_path: Path) -> None:
+    # Xsens MT Manager text exports (e.g. scikit-kinematics 0.10.4 tests/data/data_xsens2.txt)
+    # open with "//" lines; the loader took "//" for the header ("unknown column 'Gyr_X';
+    # available: //, Start, Time:, 0") and needed --skip-rows and --fs.
+    rows = "".join(f" {i}\t0.1\t0.2\t{0.001 * i:.6f}\t\n" for i in range(2552, 2652))
+    path = tmp_path / "MT_0001.txt"
+    path.write_text(
+        "// Start Time: 0\n// Sample rate: 120.0Hz\n// Scenario: 5.9\n// Firmware Version: 2.5.1\n"
+        "Counter\tAcc_X\tGyr_X\tGyr_Y\t\n" + rows
+    )
+    log = load(path, columns="Gyr_X,Gyr_Y", units="rad/s")
+    assert log.fs == 120.0 and log.sampling.fs_source == "file"
+    np.testing.assert_allclose(log.data[:, 1], 0.001 * np.arange(2552, 2652))
+    assert load(path, columns="Gyr_X", fs=100.0).sampling.fs_source == "user"  # given wins
+    assert main(["allan", str(path), "--columns", "Gyr_X", "--no-confidence"]) == 0
+    no_rate = tmp_path / "no_rate.txt"
+    no_rate.write_text(
+        "// Start Time: 0\nCounter\tGyr_X\n" + "".join(f"{i}\t0.1\n" for i in range(50))
+    )
+    assert load(no_rate, columns="Gyr_X").fs is None
 
 
 def test_explicit_time_unit_overrides(tmp_path: Path) -> None:

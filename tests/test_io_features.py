@@ -49,6 +49,25 @@ def test_units_one_per_channel_and_by_name(tmp_path: Path) -> None:
         load(path, units="furlong/fortnight")
 
 
+def test_units_from_the_column_headers(tmp_path: Path) -> None:
+    # x-io logs state each channel's unit in its header ("Gyroscope X (deg/s)", "... (g)",
+    # "... (uT)"); without units= they were loaded unitless, so the fit had no unit at all.
+    names = ["Gyroscope X (deg/s)", "gy [rad/s]", "Accelerometer X (g)", "Magnetometer X (uT)"]
+    path = tmp_path / "xio.csv"
+    path.write_text(
+        "Timestamp (us),"
+        + ",".join(names)
+        + "\n"
+        + "".join(f"{20000 * i},0.1,0.2,1.0,20.5\n" for i in range(50))
+    )
+    log = load(path)
+    assert log.units == ("deg/s", "rad/s", "g", None)  # uT is not a unit gyrobias knows
+    given = load(path, units=[None, "deg/s", None, "g"]).units  # a given unit wins
+    assert given == ("deg/s", "deg/s", "g", "g")
+    assert load(path, units="rad/s").units == ("rad/s",) * 4
+    assert load(path, columns="1").units == ("deg/s",)
+
+
 # --------------------------------------------------------------------------- repairs and gaps
 
 

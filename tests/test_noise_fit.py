@@ -290,3 +290,19 @@ def test_cli_prints_diagnostics_and_rejection(tmp_path, capsys) -> None:  # type
         main(["allan", str(tmp_path / "g.npy"), "--fs", "100", "--fit", "--fit-terms", "N,X"]) == 2
     )
     assert capsys.readouterr().err.startswith("gyrobias: error: --fit-terms must be")
+
+
+def test_a_single_excluded_tau_prints_as_one_value() -> None:
+    # On a 6.4 s real log the summary said "excluded τ 2.56–2.56 s" (a range of one point).
+    d = noise.FitDiagnostics(
+        chi2=1.0,
+        dof=1,
+        p_value=0.3,
+        residuals=np.zeros(1),
+        taus=np.ones(1),
+        tau_range=(0.02, 1.28),
+        excluded=((2.56, 2.56, "fewer than 3 equivalent degrees of freedom"), (0.01, 0.0101, "x")),
+    )
+    text = d.summary()
+    assert "excluded τ 2.56 s: fewer than 3" in text
+    assert "excluded τ 0.01–0.0101 s: x" in text

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from gyrobias import _core
-from gyrobias._spectral_lines import HALF_WIDTH, SpectralLine
+from gyrobias._spectral_lines import HALF_WIDTH, MIN_HALF_WIDTH, SpectralLine
 from gyrobias._validation import as_float_array, integer, real, sample_rate
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.units import checked_units
@@ -32,7 +32,7 @@ def detect_lines(
     Parameters
     ----------
     data : array_like, shape (n,) or (n, axes)
-        Rate samples; one column per axis. At least 1024 samples.
+        Rate samples; one column per axis. At least 64 samples.
     fs : float
         Sample rate (Hz).
     false_alarm : float
@@ -53,17 +53,23 @@ def detect_lines(
     Raises
     ------
     ValueError
-        Non-finite data, fewer than 1024 samples, ``false_alarm`` outside (0, 1).
+        Non-finite data, fewer than 64 samples, ``false_alarm`` outside (0, 1).
 
     Notes
     -----
     The Hann-windowed periodogram ``P_k`` of the whole mean-removed record is divided by a
-    running-median floor ``Ŝ_k`` (the lower median of the 128 bins at offsets ±3, ±5, …, ±129,
-    over ln 2). For Gaussian noise with a spectrum smooth over the window ``P_k/S_k`` is a unit
-    exponential and the median is an order statistic of exponentials (Rényi), so the per-bin
-    p-value of ``t = P_k/Ŝ_k`` is exactly ``p(t) = Π_{i=1}^{64} (1 + t/(ln 2·(129 − i)))⁻¹``
-    (the floor's own noise included). With K frequencies searched a line is declared when
-    ``K·p(t) < α`` (Bonferroni). Significant bins within 256 bins of each other are one line.
+    running-median floor ``Ŝ_k`` (the lower median of the ``L = 2⌊h/2⌋`` bins at offsets ±3,
+    ±5, …, ±(L + 1), over ln 2), with the window half-width ``h = 128`` bins, or ``⌊n/8⌋`` (at
+    least 8) on a record of fewer than 1024 samples, so that a short static log (a few seconds
+    at rest) is searched too, with the same false-alarm level and less power. For Gaussian noise
+    with a spectrum smooth over the window ``P_k/S_k`` is a unit exponential and the median is
+    an order statistic of exponentials (Rényi), so the per-bin p-value of ``t = P_k/Ŝ_k`` is
+    exactly ``p(t) = Π_{i=1}^{L/2} (1 + t/(ln 2·(L + 1 − i)))⁻¹`` (the floor's own noise
+    included; for ``h = 128``: ``Π_{i=1}^{64} (1 + t/(ln 2·(129 − i)))⁻¹``). With K
+    frequencies searched a line is declared when ``K·p(t) < α`` (Bonferroni). Significant bins
+    within ``2h`` bins of each other are one line. The window needs ``h + 1`` bins below a
+    frequency, so lines below ``(h + 1)·fs/n`` are not searched (the lowest quarter of the band
+    on a record shorter than 1024 samples).
     The frequency is refined to the maximum of the windowed DTFT within ±1 bin and the
     amplitude is ``2|X(f̂)|/Σw`` (Hann coherent gain). A sinusoid above fs/2 is
     seen at its alias ``|f − k·fs|``. See ``gyrobias.noise.fit`` for how the Allan fit uses the
@@ -108,7 +114,8 @@ def _detect_column(
     units: str | None,
     max_lines: int,
 ) -> tuple[SpectralLine, ...]:
-    raw = _core.noise.detect_lines(column, 1.0 / fs, false_alarm, HALF_WIDTH, max_lines)
+    half_width = max(MIN_HALF_WIDTH, min(HALF_WIDTH, column.shape[0] // 8))
+    raw = _core.noise.detect_lines(column, 1.0 / fs, false_alarm, half_width, max_lines)
     return tuple(
         SpectralLine(
             frequency=float(d["frequency"]),

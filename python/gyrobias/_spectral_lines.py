@@ -10,11 +10,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-#: Half-width (bins) of the detector's running-median window.
+#: Half-width (bins) of the detector's running-median window on records of ≥ 8·128 samples;
+#: shorter records use ``n // 8`` bins (see :func:`gyrobias.noise.detect_lines`).
 HALF_WIDTH = 128
 
-#: Smallest record the detector accepts: eight window half-widths.
-MIN_SAMPLES = 8 * HALF_WIDTH
+#: Narrowest window half-width (bins): the floor is then the median of 8 bins.
+MIN_HALF_WIDTH = 8
+
+#: Smallest record the detector accepts: eight of the narrowest window half-widths.
+MIN_SAMPLES = 8 * MIN_HALF_WIDTH
 
 
 @dataclass(frozen=True)

@@ -167,6 +167,7 @@ def read_off(
     regions: list[tuple[float, float] | None],
     tolerance: float,
     min_points: int,
+    bound_confidence: float = ...,
 ) -> ReadOff: ...
 def model(
     squared: list[float] | tuple[float, float, float, float, float],
@@ -234,6 +235,7 @@ def fit(
     correlation_time: tuple[float, float] | None,
     automatic_range: bool,
     lines: list[tuple[float, float]] = ...,
+    bound_confidence: float = ...,
 ) -> JointFit: ...
 def diagnose(
     taus: NDArray[np.float64],
@@ -262,6 +264,7 @@ def gmwm(
     min_blocks: int,
     automatic_range: bool = ...,
     lines: list[tuple[float, float]] = ...,
+    bound_confidence: float = ...,
 ) -> Gmwm: ...
 
 @type_check_only

@@ -155,6 +155,8 @@ def run(args: argparse.Namespace) -> int:
             f"fs = {fs:.9g} Hz, estimated from the time column '{log.time_column}' "
             f"(read as {report.time_unit}; jitter {100 * (report.jitter or 0.0):.2g} %)"
         )
+    elif report.fs_source == "file":
+        print(f"fs = {fs:.9g} Hz, as the file's preamble states (no time column)")
     for w in log.warnings:
         print(f"gyrobias: warning: {w}", file=sys.stderr)
 

@@ -21,8 +21,9 @@ class SamplingReport:
         Number of samples (rows).
     fs : float or None
         Sample rate used for the log, Hz (user-given, else estimated; ``None`` if neither).
-    fs_source : {"user", "timestamps", None}
-        Where ``fs`` came from.
+    fs_source : {"user", "timestamps", "file", None}
+        Where ``fs`` came from (``"file"``: the ``// Sample rate: … Hz`` line of an Xsens-style
+        preamble of a log without timestamps).
     fs_estimated : float or None
         Rate from the timestamps, Hz: 1 / mean of the regular intervals (those that are
         neither gaps nor zero), rounded to 9 significant digits.

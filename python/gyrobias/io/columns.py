@@ -15,23 +15,26 @@ from gyrobias.io import _store
 from gyrobias.io._store import Store
 from gyrobias.units import _parse_unit
 
-_TIME_NAMES = (
-    "t",
-    "time",
-    "timestamp",
-    "times",
-    "time_s",
-    "t_s",
-    "time_ns",
-    "t_ns",
-    "timestamp_ns",
-    "time_us",
-    "t_us",
-    "timestamp_us",
-    "time_ms",
-    "t_ms",
-    "timestamp_ms",
+#: A time column's header: ``t``, ``time``, ``times`` or ``timestamp``, optionally with its unit
+#: as a ``_s``/``_ms``/``_us``/``_ns`` suffix or in parentheses or brackets, as x-io (x-IMU3,
+#: NGIMU) and many loggers write it: ``Timestamp (us)``, ``Time (s)``, ``time [ms]``, ``t (µs)``.
+_TIME_HEADER = re.compile(
+    r"^(?:t|times?|timestamp)(?:_(s|ms|us|ns)|\s*[(\[]\s*(s|ms|us|µs|μs|ns)\s*[)\]])?$",
+    re.IGNORECASE,
 )
+
+
+def _time_header(name: str) -> tuple[bool, str | None]:
+    """Whether ``name`` is a time column's header, and the unit it states (``None``: none)."""
+    m = _TIME_HEADER.match(name.strip())
+    if m is None:
+        return False, None
+    unit = m.group(1) or m.group(2)
+    if unit is None:
+        return True, None
+    unit = unit.lower()
+    return True, "us" if unit in ("µs", "μs") else unit
+
 
 ColumnSpec = str | int
 UnitSpec = str | Sequence[str | None] | Mapping[str, str]
@@ -58,6 +61,22 @@ def _take_columns(
     for sl in _store.blocks(src.shape[0]):
         out[sl] = src[sl][:, list(idx)]
     return out
+
+
+_HEADER_UNIT = re.compile(r"[(\[]\s*([^()\[\]]+?)\s*[)\]]\s*$")
+
+
+def _header_unit(name: str) -> str | None:
+    """The unit a column header states at its end, as ``Gyroscope X (deg/s)`` or ``gx [rad/s]``
+    (x-io, Xsens and many loggers): ``None`` when there is none or it is not a known unit."""
+    m = _HEADER_UNIT.search(name)
+    if m is None:
+        return None
+    try:
+        _parse_unit(m.group(1))
+    except ValueError:
+        return None
+    return m.group(1)
 
 
 def _resolve_units(
@@ -168,7 +187,7 @@ def _select(
     if time_column is None:
         if header is not None:
             for i, h in enumerate(header):
-                if h.lower() in _TIME_NAMES:
+                if _time_header(h)[0]:
                     t_idx = i
                     break
     elif time_column is not False:

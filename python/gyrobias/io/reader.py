@@ -6,6 +6,7 @@ import lzma
 import os
 import zlib
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, Literal
 
@@ -21,12 +22,13 @@ from gyrobias.io.columns import (
     UnitSpec,
     _check_finite,
     _expand_groups,
+    _header_unit,
     _resolve_units,
     _select,
     _take_columns,
 )
 from gyrobias.io.npy import _read_npy
-from gyrobias.io.text import _read_text
+from gyrobias.io.text import _preamble_rate, _read_text
 from gyrobias.io.timestamps import (
     _TIME_UNITS,
     _fill_gaps,
@@ -74,27 +76,33 @@ def load(
     time_column : str or int, optional
         Column of timestamps (text and ``.npy``). Default ``None`` uses a header column named
         ``t``, ``time``, ``timestamp`` (optionally with a ``_s``/``_ms``/``_us``/``_ns``
-        suffix; case-insensitive) if there is one; ``False`` means the log has no time column.
+        suffix or the unit in parentheses or brackets, ``Timestamp (us)``, ``Time (s)``;
+        case-insensitive) if there is one; ``False`` means the log has no time column.
     time_unit : {"auto", "s", "ms", "us", "ns"}
         Unit of the timestamps. ``"auto"``: a ``_s``/``_ms``/``_us``/``_ns`` suffix of the
-        column name decides; otherwise nanoseconds if the median interval is ≥ 1000 (no gyro
+        column name, or the unit in parentheses or brackets (``Timestamp (us)``), decides; otherwise nanoseconds if the median interval is ≥ 1000 (no gyro
         log has samples 1000 s apart, and every rate below 1 MHz is ≥ 1000 ns apart), else
         seconds. Millisecond or microsecond stamps without such a suffix need ``time_unit``.
     fs : float, optional
         Sample rate in Hz. Required when there is no time column; with one, a value
         differing by more than 1 % from the timestamps' estimate is reported in the warnings
-        (and ``fs`` is still used).
+        (and ``fs`` is still used). Without either, the rate an Xsens-style preamble states
+        (``// Sample rate: 120.0Hz``) is used (``sampling.fs_source == "file"``).
     delimiter : str, optional
         Field separator. Default: detected among ``,`` ``;`` tab and whitespace.
     skip_rows : int
-        Lines to skip at the top of a text file before the header / first data row.
+        Lines to skip at the top of a text file before the header / first data row. A
+        preamble of lines starting with ``//`` (Xsens MT Manager exports) is skipped anyway.
     comments : str
         Lines starting with this are ignored in text files.
     units : str, sequence of str, or mapping, optional
         Unit of the samples (``"deg/s"``, ``"rad/s"``, ``"g"``, ``"m/s^2"``, …; see
         :mod:`gyrobias.units`): one unit for every channel, one per channel (a sequence or a
         comma-separated string), or ``{channel: unit}`` (also ``"gx=deg/s,ax=g"``). Bags
-        carry their units (rad/s, m/s²); a different ``units`` for a bag is an error.
+        carry their units (rad/s, m/s²); a different ``units`` for a bag is an error. In
+        a text file, a channel given no unit takes the one its header states at its end, as
+        ``Gyroscope X (deg/s)`` or ``gx [rad/s]`` (x-io, Xsens and many loggers), when it is a
+        known unit.
     topic : str, optional
         Bag topic to read (a ``sensor_msgs/Imu`` topic). Default: the only IMU topic; with
         none or several, the error lists every topic with its type and message count.
@@ -248,6 +256,10 @@ def load(
             ) from None
         fmt = "text"
     unit_tuple = _resolve_units(units, names, file_units, p.name)
+    if fmt == "text":  # a channel without a given unit takes the one its header states
+        unit_tuple = tuple(
+            u if u is not None else _header_unit(n) for u, n in zip(unit_tuple, names)
+        )
 
     _check_finite(p, table, names, line_of)
 
@@ -256,7 +268,13 @@ def load(
         if repairs or fill_gaps:
             what = "repair" if repairs else "fill_gaps"
             raise ValueError(f"{what} needs timestamps, and {p.name} has no time column")
-        report = _sampling_report(len(table), None, None, None, fs, source_format=fmt)
+        # an Xsens-style preamble's "// Sample rate: 120.0Hz" when no rate is given
+        stated = _preamble_rate(p, int(skip_rows)) if fmt == "text" and fs is None else None
+        report = _sampling_report(
+            len(table), None, None, None, fs if stated is None else stated[0], source_format=fmt
+        )
+        if stated is not None:
+            report = replace(report, fs_source="file")
     else:
         assert t_name is not None
         t_raw, table, fixes = _repair(p, t_raw, table, t_name, repairs, line_of, store)

@@ -24,9 +24,21 @@ _LOADTXT_COLS = re.compile(r"number of columns changed from (\d+) to (\d+) at ro
 _LOADTXT_INDEX = re.compile(r"invalid column index (\d+) at row (\d+) with (\d+) columns")
 
 
+#: Lines starting with this before the header are a preamble (Xsens MT Manager exports:
+#: ``// Start Time: 0``, ``// Sample rate: 120.0Hz``, …): skipped like comments.
+PREAMBLE = "//"
+_PREAMBLE_RATE = re.compile(
+    r"^//\s*(?:sample|sampling|update|output)[ _-]?(?:rate|frequency)\s*[:=]\s*"
+    r"([0-9]+(?:\.[0-9]*)?(?:[eE][+-]?[0-9]+)?)\s*hz\s*$",
+    re.IGNORECASE,
+)
+
+
 def _content_lines(p: Path, skip_rows: int, comments: str) -> Iterator[tuple[int, str]]:
-    """(1-based line number, stripped text) of non-blank, non-comment lines after ``skip_rows``."""
+    """(1-based line number, stripped text) of non-blank, non-comment lines after ``skip_rows``
+    and after a ``//`` preamble."""
     opener = _OPENERS.get(p.suffix.lower(), open)
+    in_preamble = True
     with opener(p, "rt", encoding="utf-8-sig", errors="replace") as fh:
         for number, line in enumerate(fh, start=1):
             if number <= skip_rows:
@@ -34,7 +46,26 @@ def _content_lines(p: Path, skip_rows: int, comments: str) -> Iterator[tuple[int
             text = line.strip()
             if not text or (comments and text.startswith(comments)):
                 continue
+            if in_preamble and text.startswith(PREAMBLE):
+                continue
+            in_preamble = False
             yield number, text
+
+
+def _preamble_rate(p: Path, skip_rows: int) -> tuple[float, str] | None:
+    """The sample rate a ``//`` preamble states (``// Sample rate: 120.0Hz``) and that line."""
+    opener = _OPENERS.get(p.suffix.lower(), open)
+    with opener(p, "rt", encoding="utf-8-sig", errors="replace") as fh:
+        for number, line in enumerate(fh, start=1):
+            text = line.strip()
+            if number <= skip_rows or not text:
+                continue
+            if not text.startswith(PREAMBLE):
+                return None
+            m = _PREAMBLE_RATE.match(text)
+            if m is not None and float(m.group(1)) > 0:
+                return float(m.group(1)), text
+    return None
 
 
 def _split(line: str, delimiter: str | None) -> list[str]:

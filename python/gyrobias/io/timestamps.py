@@ -8,7 +8,6 @@ stamps, converts them to seconds, moves rows and words the findings.
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -20,6 +19,7 @@ from gyrobias import _core
 from gyrobias.io import _store
 from gyrobias.io._store import Store
 from gyrobias.io._types import SamplingReport
+from gyrobias.io.columns import _time_header
 
 #: Intervals longer than this multiple of the median interval count as gaps (the core's).
 GAP_FACTOR: float = _core.timestamps.GAP_FACTOR
@@ -46,9 +46,9 @@ def _time_seconds(
     unit = time_unit
     guessed = False
     if unit == "auto":
-        m = re.search(r"_(s|ms|us|ns)$", t_name.lower())
-        if m:
-            unit = m.group(1)
+        stated = _time_header(t_name)[1]
+        if stated is not None:
+            unit = stated
         else:
             median = _core.timestamps.median_positive_step(_stamps(t_raw))
             unit = _core.timestamps.guess_unit(median)

@@ -142,6 +142,9 @@ pub struct FitOptions {
     /// variance `Ω₀² sin⁴(π f₀ τ)/(m sin(π f₀ t0))²` ([`super::sinusoid::avar`]) with `Ω₀² ≥ 0`
     /// linear and `f₀` refined within `seed ± half-width` (profiled, golden section).
     pub lines: Vec<(f64, f64)>,
+    /// One-sided confidence level of the upper bounds of the terms the fit sets to zero
+    /// ([`super::bound`]; default [`super::BOUND_CONFIDENCE`]).
+    pub bound_confidence: f64,
 }
 
 impl Default for FitOptions {
@@ -153,6 +156,7 @@ impl Default for FitOptions {
             correlation_time: None,
             automatic_range: true,
             lines: Vec::new(),
+            bound_confidence: super::bound::BOUND_CONFIDENCE,
         }
     }
 }
@@ -984,6 +988,7 @@ pub fn joint(
             correlation_time: None,
             automatic_range: false,
             lines: Vec::new(),
+            bound_confidence: super::bound::BOUND_CONFIDENCE,
         },
     )
 }
@@ -1114,6 +1119,7 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
     if !enabled.iter().any(|e| *e) && n_gm == 0 {
         return Err(Error::invalid("terms", "no term requested"));
     }
+    crate::validate::probability("bound_confidence", options.bound_confidence)?;
     let (lo, hi) = options.tau_range.unwrap_or((0.0, f64::INFINITY));
     if !(lo.is_finite() || lo == 0.0) || lo.is_nan() || hi.is_nan() || hi <= lo {
         return Err(Error::invalid(
@@ -1257,6 +1263,7 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
         excluded,
         CovarianceSource::Sandwich,
         &mut memo,
+        options.bound_confidence,
     ))
 }
 
@@ -1279,6 +1286,7 @@ pub(crate) fn finish(
     excluded: Vec<(f64, f64, String)>,
     covariance: CovarianceSource,
     memo: &mut CorrelationMemo,
+    bound_confidence: f64,
 ) -> JointFit {
     let taus: Vec<f64> = used.iter().map(|&i| curve.taus[i]).collect();
     let c = inner.c;
@@ -1408,7 +1416,14 @@ pub(crate) fn finish(
         })
         .collect();
     // A requested term the fit set to zero is bounded from above by the points it used.
-    super::bound::attach(&mut terms, enabled, curve, used, &inner.edf);
+    super::bound::attach(
+        &mut terms,
+        enabled,
+        curve,
+        used,
+        &inner.edf,
+        bound_confidence,
+    );
     let mut gauss_markov_terms = Vec::new();
     for (g, &(q2, t)) in inner.gm.iter().enumerate() {
         if q2 <= 0.0 {

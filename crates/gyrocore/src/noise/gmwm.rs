@@ -85,6 +85,9 @@ pub struct GmwmOptions {
     pub automatic_range: bool,
     /// Sinusoidal terms `(seed frequency, half-width)` in Hz (as [`super::FitOptions::lines`]).
     pub lines: Vec<(f64, f64)>,
+    /// One-sided confidence level of the upper bounds of the terms the fit sets to zero or the
+    /// selection drops (as [`super::FitOptions::bound_confidence`]).
+    pub bound_confidence: f64,
 }
 
 impl Default for GmwmOptions {
@@ -98,6 +101,7 @@ impl Default for GmwmOptions {
             min_blocks: 8,
             automatic_range: false,
             lines: Vec::new(),
+            bound_confidence: super::bound::BOUND_CONFIDENCE,
         }
     }
 }
@@ -414,6 +418,7 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
     if !options.enabled.iter().any(|e| *e) && options.gauss_markov == 0 {
         return Err(Error::invalid("terms", "no term requested"));
     }
+    crate::validate::probability("bound_confidence", options.bound_confidence)?;
     let wv = haar(rate, t0, options.min_blocks)?;
     let all_scales = Scales::of(&wv, t0);
     let full = all_scales.curve();
@@ -547,6 +552,7 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
         excluded,
         CovarianceSource::Given(cov),
         &mut CorrelationMemo::default(),
+        options.bound_confidence,
     );
     label_dropped(&mut fit, options.enabled, enabled, n_gm, criterion);
     Ok(GmwmFit {
@@ -592,6 +598,7 @@ fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result
             correlation_time: None,
             automatic_range: true,
             lines: options.lines.clone(),
+            bound_confidence: options.bound_confidence,
         },
     )?;
     let mut used = joint.used;
@@ -648,7 +655,9 @@ fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result
 
 /// Terms the user asked for that the model selection left out are missing because of the
 /// selection, not because the non-negative fit set them to zero (which is what [`finish`] says of
-/// every zero term): relabel them with the chosen model and its WVIC.
+/// every zero term): relabel them with the chosen model and its WVIC. A dropped term is still a
+/// term the data do not show, so it keeps the upper bound [`finish`] attached (the same bound a
+/// term the non-negative fit set to zero gets: other terms held at zero, [`super::bound`]).
 fn label_dropped(
     fit: &mut JointFit,
     requested: [bool; 5],
@@ -664,7 +673,9 @@ fn label_dropped(
     for t in &mut fit.terms {
         let j = t.term.index();
         if requested[j] && !chosen[j] {
+            let bound = t.upper_bound.take();
             *t = TermEstimate::missing(t.term, reason.clone());
+            t.upper_bound = bound;
         }
     }
     for gm in fit.gauss_markov.iter_mut().skip(n_gm) {
