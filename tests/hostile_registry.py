@@ -190,7 +190,7 @@ REGISTRY: dict[str, str] = {
     "kalman.steady_state_gain": "q_omega:nonneg q_b:nonneg r_d:pos",
     # --- noise ------------------------------------------------------------------------------------
     "noise.FitDiagnostics.__init__": "chi2:field dof:field p_value:field residuals:field "
-    "taus:field tau_range:field excluded:field warnings:field lines:field",
+    "taus:field tau_range:field excluded:field warnings:field lines:field filter_correlation_time:field",
     "noise.FitDiagnostics.summary": "",
     "noise.FitDiagnostics.to_dict": "",
     "noise.GaussMarkovTerm.__init__": "sigma:field correlation_time:field tau_range:field "

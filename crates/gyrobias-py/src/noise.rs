@@ -406,6 +406,10 @@ fn diagnostics_dict<'py>(
     d.set_item("tau_range", diagnostics.tau_range)?;
     d.set_item("excluded", diagnostics.excluded.clone())?;
     d.set_item("warnings", diagnostics.warnings.clone())?;
+    d.set_item(
+        "filter_correlation_time",
+        diagnostics.filter_correlation_time,
+    )?;
     Ok(d)
 }
 

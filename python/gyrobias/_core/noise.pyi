@@ -87,6 +87,7 @@ class Diagnostics(TypedDict):
     tau_range: tuple[float, float]
     excluded: list[tuple[float, float, str]]
     warnings: list[str]
+    filter_correlation_time: tuple[float, float] | None
 
 @type_check_only
 class LineEstimate(TypedDict):
