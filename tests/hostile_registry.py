@@ -190,7 +190,7 @@ REGISTRY: dict[str, str] = {
     "kalman.steady_state_gain": "q_omega:nonneg q_b:nonneg r_d:pos",
     # --- noise ------------------------------------------------------------------------------------
     "noise.FitDiagnostics.__init__": "chi2:field dof:field p_value:field residuals:field "
-    "taus:field tau_range:field excluded:field warnings:field lines:field",
+    "taus:field tau_range:field excluded:field warnings:field lines:field filter_correlation_time:field",
     "noise.FitDiagnostics.summary": "",
     "noise.FitDiagnostics.to_dict": "",
     "noise.GaussMarkovTerm.__init__": "sigma:field correlation_time:field tau_range:field "
@@ -219,10 +219,10 @@ REGISTRY: dict[str, str] = {
     "noise.Term.to_dict": "",
     "noise.fit": "allan:object method:option terms:spec tau_range:pair? regions:spec? "
     "slope_tolerance:pos min_points:count unit:unit? correlation_time:pair? auto_range:flag "
-    "lines:spec",
+    "lines:spec bound_confidence:level",
     "noise.gauss_markov_avar": "sigma:nonneg correlation_time:pos taus:array",
     "noise.gmwm": "data:array fs:pos terms:spec units:unit? axis_names:text? select:flag "
-    "bootstrap:count seed:count? auto_range:flag lines:spec",
+    "bootstrap:count seed:count? auto_range:flag lines:spec bound_confidence:level",
     "noise.detect_lines": "data:array fs:pos false_alarm:level units:unit? max_lines:count "
     "axis_names:text?",
     "noise.sinusoid_avar": "amplitude:nonneg frequency:pos taus:array fs:pos?",
@@ -288,7 +288,7 @@ REGISTRY: dict[str, str] = {
     "report.ChannelReport.__init__": "name:field unit:field allan:field fit:field "
     "conservative:field errors:field",
     "report.build_report": "log:object units:spec? confidence:level? method:option "
-    "conservative_confidence:level rate:pos? title:text?",
+    "conservative_confidence:level rate:pos? title:text? bound_confidence:level",
     "report.write_report": "path:path_out log:object kwargs:forwarded",
     # --- spectral ---------------------------------------------------------------------------------
     "spectral.LSSAResult.__init__": "frequencies:field spectrum:field alpha:field "

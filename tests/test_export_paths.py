@@ -109,3 +109,47 @@ def test_api_cli_and_report_write_the_same_files(
         assert cli[fmt] == api[fmt], fmt
         assert report[fmt] == api[fmt], fmt
         assert _numbers(api[fmt]), fmt
+
+
+def test_bound_confidence_is_written_in_every_mark(
+    log_path: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # The level is the caller's (bound_confidence / --bound-confidence), and every file, the
+    # CLI and the report say it in their UPPER BOUND marks.
+    log = gyrobias.io.load(log_path, units="deg/s")
+    r = gyrobias.allan.adev(log.data, log.fs, units="deg/s", axis_names=list(log.columns))
+    fits = gyrobias.noise.fit(r, bound_confidence=0.8)
+    assert fits[2].K.bounded and fits[2].K.bound_confidence == 0.8
+    api = gyrobias.exports.export_all(list(fits))
+    for fmt, text in api.items():
+        marks = [line for line in text.splitlines() if "UPPER BOUND" in line]
+        assert marks, fmt
+        assert all("80 %" in line and "95 %" not in line for line in marks), (fmt, marks)
+    out = tmp_path / "cli"
+    common = ["allan", str(log_path), "--units", "deg/s", "--no-progress", "--fit"]
+    assert main([*common, "--bound-confidence", "0.8", "--export", f"all={out}"]) == 0
+    assert "80 % upper bound" in capsys.readouterr().out
+    for fmt, name in DEFAULT_FILENAMES.items():
+        assert (out / name).read_text() == api[fmt], fmt
+    page = build_report(log, bound_confidence=0.8)
+    assert "(upper bound, 80 %)" in page
+    blocks = re.findall(r'<code id="export-(\d+)">(.*?)</code>', page, flags=re.S)
+    for fmt, (_, text) in zip(FORMATS, blocks):
+        assert html.unescape(text) == api[fmt], fmt
+    html_out = tmp_path / "report.html"
+    report_cli = ["report", str(log_path), "--units", "deg/s", "-o", str(html_out)]
+    assert main([*report_cli, "--bound-confidence", "0.8"]) == 0
+    assert "(upper bound, 80 %)" in html_out.read_text()
+    capsys.readouterr()
+    # Out of (0, 1): exit 2 with one line naming the option, also when nothing is fitted.
+    for argv in (
+        [*common, "--bound-confidence", "1.5"],
+        ["allan", str(log_path), "--units", "deg/s", "--no-progress", "--bound-confidence", "0"],
+        [*report_cli, "--bound-confidence", "1"],
+    ):
+        assert main(argv) == 2, argv
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith("gyrobias: error:"), err
+        assert "bound-confidence" in err[0] or "bound_confidence" in err[0], err
+    with pytest.raises(ValueError, match="bound_confidence"):
+        build_report(log, bound_confidence=1.0)

@@ -54,6 +54,7 @@ def _analyse(
     confidence: float | None,
     method: str,
     conservative_confidence: float,
+    bound_confidence: float,
 ) -> list[ChannelReport]:
     from gyrobias import allan, noise
 
@@ -72,7 +73,7 @@ def _analyse(
         assert not isinstance(r, tuple)
         fit = cons = None
         try:
-            fit = noise.fit(r, method=method)
+            fit = noise.fit(r, method=method, bound_confidence=bound_confidence)
         except ValueError as exc:
             errors.append(f"noise fit failed: {exc}")
         if fit is not None:
@@ -389,6 +390,7 @@ def build_report(
     conservative_confidence: float = 0.95,
     rate: float | None = None,
     title: str | None = None,
+    bound_confidence: float = 0.95,
 ) -> str:
     """Analyse every channel of ``log`` and return the report as one HTML document.
 
@@ -410,6 +412,10 @@ def build_report(
         IMU rate written into the exports (default: the log's sample rate).
     title : str, optional
         Page title (default: the log's file name).
+    bound_confidence : float
+        One-sided confidence level of the upper bounds of terms the log does not show
+        (:func:`gyrobias.noise.fit`; default 0.95), shown with each bound and in the exports'
+        ``UPPER BOUND`` marks.
 
     Returns
     -------
@@ -424,8 +430,9 @@ def build_report(
         A log without samples or a sample rate, data not of shape (samples, channels),
         ``units`` with the wrong number of entries, or no channel that could be analysed
         (e.g. all NaN); a channel that fails while others succeed is reported on the page.
-        An invalid option (``method``, ``confidence`` or ``conservative_confidence`` outside
-        (0, 1), ``rate`` not finite and > 0) raises before any channel is analysed.
+        An invalid option (``method``, ``confidence``, ``conservative_confidence`` or
+        ``bound_confidence`` outside (0, 1), ``rate`` not finite and > 0) raises before any
+        channel is analysed.
     """
     _check_log(log)
     # The options apply to every channel: refuse a bad one here (the per-channel isolation
@@ -436,6 +443,9 @@ def build_report(
     )
     if confidence is not None:
         _core.validate.probability("confidence", real("confidence", confidence))
+    bound_confidence = _core.validate.probability(
+        "bound_confidence", real("bound_confidence", bound_confidence)
+    )
     if rate is not None:
         _core.validate.positive("rate", real("rate", rate))
     if title is not None:
@@ -449,7 +459,9 @@ def build_report(
         per_channel = list(units)
         if len(per_channel) != k:
             raise ValueError(f"units has {len(per_channel)} entries for {k} channels")
-    channels = _analyse(log, per_channel, confidence, method, conservative_confidence)
+    channels = _analyse(
+        log, per_channel, confidence, method, conservative_confidence, bound_confidence
+    )
     if all(ch.allan is None for ch in channels):
         # Nothing to report: a page of error messages would pass for a report.
         reasons = "; ".join(f"{ch.name}: {', '.join(ch.errors)}" for ch in channels)

@@ -111,8 +111,8 @@ fn upper_bound<'py>(
 /// IEEE-952 read-off of the noise terms from an Allan-variance curve
 /// (`gyrocore::noise::read_off`).
 #[pyfunction]
-#[pyo3(signature = (taus, variance, m, n_terms, overlapping, edf, terms, regions, tolerance, min_points))]
-#[allow(clippy::needless_pass_by_value)]
+#[pyo3(signature = (taus, variance, m, n_terms, overlapping, edf, terms, regions, tolerance, min_points, bound_confidence=noise::BOUND_CONFIDENCE))]
+#[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
 fn read_off<'py>(
     py: Python<'py>,
     taus: PyReadonlyArray1<'py, f64>,
@@ -125,6 +125,7 @@ fn read_off<'py>(
     regions: [Option<(f64, f64)>; 5],
     tolerance: f64,
     #[pyo3(from_py_with = count::min_points)] min_points: usize,
+    bound_confidence: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
     let enabled = core(noise::parse_terms(&symbols))?;
@@ -143,6 +144,7 @@ fn read_off<'py>(
         tolerance,
         min_points,
         regions,
+        bound_confidence,
     };
     let r = core(noise::read_off(&curve, enabled, &options))?;
     let d = PyDict::new(py);
@@ -403,13 +405,17 @@ fn diagnostics_dict<'py>(
     d.set_item("tau_range", diagnostics.tau_range)?;
     d.set_item("excluded", diagnostics.excluded.clone())?;
     d.set_item("warnings", diagnostics.warnings.clone())?;
+    d.set_item(
+        "filter_correlation_time",
+        diagnostics.filter_correlation_time,
+    )?;
     Ok(d)
 }
 
 /// Joint fit with Gauss–Markov terms, diagnostics and automatic τ-range selection
 /// (`gyrocore::noise::fit`).
 #[pyfunction]
-#[pyo3(signature = (taus, variance, m, n_terms, overlapping, edf, terms, tau_range, correlation_time, automatic_range, lines=Vec::new()))]
+#[pyo3(signature = (taus, variance, m, n_terms, overlapping, edf, terms, tau_range, correlation_time, automatic_range, lines=Vec::new(), bound_confidence=noise::BOUND_CONFIDENCE))]
 #[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
 fn fit<'py>(
     py: Python<'py>,
@@ -424,6 +430,7 @@ fn fit<'py>(
     correlation_time: Option<(f64, f64)>,
     automatic_range: bool,
     lines: Vec<(f64, f64)>,
+    bound_confidence: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
     let (enabled, gauss_markov) = core(noise::parse_model_terms(&symbols))?;
@@ -445,6 +452,7 @@ fn fit<'py>(
         correlation_time,
         automatic_range,
         lines,
+        bound_confidence,
     };
     let fit = core(py.detach(|| noise::fit(&curve, &options)))?;
     let d = PyDict::new(py);
@@ -534,7 +542,7 @@ fn gauss_markov_avar<'py>(
 
 /// GMWM estimate of the noise model of one rate series (`gyrocore::noise::gmwm`).
 #[pyfunction]
-#[pyo3(signature = (data, t0, terms, select, bootstrap, seed, min_blocks, automatic_range=false, lines=Vec::new()))]
+#[pyo3(signature = (data, t0, terms, select, bootstrap, seed, min_blocks, automatic_range=false, lines=Vec::new(), bound_confidence=noise::BOUND_CONFIDENCE))]
 #[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
 fn gmwm<'py>(
     py: Python<'py>,
@@ -547,6 +555,7 @@ fn gmwm<'py>(
     #[pyo3(from_py_with = count::min_blocks)] min_blocks: usize,
     automatic_range: bool,
     lines: Vec<(f64, f64)>,
+    bound_confidence: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
     let (enabled, gauss_markov) = core(noise::parse_model_terms(&symbols))?;
@@ -559,6 +568,7 @@ fn gmwm<'py>(
         min_blocks,
         automatic_range,
         lines,
+        bound_confidence,
     };
     let rate = c_order(&data);
     let g = core(py.detach(|| noise::gmwm(&rate, t0, &options)))?;

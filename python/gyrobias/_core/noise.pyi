@@ -87,6 +87,7 @@ class Diagnostics(TypedDict):
     tau_range: tuple[float, float]
     excluded: list[tuple[float, float, str]]
     warnings: list[str]
+    filter_correlation_time: tuple[float, float] | None
 
 @type_check_only
 class LineEstimate(TypedDict):
@@ -169,6 +170,7 @@ def read_off(
     regions: list[tuple[float, float] | None],
     tolerance: float,
     min_points: int,
+    bound_confidence: float = ...,
 ) -> ReadOff: ...
 def model(
     squared: list[float] | tuple[float, float, float, float, float],
@@ -236,6 +238,7 @@ def fit(
     correlation_time: tuple[float, float] | None,
     automatic_range: bool,
     lines: list[tuple[float, float]] = ...,
+    bound_confidence: float = ...,
 ) -> JointFit: ...
 def diagnose(
     taus: NDArray[np.float64],
@@ -264,6 +267,7 @@ def gmwm(
     min_blocks: int,
     automatic_range: bool = ...,
     lines: list[tuple[float, float]] = ...,
+    bound_confidence: float = ...,
 ) -> Gmwm: ...
 
 @type_check_only

@@ -1,7 +1,8 @@
 """Command-line pieces of the noise-coefficient identification.
 
-``add_fit_arguments(parser)`` adds ``--fit``, ``--fit-method``, ``--export FMT=PATH``
-(estimator parameter files, :mod:`gyrobias.exports`), ``--strict`` and the deprecated alias
+``add_fit_arguments(parser)`` adds ``--fit``, ``--fit-method``, ``--bound-confidence``,
+``--export FMT=PATH`` (estimator parameter files, :mod:`gyrobias.exports`), ``--strict`` and
+the deprecated alias
 ``--kalibr PATH`` (= ``--export kalibr=PATH``, the same writer) to the ``gyrobias allan``
 parser; ``run_fit(args, results)`` fits each Allan result, prints the coefficients with
 uncertainties and units, writes the export files, and leaves the coefficients in
@@ -18,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from gyrobias import noise
+from gyrobias import _core, noise
 from gyrobias.cli import _types
 from gyrobias.noise import NoiseCoefficients, fit
 from gyrobias.units import conversion_factor
@@ -27,8 +28,8 @@ __all__ = ["add_fit_arguments", "demo_section", "run_fit"]
 
 
 def add_fit_arguments(parser: argparse.ArgumentParser) -> None:
-    """Add ``--fit``, ``--fit-method``, ``--fit-terms``, ``--export``, ``--export-rate``,
-    ``--strict`` and the deprecated ``--kalibr`` to ``parser``."""
+    """Add ``--fit``, ``--fit-method``, ``--fit-terms``, ``--bound-confidence``, ``--export``,
+    ``--export-rate``, ``--strict`` and the deprecated ``--kalibr`` to ``parser``."""
     group = parser.add_argument_group("noise coefficients (IEEE 952)")
     group.add_argument(
         "--fit",
@@ -47,6 +48,14 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="LIST",
         default="Q,N,B,K,R",
         help="comma-separated model terms: Q,N,B,K,R and Gauss–Markov GM,GM2 (default Q,N,B,K,R)",
+    )
+    group.add_argument(
+        "--bound-confidence",
+        type=_types.finite,  # in (0, 1): the core's check (run_fit)
+        metavar="P",
+        default=0.95,
+        help="one-sided confidence level of the upper bounds of terms the log does not show "
+        "(default 0.95)",
     )
     group.add_argument(
         "--kalibr",
@@ -75,7 +84,7 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> None:
         "--strict",
         action="store_true",
         help="refuse to export a required term the log only bounds from above (default: write "
-        "the 95 %% upper bound, marked UPPER BOUND in a comment)",
+        "the upper bound at --bound-confidence, marked UPPER BOUND in a comment)",
     )
 
 
@@ -92,6 +101,11 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
     kalibr=PATH``: it goes through the same writer (:func:`gyrobias.exports.export`). Exits with
     a message when the fit or an export is impossible.
     """
+    # Refused even when nothing is fitted (an ignored option is still checked); the range is
+    # the core's check, named as the user typed it.
+    bound_confidence = _core.validate.probability(
+        "--bound-confidence", float(getattr(args, "bound_confidence", 0.95))
+    )
     want_fit = bool(getattr(args, "fit", False))
     kalibr = getattr(args, "kalibr", None)
     export_specs = _parse_exports(getattr(args, "export", None))
@@ -107,7 +121,7 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
     coefficients: list[NoiseCoefficients] = []
     for r in results:
         try:
-            c = fit(r, method=method, terms=terms)
+            c = fit(r, method=method, terms=terms, bound_confidence=bound_confidence)
         except ValueError as exc:
             name = f" axis {r.axis}" if getattr(r, "axis", None) else ""
             raise ValueError(f"noise fit{name} failed: {exc}") from None

@@ -68,6 +68,14 @@ def register(subparsers: Any) -> None:
         help="one-sided level of the conservative set (default 0.95)",
     )
     ana.add_argument(
+        "--bound-confidence",
+        type=_types.finite,  # in (0, 1): the core's check (build_report)
+        default=0.95,
+        metavar="P",
+        help="one-sided confidence level of the upper bounds of terms the log does not show "
+        "(default 0.95)",
+    )
+    ana.add_argument(
         "--rate",
         type=_types.positive,
         default=None,
@@ -91,6 +99,7 @@ def run(args: argparse.Namespace) -> int:
         method=args.fit_method,
         conservative_confidence=args.conservative,
         rate=args.rate,
+        bound_confidence=args.bound_confidence,
     )
     print(f"wrote {output}")
     return 0

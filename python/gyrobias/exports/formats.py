@@ -214,10 +214,21 @@ def _header(
         f"{comment} {fmt} IMU noise model written by gyrobias (from: {', '.join(sources)} coefficients)",
         f"{comment} N, K: IEEE-952 coefficients (two-sided densities); see the convention table of the gyrobias docs (Estimator parameters).",
     ]
-    if any(c[s].bounded for c in g + a for s in ("N", "K")):
+    levels = sorted(
+        {
+            "?"
+            if c[s].bound_confidence is None
+            else f"{100.0 * (c[s].bound_confidence or 0.0):.4g} %"
+            for c in g + a
+            for s in ("N", "K")
+            if c[s].bounded
+        }
+    )
+    if levels:
         lines.append(
             f"{comment} Values marked UPPER BOUND are terms the log does not show: the largest value "
-            "consistent with it (one-sided confidence), written in place of an estimate."
+            f"consistent with it (one-sided confidence {', '.join(levels)}), written in place of "
+            "an estimate."
         )
     return lines
 

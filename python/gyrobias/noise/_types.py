@@ -108,7 +108,8 @@ class Term:
         have absorbed part of the term and the bound would under-cover). ``None`` for an
         identified term, a term not requested, or coefficients not from data.
     bound_confidence : float or None
-        One-sided confidence level of :attr:`upper_bound` (0.95).
+        One-sided confidence level of :attr:`upper_bound`: the ``bound_confidence`` of the
+        fit (:func:`gyrobias.noise.fit`, :func:`gyrobias.noise.gmwm`; default 0.95).
     bound_reason : str or None
         How the bound was obtained (points, τ range, the binding τ).
 
@@ -331,7 +332,9 @@ class SinusoidTerm:
     Attributes
     ----------
     frequency : Term
-        f₀ in Hz, refined in the fit.
+        f₀ in Hz, refined in the fit within its window, with the fit's standard uncertainty;
+        a frequency held fixed (``lines=[(f, 0.0)]``) is ``f`` exactly, without uncertainty
+        (``None``: given, not estimated).
     amplitude : Term
         Ω₀ in the rate unit of the data.
     tau_range : (float, float) or None
@@ -481,6 +484,19 @@ class WaveletVariance:
         return _generics.plot(self, ax)
 
 
+def _filter_time(raw: tuple[float, float] | None) -> Term | None:
+    """The filter correlation time of the core's diagnostics as a :class:`Term` in seconds."""
+    if raw is None:
+        return None
+    return Term(
+        "τc",
+        "sensor filter correlation time",
+        float(raw[0]),
+        float(raw[1]),
+        "s",
+    )
+
+
 @dataclass(frozen=True)
 class FitDiagnostics:
     """Goodness of fit of an identification and what it left out.
@@ -510,6 +526,14 @@ class FitDiagnostics:
     lines : tuple of SpectralLine
         Spectral lines found in the data (frequency, amplitude, p-value) that the fit took into
         account as sinusoidal terms (see :func:`gyrobias.noise.detect_lines`).
+    filter_correlation_time : Term or None
+        The sensor filter's correlation time ``τ_c`` in seconds, with its standard uncertainty,
+        when the automatic range selection saw an anti-alias/decimation filter at the shortest τ
+        and the fit modelled what it leaves at the longer ones: a low-pass filter correlates
+        the white rate noise, and for ``m`` beyond the filter's length the Allan variance is
+        exactly ``N²/τ·(1 − 3τ_c/τ)`` with ``τ_c = t0·Σ_{k≥1} k·ρ(k)`` (``ρ`` the rate's
+        normalised autocovariance), so it enters as a negative ``1/τ²`` term. ``None`` when no
+        filter was seen (or quantisation outweighs it: then Q is reported).
     """
 
     chi2: float
@@ -521,6 +545,7 @@ class FitDiagnostics:
     excluded: tuple[tuple[float, float, str], ...] = ()
     warnings: tuple[str, ...] = ()
     lines: tuple[SpectralLine, ...] = ()
+    filter_correlation_time: Term | None = None
 
     @property
     def passed(self) -> bool:
@@ -541,6 +566,7 @@ class FitDiagnostics:
             tau_range=(float(raw["tau_range"][0]), float(raw["tau_range"][1])),
             excluded=tuple((float(a), float(b), str(r)) for a, b, r in raw["excluded"]),
             warnings=tuple(str(w) for w in raw["warnings"]),
+            filter_correlation_time=_filter_time(raw["filter_correlation_time"]),
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -558,16 +584,27 @@ class FitDiagnostics:
             ],
             "warnings": list(self.warnings),
             "lines": [line.to_dict() for line in self.lines],
+            "filter_correlation_time": (
+                None
+                if self.filter_correlation_time is None
+                else self.filter_correlation_time.to_dict()
+            ),
         }
 
     def summary(self) -> str:
-        """Plain-text lines: the test, the excluded ranges and the warnings."""
+        """Plain-text lines: the test, the excluded ranges, the filter and the warnings."""
         verdict = "passed" if self.passed else "REJECTED"
         lines = [
             f"  goodness of fit: χ² = {self.chi2:.4g}, ν = {self.dof}, p = {self.p_value:.3g} ({verdict})"
         ]
         for a, b, r in self.excluded:
             lines.append(f"  excluded τ {_tau_span(a, b)} s: {r}")
+        tc = self.filter_correlation_time
+        if tc is not None and tc.value is not None:
+            unc = f" ± {tc.uncertainty:.2g}" if tc.uncertainty is not None else ""
+            lines.append(
+                f"  sensor filter modelled at the τ used: −3N²τ_c/τ² with τ_c = {tc.value:.3g}{unc} s"
+            )
         for line in self.lines:
             lines.append(f"  spectral {line}")
         for w in self.warnings:
@@ -962,13 +999,18 @@ class NoiseCoefficients:
         """Model Allan deviation at ``taus`` and each term's asymptote (data units).
 
         For the read-off, the model is built from the identified coefficients (missing terms
-        count as zero).
+        count as zero). When the fit modelled a sensor filter
+        (:attr:`FitDiagnostics.filter_correlation_time`), the total includes its
+        ``−3N²τ_c/τ²`` (it has no asymptote of its own in ``parts``).
         """
         # τ finite and > 0 (the curves have no value at τ ≤ 0): the core's check
         t = as_float_array("taus", np.atleast_1d(asarray("taus", taus)), ndims=(1,))
         squared = self._squared_base()
         total, parts = _core.noise.model(squared, t)
         out = {s: np.sqrt(p) for s, p in zip(_SYMBOLS, parts)}
+        tc = None if self.diagnostics is None else self.diagnostics.filter_correlation_time
+        if tc is not None and tc.value is not None:
+            total = total - 3.0 * squared[1] * tc.value / t**2
         gm = self._gauss_markov_base()
         if gm:
             for g, v in zip(self.gauss_markov, _core.noise.gauss_markov_variance(gm, t)):

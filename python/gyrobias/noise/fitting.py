@@ -121,38 +121,68 @@ def sinusoid_avar(
     )
 
 
+#: Relative half-width of the window in which a line given as a bare frequency is refined.
+_SEED_WINDOW = 0.01
+
+#: What ``lines`` accepts, for the messages.
+_LINES_FORMS = (
+    "'auto', None or a sequence of frequencies (Hz), SpectralLine objects or "
+    "(frequency, half_width) pairs"
+)
+
+
+def _line_item(
+    x: Any, found: tuple[SpectralLine, ...]
+) -> tuple[tuple[float, float], SpectralLine | None]:
+    """One element of ``lines`` as a window ``(seed Hz, half-width Hz)`` and the detected line
+    behind it (if any). Only the form is checked here: the values (frequency in (0, fs/2],
+    half-width finite, >= 0 and below the frequency) are the core's checks, naming ``lines``."""
+    if isinstance(x, SpectralLine):
+        return (x.frequency, x.resolution), x
+    if isinstance(x, (str, bytes)) or isinstance(x, bool):
+        raise TypeError(f"lines must be {_LINES_FORMS}, got an element {x!r}")
+    if isinstance(x, Sequence) or isinstance(x, np.ndarray):
+        if len(x) != 2:
+            raise ValueError(
+                f"lines: a (frequency, half_width) pair must have 2 numbers, got {len(x)}: {x!r}"
+            )
+        return (real("lines", x[0]), real("lines", x[1])), None
+    f = real("lines", x)
+    # A bare frequency is a seed. The periodogram of the rate (``allan.lines``) pins a line to
+    # a small fraction of its resolution fs/n; the Allan curve only to about 0.01 Hz on a 2 h
+    # log (its χ² hardly changes with f₀ below that): a detected line within the seed's window
+    # is the better seed, and it is used as if its SpectralLine had been given.
+    near = [d for d in found if abs(d.frequency - f) <= _SEED_WINDOW * abs(f)]
+    if near:
+        best = min(near, key=lambda d: abs(d.frequency - f))
+        return (best.frequency, best.resolution), best
+    return (f, _SEED_WINDOW * abs(f)), None
+
+
 def _line_windows(
-    result: Any, lines: str | Sequence[float | SpectralLine] | None
+    result: Any, lines: str | Sequence[float | SpectralLine | tuple[float, float]] | None
 ) -> tuple[list[tuple[float, float]], tuple[SpectralLine, ...]]:
     """The fit's line windows ``(seed Hz, half-width Hz)`` and the detected lines behind them.
 
-    A detected line is refined within ±1 periodogram bin (its frequency is already the
-    periodogram maximum), a given frequency within ±1 % (the frequency must be in (0, fs/2]: the
-    core's check).
+    A detected line (a :class:`SpectralLine`, or ``"auto"``) is refined within ±1 periodogram
+    bin (its frequency is already the periodogram maximum); a bare frequency snaps to the
+    detected line of ``result.lines`` within ±1 % of it, or else is refined within ±1 %; a
+    ``(frequency, half_width)`` pair is refined within ``frequency ± half_width``, and held at
+    ``frequency`` when ``half_width`` is 0.
     """
     if lines is None:
         return [], ()
+    found_raw = getattr(result, "lines", None)
+    found = tuple(found_raw) if found_raw else ()
     if isinstance(lines, str):
         if lines != "auto":
-            raise ValueError(
-                f"lines must be 'auto', None or a sequence of frequencies, got {lines!r}"
-            )
-        found = getattr(result, "lines", None)
-        detected = tuple(found) if found else ()
-    else:
-        if not isinstance(lines, Sequence):
-            raise TypeError(
-                f"lines must be 'auto', None or a sequence of frequencies, got {type(lines).__name__}"
-            )
-        detected = tuple(x for x in lines if isinstance(x, SpectralLine))
-        windows = [
-            (x.frequency, x.resolution)
-            if isinstance(x, SpectralLine)
-            else (real("lines", x), 0.01 * abs(real("lines", x)))
-            for x in lines
-        ]
-        return windows, detected
-    return [(x.frequency, x.resolution) for x in detected], detected
+            raise ValueError(f"lines must be {_LINES_FORMS}, got {lines!r}")
+        return [(x.frequency, x.resolution) for x in found], found
+    if not isinstance(lines, Sequence) and not isinstance(lines, np.ndarray):
+        raise TypeError(f"lines must be {_LINES_FORMS}, got {type(lines).__name__}")
+    items = [_line_item(x, found) for x in lines]
+    detected = tuple(dict.fromkeys(d for _, d in items if d is not None))
+    return [w for w, _ in items], detected
 
 
 def _edf_source(result: AllanResult) -> str:
@@ -172,7 +202,8 @@ def fit(
     unit: str | None = ...,
     correlation_time: tuple[float, float] | None = ...,
     auto_range: bool = ...,
-    lines: str | Sequence[float | SpectralLine] | None = ...,
+    lines: str | Sequence[float | SpectralLine | tuple[float, float]] | None = ...,
+    bound_confidence: float = ...,
 ) -> NoiseCoefficients: ...
 
 
@@ -189,7 +220,8 @@ def fit(
     unit: str | None = ...,
     correlation_time: tuple[float, float] | None = ...,
     auto_range: bool = ...,
-    lines: str | Sequence[float | SpectralLine] | None = ...,
+    lines: str | Sequence[float | SpectralLine | tuple[float, float]] | None = ...,
+    bound_confidence: float = ...,
 ) -> tuple[NoiseCoefficients, ...]: ...
 
 
@@ -205,7 +237,8 @@ def fit(
     unit: str | None = None,
     correlation_time: tuple[float, float] | None = None,
     auto_range: bool = True,
-    lines: str | Sequence[float | SpectralLine] | None = "auto",
+    lines: str | Sequence[float | SpectralLine | tuple[float, float]] | None = "auto",
+    bound_confidence: float = 0.95,
 ) -> NoiseCoefficients | tuple[NoiseCoefficients, ...]:
     """Identify the IEEE-952 noise coefficients from an Allan-deviation result.
 
@@ -243,13 +276,33 @@ def fit(
         Joint fit without ``tau_range``: exclude long-τ points with fewer than 3 EDF and, while
         the goodness-of-fit test rejects the model (p < 0.01), systematic departures at the
         ends of the curve (Notes). ``False`` fits every point.
-    lines : "auto", sequence of float or SpectralLine, or None
+    lines : "auto", sequence of float, SpectralLine or (float, float), or None
         Periodic disturbances to model with the IEEE-952 sinusoidal term "S" (joint fit).
         ``"auto"`` (default): the spectral lines :func:`gyrobias.allan.adev` found in the rate
         data (``allan.lines``, a Bonferroni test at false-alarm level 0.01, see
         :func:`gyrobias.noise.detect_lines`); when there are any, one "S" term per line is added
-        and a warning says so. A sequence gives the frequencies (Hz, in (0, fs/2]; a
-        :class:`SpectralLine` or a float); ``None`` fits no sinusoid.
+        and a warning says so. ``None`` fits no sinusoid. A sequence gives the lines, each one
+        of (frequencies in Hz, in (0, fs/2]; a line above fs/2 is given at its alias):
+
+        - a :class:`SpectralLine` (from :func:`gyrobias.noise.detect_lines`): refined within
+          ±1 periodogram bin of its frequency;
+        - a float ``f``, a seed: when ``allan.lines`` holds a line within ±1 % of ``f``, that
+          line is modelled (as if its SpectralLine had been given: the periodogram of the rate
+          pins a frequency far better than the Allan curve); otherwise ``f`` is refined within
+          ±1 % on the Allan curve, which pins it only to about 0.01 Hz on a 2 h log;
+        - a pair ``(f, half_width)``: refined within ``f ± half_width`` on the Allan curve;
+          ``half_width = 0`` holds the frequency at exactly ``f`` (a frequency you know, e.g. a
+          motor at 23.000 Hz): it is then not a parameter of the fit, and its
+          :attr:`gyrobias.noise.SinusoidTerm.frequency` has no uncertainty (``None``: given, not estimated).
+
+        A negative or NaN frequency or half-width, a frequency outside (0, fs/2] or a
+        half-width not below the frequency raise ``ValueError`` naming ``lines``.
+    bound_confidence : float
+        One-sided confidence level (in (0, 1), default 0.95) of the upper bound given to every
+        requested term the data do not show (:attr:`gyrobias.noise.Term.upper_bound`, Notes);
+        it is carried as :attr:`gyrobias.noise.Term.bound_confidence` and written into the
+        ``UPPER BOUND`` marks of exports and reports. A lower level gives a lower bound that
+        covers the true value less often.
 
     Returns
     -------
@@ -264,7 +317,8 @@ def fit(
         (σ = 0 everywhere), fewer than 3 usable points in the fit range, unknown terms, units
         or methods, a region that contains no τ, a Gauss–Markov term with ``method="ieee"``,
         a ``correlation_time`` range outside the data's τ range, a line frequency outside
-        (0, fs/2], or ``"S"`` in ``terms`` without any line.
+        (0, fs/2], ``"S"`` in ``terms`` without any line, or ``bound_confidence`` outside
+        (0, 1).
 
     Notes
     -----
@@ -276,9 +330,14 @@ def fit(
     ``τ = m·t0`` (IEEE Std 952-1997 Annex C gives the continuous-time form
     ``Ω₀²·(sin²(πf₀τ)/(πf₀τ))²``; sampling multiplies it by ``(πf₀t0/sin(πf₀t0))²``, 1.19 at
     f₀ = 0.23·fs, so near τ ≈ 1/f₀ only the sampled form fits a real log; a line above fs/2
-    acts as its alias). Ω₀² enters linearly; f₀ is refined within ±1 periodogram bin of the
-    detected line (±1 % of a given float) by a grid and golden-section profile of the
-    weighted χ². A sinusoid counts as white noise for the EDF of the weights.
+    acts as its alias). Ω₀² enters linearly; f₀ is refined within its window (``lines``) by a
+    grid and golden-section profile of the weighted χ², and its standard uncertainty is the
+    sandwich one of the Allan-curve fit (held frequencies: none). The Allan curve sees a line
+    only where its variance is a sizeable share of the noise's (τ ≲ 1 s for 0.05 deg/s at
+    N = 0.2 deg/√h), so it pins f₀ to ~0.01 Hz on a 2 h log at 100 Hz (measured: rms error
+    0.0077 Hz with reported u ≈ 0.015 Hz, an honest, conservative uncertainty), where a
+    least-squares sine fit of the rate or the periodogram maximum gives ~1e-7 Hz: hence the
+    snapping of seeds to detected lines. A sinusoid counts as white noise for the EDF of the weights.
 
     *Joint*: linear in ``c = (Q², N², B², K², R², σ_k²) ≥ 0`` for fixed correlation times, which
     are profiled out (grid and golden-section search in ln T). Weights ``w_i = edf_i/(2σ_i⁴)``
@@ -308,6 +367,14 @@ def fit(
     precise point used. The read-off of B is biased high where the neighbouring asymptotes
     still contribute at the minimum (SPEC §3: 3.6 instead of 3 deg/h on an 8 h log). Its
     diagnostics test the read-off model on every point.
+
+    *Upper bounds* (both methods): a requested term without a value gets the largest
+    coefficient ``c`` whose asymptote stays under the one-sided upper confidence bound of the
+    curve at every τ used, ``c²·g(τ_i) ≤ σ̂²_i·edf_i/χ²_{edf_i}(1 − bound_confidence)``, the
+    other terms held at zero (``gyrocore::noise::bound``; SPEC "Third wave"). At each τ the
+    true variance lies under its bound with probability ``bound_confidence``; the bound of an
+    invisible term then covers the truth at least about that often (measured: 95 % → ≥ 95 %
+    of simulated logs, tests/test_bounds.py).
 
     References
     ----------
@@ -342,6 +409,7 @@ def fit(
                 correlation_time=correlation_time,
                 auto_range=auto_range,
                 lines=lines,
+                bound_confidence=bound_confidence,
             )
             for a in allan
         )
@@ -375,6 +443,7 @@ def fit(
     _core.validate.positive("slope_tolerance", real("slope_tolerance", slope_tolerance))
     min_points = count("min_points", min_points)
     auto_range = boolean("auto_range", auto_range)
+    bound_confidence = real("bound_confidence", bound_confidence)  # (0, 1): the core's check
     taus = np.ascontiguousarray(result.taus, dtype=np.float64)
     variance = np.ascontiguousarray(result.avar, dtype=np.float64)
     # Integer arrays: converted by the binding, which names m / n_terms if an element is
@@ -400,6 +469,7 @@ def fit(
             correlation_time,
             auto_range,
             line_windows,
+            bound_confidence,
         )
         diagnostics_raw = raw["diagnostics"]
     else:
@@ -430,6 +500,7 @@ def fit(
             region_list,
             slope_tolerance,
             int(min_points),
+            bound_confidence,
         )
         read = [0.0 if d["value"] is None else float(d["value"]) ** 2 for d in raw["terms"]]
         diagnostics_raw = _core.noise.diagnose(

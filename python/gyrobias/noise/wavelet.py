@@ -37,7 +37,8 @@ def gmwm(
     bootstrap: int = 0,
     seed: int | None = None,
     auto_range: bool = True,
-    lines: str | Sequence[float | SpectralLine] | None = "auto",
+    lines: str | Sequence[float | SpectralLine | tuple[float, float]] | None = "auto",
+    bound_confidence: float = 0.95,
 ) -> NoiseCoefficients | tuple[NoiseCoefficients, ...]:
     """Noise model by the generalized method of wavelet moments (GMWM).
 
@@ -58,8 +59,10 @@ def gmwm(
     select : bool
         Choose, among all sub-models of ``terms``, the one with the smallest wavelet-variance
         information criterion ``WVIC = J + 2p`` (Notes); the terms it drops are reported missing
-        with the reason "dropped by the model selection" (and the chosen sub-model), unlike
-        terms the non-negative fit sets to zero.
+        with the reason "dropped by the model selection" (and the chosen sub-model). Like a
+        term the non-negative fit sets to zero, a dropped term is one the data do not show: it
+        carries the same upper bound (:attr:`gyrobias.noise.Term.upper_bound`, at
+        ``bound_confidence``).
     bootstrap : int
         Number of parametric-bootstrap replicates for the uncertainties (0: asymptotic).
     seed : int or None
@@ -67,11 +70,19 @@ def gmwm(
     auto_range : bool
         Select the scales as :func:`fit` selects its τ range (Notes); ``False`` uses every
         scale with half-width ``m ≤ n/8``.
-    lines : "auto", sequence of float or SpectralLine, or None
+    lines : "auto", sequence of float, SpectralLine or (float, float), or None
         Periodic disturbances modelled by sinusoidal terms (wavelet variance ``½`` of the
         sampled-sine Allan variance, see :func:`fit`). ``"auto"``: the lines
         :func:`detect_lines` finds in each column (false-alarm level 0.01), said in a warning;
-        ``None``: none.
+        ``None``: none. A sequence as in :func:`fit`: a SpectralLine (refined within ±1 bin),
+        a float seed (snapped to the line :func:`detect_lines` finds within ±1 % of it in the
+        column, else refined within ±1 %) or a ``(frequency, half_width)`` pair
+        (``half_width = 0``: held at exactly that frequency, reported without uncertainty).
+    bound_confidence : float
+        One-sided confidence level (in (0, 1), default 0.95) of the upper bounds of the
+        requested terms the estimate does not show (as in :func:`fit`: the largest coefficient
+        whose asymptote stays under the one-sided upper confidence bound of ``2ν̂²`` at every
+        scale used, the other terms held at zero).
 
     Returns
     -------
@@ -83,7 +94,7 @@ def gmwm(
     ------
     ValueError
         Constant or non-finite data, too few dyadic scales for the model, unknown terms or
-        units, ``bootstrap < 0``.
+        units, ``bootstrap < 0``, ``bound_confidence`` outside (0, 1).
 
     Notes
     -----
@@ -136,6 +147,7 @@ def gmwm(
     auto_range = boolean("auto_range", auto_range)
     replicates = integer("bootstrap", bootstrap)
     seed_number = seed_value("seed", seed)
+    bound_confidence = real("bound_confidence", bound_confidence)  # (0, 1): the core's check
     sensor = sensor_kind(units) if units is not None else None
     matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
     n_axes = matrix.shape[1]
@@ -145,11 +157,9 @@ def gmwm(
     for a in range(n_axes):
         column = np.ascontiguousarray(matrix[:, a], dtype=np.float64)
         found: tuple[SpectralLine, ...] | None = None
-        if isinstance(lines, str) and lines == "auto" and column.shape[0] >= MIN_SAMPLES:
+        if _needs_detection(lines) and column.shape[0] >= MIN_SAMPLES:
             found = detect_lines(column, fs, units=units)  # type: ignore[assignment]
-        windows, detected = _line_windows(
-            _Found(found), lines if not isinstance(lines, str) or lines != "auto" else "auto"
-        )
+        windows, detected = _line_windows(_Found(found), lines)
         if want_sine and not windows:
             raise ValueError(
                 "terms contains 'S' but there is no line to model: pass lines=[f0, ...] (Hz) "
@@ -165,6 +175,7 @@ def gmwm(
             4 if auto_range else 8,
             auto_range,
             windows,
+            bound_confidence,
         )
         name = None if axis_names is None else str(axis_names[a])
         allan = AllanResult._from_core(
@@ -195,6 +206,16 @@ def gmwm(
     if arr.ndim == 1:
         return out[0]
     return tuple(out)
+
+
+def _needs_detection(lines: Any) -> bool:
+    """Whether the column's spectral lines are needed: ``lines="auto"``, or a bare frequency
+    among ``lines`` (a seed snaps to the detected line near it, see :func:`fit`)."""
+    if isinstance(lines, str):
+        return lines == "auto"
+    if not isinstance(lines, Sequence):
+        return False
+    return any(not isinstance(x, (SpectralLine, Sequence, np.ndarray, str, bytes)) for x in lines)
 
 
 class _Found:

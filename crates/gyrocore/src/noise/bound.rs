@@ -41,7 +41,8 @@ use super::model::Term;
 use crate::stats::chi2_ppf;
 use crate::{Error, Result};
 
-/// One-sided confidence level of the upper bounds the fits report.
+/// Default one-sided confidence level of the upper bounds the fits report (their
+/// `bound_confidence` option).
 pub const BOUND_CONFIDENCE: f64 = 0.95;
 
 /// The largest value of a term consistent with the data (module docs).
@@ -75,12 +76,7 @@ pub fn upper_bound(
     confidence: f64,
 ) -> Result<UpperBound> {
     curve.validate()?;
-    if !(confidence > 0.0 && confidence < 1.0) {
-        return Err(Error::invalid(
-            "confidence",
-            format!("must lie strictly between 0 and 1, got {confidence}"),
-        ));
-    }
+    crate::validate::probability("confidence", confidence)?;
     if used.is_empty() {
         return Err(Error::TooShort {
             name: "used",
@@ -158,19 +154,21 @@ fn percent(confidence: f64) -> String {
     }
 }
 
-/// Sets [`TermEstimate::upper_bound`] (at [`BOUND_CONFIDENCE`]) on every requested term that
-/// has no value, from the points `used` with their EDF `edf`. A bound that cannot be formed
-/// (no usable point) is left unset: the term stays missing with its reason.
+/// Sets [`TermEstimate::upper_bound`] (at one-sided `confidence`, which the fits check on
+/// entry with [`crate::validate::probability`]) on every requested term that has no value,
+/// from the points `used` with their EDF `edf`. A bound that cannot be formed (no usable point)
+/// is left unset: the term stays missing with its reason.
 pub(crate) fn attach(
     terms: &mut [TermEstimate],
     enabled: [bool; 5],
     curve: &Curve<'_>,
     used: &[usize],
     edf: &[f64],
+    confidence: f64,
 ) {
     for t in terms.iter_mut() {
         if enabled[t.term.index()] && t.value.is_none() {
-            t.upper_bound = upper_bound(curve, used, edf, t.term, BOUND_CONFIDENCE).ok();
+            t.upper_bound = upper_bound(curve, used, edf, t.term, confidence).ok();
         }
     }
 }
@@ -229,6 +227,79 @@ mod tests {
         // A higher confidence gives a higher bound.
         let k99 = upper_bound(&curve, &used, &edf, Term::RateRandomWalk, 0.99).unwrap();
         assert!(k99.value > k.value);
+    }
+
+    #[test]
+    fn the_fits_bound_at_the_callers_confidence_and_refuse_a_bad_one() {
+        use crate::noise::fit::{FitOptions, fit};
+        use crate::noise::ieee::{ReadOffOptions, read_off};
+        // White + flicker only: K and R are not visible, so the fits bound them.
+        let m: Vec<usize> = (0..14).map(|k| 1usize << k).collect();
+        let taus: Vec<f64> = m.iter().map(|&m| m as f64 * 0.01).collect();
+        let var: Vec<f64> = taus
+            .iter()
+            .map(|t| model_variance(&[0.0, 1e-6, 1e-8, 0.0, 0.0], *t))
+            .collect();
+        let n_terms: Vec<usize> = m.iter().map(|&m| 400_001 - 2 * m).collect();
+        let curve = curve_of(&taus, &var, &m, &n_terms);
+        let k = Term::RateRandomWalk.index();
+        let at = |level: f64| {
+            let options = FitOptions {
+                bound_confidence: level,
+                ..FitOptions::default()
+            };
+            fit(&curve, &options).map(|f| f.terms[k].upper_bound.clone())
+        };
+        let b80 = at(0.8).unwrap().expect("K bounded");
+        let b95 = at(0.95).unwrap().expect("K bounded");
+        assert_eq!((b80.confidence, b95.confidence), (0.8, 0.95));
+        assert!(b80.value < b95.value);
+        assert!(b80.reason.contains("80 %"));
+        let ieee = read_off(
+            &curve,
+            [true; 5],
+            &ReadOffOptions {
+                bound_confidence: 0.8,
+                ..ReadOffOptions::default()
+            },
+        )
+        .unwrap();
+        assert!(
+            ieee.terms
+                .iter()
+                .filter_map(|t| t.upper_bound.as_ref())
+                .all(|b| b.confidence == 0.8)
+        );
+        for bad in [0.0, 1.0, -0.5, 1.5, f64::NAN, f64::INFINITY] {
+            assert!(
+                matches!(
+                    at(bad),
+                    Err(Error::InvalidParameter {
+                        name: "bound_confidence",
+                        ..
+                    })
+                ),
+                "{bad}"
+            );
+            let r = read_off(
+                &curve,
+                [true; 5],
+                &ReadOffOptions {
+                    bound_confidence: bad,
+                    ..ReadOffOptions::default()
+                },
+            );
+            assert!(
+                matches!(
+                    r,
+                    Err(Error::InvalidParameter {
+                        name: "bound_confidence",
+                        ..
+                    })
+                ),
+                "{bad}"
+            );
+        }
     }
 
     #[test]

@@ -47,6 +47,30 @@
 //! (σ above the model at long τ: drift the terms do not describe) is excluded and the model
 //! refitted, keeping at least half of the points. What was excluded and why is recorded.
 //!
+//! **Sensor filter.** A sensor's anti-alias/decimation filter `h` (unity DC gain) correlates
+//! the white rate noise: its autocovariance `r(k)` is `σ²·Σ_i h_i h_{i+k}`. For an averaging
+//! length `m` beyond the filter's impulse response, the sums of `m` samples give exactly
+//!
+//! ```text
+//! σ²_A(m) = [Var S_m − Cov(S_m, S'_m)]/m² = s₀/m − 3A/m²,   s₀ = Σ_k r(k),  A = Σ_{k≥1} k r(k),
+//! ```
+//!
+//! i.e. `σ²(τ) = N²/τ·(1 − 3τ_c/τ)` with `N² = s₀ t0` and the filter's correlation time
+//! `τ_c = t0·A/s₀` (the first moment of the normalised autocovariance; 0.05 t0 for a 31-tap FIR
+//! at 0.8 Nyquist, 0.625 t0 for a 4-tap moving average). The filter leaves a *negative* `1/τ²`
+//! term — the quantisation term's shape with the opposite sign — which lowers the Allan variance
+//! by 3τ_c/τ relative (2 % at m = 8 for the FIR) well past the points it visibly bends; a fit
+//! without it biases N low by about half that. So once the automatic range selection has
+//! excluded a leading run (the filter's signature), the `1/τ²` column is refitted as the net of
+//! quantisation and filter: sign-free when Q is requested, `≤ 0` when it is not
+//! (`InverseSquare`); a negative net is reported as `Diagnostics::filter_correlation_time`
+//! `τ_c = −c_Q/c_N` (uncertainty by the delta method) and Q as missing. Inside the filter's
+//! length the law is not exact (a real filter's curve may sit above it there: pass-band
+//! ripple), so in this mode a first point with `|z| > 2` is excluded too, one at a time, while
+//! the fit is rejected (`transition`). Spectral computations (correlations, EDF) use the noise
+//! terms only (`spectral`): the correction is a few per cent of the white noise at the shortest
+//! τ used.
+//!
 //! **EDF**: from noise identification when the caller has it (`Curve::edf`, capped at the
 //! white-rate EDF, the most any rate noise supports: see `edf_given`), else SP1065's
 //! simple approximations ([`super::model::approximate_edf`]) for the noise type of the term that
@@ -123,6 +147,10 @@ pub struct Diagnostics {
     pub excluded: Vec<(f64, f64, String)>,
     /// Plain sentences about anything the user must know before trusting the numbers.
     pub warnings: Vec<String>,
+    /// The sensor filter's correlation time `τ_c` (s) and its standard uncertainty, when the
+    /// automatic range selection saw a filter at the shortest τ and the fit modelled its
+    /// `−3N²τ_c/τ²` (module docs, "Sensor filter"); `None` otherwise.
+    pub filter_correlation_time: Option<(f64, f64)>,
 }
 
 /// Options of [`fit`].
@@ -142,6 +170,9 @@ pub struct FitOptions {
     /// variance `Ω₀² sin⁴(π f₀ τ)/(m sin(π f₀ t0))²` ([`super::sinusoid::avar`]) with `Ω₀² ≥ 0`
     /// linear and `f₀` refined within `seed ± half-width` (profiled, golden section).
     pub lines: Vec<(f64, f64)>,
+    /// One-sided confidence level of the upper bounds of the terms the fit sets to zero
+    /// ([`super::bound`]; default [`super::BOUND_CONFIDENCE`]).
+    pub bound_confidence: f64,
 }
 
 impl Default for FitOptions {
@@ -153,6 +184,7 @@ impl Default for FitOptions {
             correlation_time: None,
             automatic_range: true,
             lines: Vec::new(),
+            bound_confidence: super::bound::BOUND_CONFIDENCE,
         }
     }
 }
@@ -357,30 +389,40 @@ fn solve_whitened(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<(Vec<f64>, f6
 
 /// Exact NNLS of `y` on the basis `columns` (values at the points) under `whitener`.
 /// Returns the coefficient of every column (0 when inactive) and χ².
+///
+/// The column `free` (if any) is not sign-constrained: it is in every candidate passive set
+/// (its KKT condition is a zero gradient), and only the other coefficients must be ≥ 0.
 pub(crate) fn nnls(
     columns: &[Vec<f64>],
     y: &[f64],
     whitener: &Whitener<'_>,
+    free: Option<usize>,
 ) -> Option<(Vec<f64>, f64)> {
     let wa: Vec<Vec<f64>> = columns.iter().map(|c| whitener.apply(c)).collect();
     let wb = whitener.apply(y);
     let p = columns.len();
+    let feasible = |idx: &[usize], coef: &[f64]| {
+        idx.iter()
+            .zip(coef)
+            .all(|(&k, v)| *v >= 0.0 || Some(k) == free)
+    };
+    let all: Vec<usize> = (0..p).collect();
     if let Some((coef, chi2)) = solve_whitened(wa.clone(), wb.clone()) {
-        if coef.iter().all(|v| *v >= 0.0) {
+        if feasible(&all, &coef) {
             return Some((coef, chi2));
         }
     }
     let mut best: Option<(Vec<f64>, f64)> = None;
     for mask in 1u32..(1 << p) {
         let idx: Vec<usize> = (0..p).filter(|k| mask & (1 << k) != 0).collect();
-        if idx.len() == p {
+        if idx.len() == p || free.is_some_and(|f| !idx.contains(&f)) {
             continue;
         }
         let sub: Vec<Vec<f64>> = idx.iter().map(|&k| wa[k].clone()).collect();
         let Some((coef, chi2)) = solve_whitened(sub, wb.clone()) else {
             continue;
         };
-        if coef.iter().any(|v| *v < 0.0) {
+        if !feasible(&idx, &coef) {
             continue;
         }
         if best.as_ref().is_none_or(|b| chi2 < b.1) {
@@ -394,18 +436,56 @@ pub(crate) fn nnls(
     best
 }
 
+/// How the `1/τ²` column (the quantisation term's) enters the fit (module docs, "Sensor
+/// filter"): as quantisation noise (`Q² ≥ 0`), or — once the automatic range selection has seen
+/// a sensor filter at the shortest τ — as the net of quantisation and the filter's negative
+/// `−3N²τ_c/τ²`: sign-free when Q is requested, `≤ 0` (the filter alone) when it is not.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) enum InverseSquare {
+    /// Quantisation noise only: `c_Q ≥ 0`.
+    #[default]
+    Quantization,
+    /// Quantisation and filter: `c_Q` of either sign.
+    Net,
+    /// Filter only (Q not requested): `c_Q ≤ 0`.
+    Filter,
+}
+
+impl InverseSquare {
+    /// The mode once a filter has been seen, for the requested terms; returns the terms with Q
+    /// added when the filter needs its column.
+    pub(crate) fn filtered(requested: &[Term]) -> (Vec<Term>, InverseSquare) {
+        if requested.contains(&Term::Quantization) {
+            (requested.to_vec(), InverseSquare::Net)
+        } else {
+            let mut terms = vec![Term::Quantization];
+            terms.extend_from_slice(requested);
+            (terms, InverseSquare::Filter)
+        }
+    }
+}
+
 /// Basis columns (values at `taus`) of the requested power-law terms, of GM terms at `ts` and
-/// of sinusoids at frequencies `fl` (period `t0`).
+/// of sinusoids at frequencies `fl` (period `t0`). With [`InverseSquare::Filter`] the Q column
+/// is negated (its non-negative coefficient is `−c_Q`).
 pub(crate) fn design(
     taus: &[f64],
     requested: &[Term],
     ts: &[f64],
     fl: &[f64],
     t0: f64,
+    q: InverseSquare,
 ) -> Vec<Vec<f64>> {
+    let sign = |t: &Term| {
+        if *t == Term::Quantization && q == InverseSquare::Filter {
+            -1.0
+        } else {
+            1.0
+        }
+    };
     let mut cols: Vec<Vec<f64>> = requested
         .iter()
-        .map(|t| taus.iter().map(|&tau| t.basis(tau)).collect())
+        .map(|t| taus.iter().map(|&tau| sign(t) * t.basis(tau)).collect())
         .collect();
     for &t in ts {
         cols.push(
@@ -422,6 +502,28 @@ pub(crate) fn design(
         );
     }
     cols
+}
+
+/// Exact NNLS of `y` on [`design`]'s columns under the [`InverseSquare`] mode `q`; returns the
+/// coefficients with `c_Q` signed (negative for a filter) and χ².
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn solve_design(
+    taus: &[f64],
+    y: &[f64],
+    requested: &[Term],
+    ts: &[f64],
+    fl: &[f64],
+    t0: f64,
+    q: InverseSquare,
+    whitener: &Whitener<'_>,
+) -> Option<(Vec<f64>, f64)> {
+    let qi = requested.iter().position(|t| *t == Term::Quantization);
+    let free = if q == InverseSquare::Net { qi } else { None };
+    let (mut coef, chi2) = nnls(&design(taus, requested, ts, fl, t0, q), y, whitener, free)?;
+    if let (InverseSquare::Filter, Some(k)) = (q, qi) {
+        coef[k] = -coef[k];
+    }
+    Some((coef, chi2))
 }
 
 /// Golden-section minimum of `f` over `[a, b]` (in `ln T`), 40 iterations.
@@ -465,9 +567,10 @@ pub(crate) fn profile_times(
     whitener: &Whitener<'_>,
     lines: &[(f64, f64)],
     t0: f64,
+    q: InverseSquare,
 ) -> Option<Profiled> {
     let eval = |ts: &[f64], fl: &[f64]| -> f64 {
-        nnls(&design(taus, requested, ts, fl, t0), y, whitener).map_or(f64::INFINITY, |s| s.1)
+        solve_design(taus, y, requested, ts, fl, t0, q, whitener).map_or(f64::INFINITY, |s| s.1)
     };
     let mut fl: Vec<f64> = lines.iter().map(|l| l.0).collect();
     let search_times = |fl: &[f64]| -> Option<Vec<f64>> {
@@ -551,7 +654,7 @@ pub(crate) fn profile_times(
             }
         }
     }
-    let (coef, chi2) = nnls(&design(taus, requested, &ts, &fl, t0), y, whitener)?;
+    let (coef, chi2) = solve_design(taus, y, requested, &ts, &fl, t0, q, whitener)?;
     Some((ts, fl, coef, chi2))
 }
 
@@ -619,6 +722,8 @@ pub(crate) struct Inner {
     pub(crate) chi2: f64,
     pub(crate) iterations: usize,
     pub(crate) bounds: (f64, f64),
+    /// How the `1/τ²` column entered ([`InverseSquare`]).
+    pub(crate) q: InverseSquare,
 }
 
 /// Default search range of the correlation times: `[5 τ_lo, τ_hi/5]` (the whole range when that
@@ -640,6 +745,7 @@ pub(crate) fn irls(
     n_gm: usize,
     bounds: Option<(f64, f64)>,
     windows: &[(f64, f64)],
+    q: InverseSquare,
 ) -> Result<Inner> {
     let t0 = curve_t0(curve);
     let taus: Vec<f64> = used.iter().map(|&i| curve.taus[i]).collect();
@@ -680,6 +786,7 @@ pub(crate) fn irls(
             &Whitener::Diagonal(&sqrt_w),
             windows,
             t0,
+            q,
         ) else {
             return Err(Error::Singular {
                 reason: "no subset of the requested terms gives a non-negative weighted \
@@ -748,6 +855,7 @@ pub(crate) fn irls(
         chi2,
         iterations,
         bounds,
+        q,
     })
 }
 
@@ -782,11 +890,18 @@ impl CorrelationMemo {
             let m: Vec<usize> = used.iter().map(|&i| curve.m[i]).collect();
             let terms: Vec<usize> = used.iter().map(|&i| curve.n_terms[i]).collect();
             let t0 = curve.taus[used[0]] / m[0] as f64;
-            self.rho = correlation_with(&m, &terms, t0, c, gm);
+            self.rho = correlation_with(&m, &terms, t0, &spectral(c), gm);
             self.key = Some(key);
         }
         &self.rho
     }
+}
+
+/// The noise terms' coefficients for spectral computations (correlations, EDF): a negative
+/// `c_Q` is a sensor filter's correction ([`InverseSquare`]), a few per cent of the white noise
+/// at the shortest τ used, not a noise process with a spectrum of its own.
+pub(crate) fn spectral(c: &[f64; 5]) -> [f64; 5] {
+    c.map(|v| v.max(0.0))
 }
 
 /// What a [`CorrelationMemo`] was computed for: the points and the bits of `c` and `gm`.
@@ -873,7 +988,7 @@ pub(crate) fn jacobian(
     j
 }
 
-/// The active parameters of a fit: power-law terms with `c > 0`, then `(q², ln T)` of every
+/// The active parameters of a fit: power-law terms with `c ≠ 0` (`c_Q < 0`: a filter), then `(q², ln T)` of every
 /// Gauss–Markov term with `q² > 0`, then `(Ω₀², f₀)` of every line with `Ω₀² > 0` (the frequency
 /// only when it was refined, i.e. its window has a positive half-width).
 pub(crate) fn active_params(
@@ -885,7 +1000,7 @@ pub(crate) fn active_params(
 ) -> Vec<Param> {
     let mut params: Vec<Param> = requested
         .iter()
-        .filter(|t| c[t.index()] > 0.0)
+        .filter(|t| c[t.index()] != 0.0)
         .map(|t| Param::Linear(*t))
         .collect();
     for (g, x) in gm.iter().enumerate() {
@@ -984,6 +1099,7 @@ pub fn joint(
             correlation_time: None,
             automatic_range: false,
             lines: Vec::new(),
+            bound_confidence: super::bound::BOUND_CONFIDENCE,
         },
     )
 }
@@ -1052,6 +1168,15 @@ pub(crate) fn leading_run(z: &[f64]) -> usize {
     lead
 }
 
+/// Once a filter has been seen ([`InverseSquare`]), the first used point when it departs from the
+/// model either way (`|z| > 2`): the `N²/τ·(1 − 3τ_c/τ)` law holds exactly only for averaging
+/// lengths beyond the filter's impulse response, and in the transition a real filter's curve can
+/// sit above the line (pass-band ripple) as well as below it. One point at a time, while the fit
+/// is rejected.
+pub(crate) fn transition(z: &[f64]) -> usize {
+    usize::from(z.len() > 1 && z[0].abs() > 2.0)
+}
+
 /// Merges a newly excluded τ range into the list (adjacent ranges with the same reason join).
 pub(crate) fn exclude(list: &mut Vec<(f64, f64, String)>, lo: f64, hi: f64, reason: &str) {
     if let Some(e) = list.iter_mut().find(|e| e.2 == reason) {
@@ -1114,6 +1239,7 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
     if !enabled.iter().any(|e| *e) && n_gm == 0 {
         return Err(Error::invalid("terms", "no term requested"));
     }
+    crate::validate::probability("bound_confidence", options.bound_confidence)?;
     let (lo, hi) = options.tau_range.unwrap_or((0.0, f64::INFINITY));
     if !(lo.is_finite() || lo == 0.0) || lo.is_nan() || hi.is_nan() || hi <= lo {
         return Err(Error::invalid(
@@ -1176,25 +1302,22 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
     }
     let automatic = options.automatic_range && options.tau_range.is_none();
     let mut excluded: Vec<(f64, f64, String)> = Vec::new();
-    let mut inner = irls(
-        curve,
-        &used,
-        &requested,
-        n_gm,
-        options.correlation_time,
-        &options.lines,
-    )?;
-    let mut memo = CorrelationMemo::default();
-    let count_params = |inner: &Inner| {
-        active_params(
-            &requested,
-            &inner.c,
-            &inner.gm,
-            &inner.lines,
-            &inner.windows,
+    // The terms fitted: the requested ones, plus the 1/τ² column once a filter is seen.
+    let mut terms = requested.clone();
+    let mut q = InverseSquare::Quantization;
+    let refit = |used: &[usize], terms: &[Term], q: InverseSquare| {
+        irls(
+            curve,
+            used,
+            terms,
+            n_gm,
+            options.correlation_time,
+            &options.lines,
+            q,
         )
-        .len()
     };
+    let mut inner = refit(&used, &terms, q)?;
+    let mut memo = CorrelationMemo::default();
     if automatic {
         let min_keep = (n_max_params + 2).max(used.len().div_ceil(2)).max(3);
         let mut drop = 0;
@@ -1210,16 +1333,11 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
                 EDF_REASON,
             );
             used.truncate(cut);
-            inner = irls(
-                curve,
-                &used,
-                &requested,
-                n_gm,
-                options.correlation_time,
-                &options.lines,
-            )?;
+            inner = refit(&used, &terms, q)?;
         }
         for _ in 0..curve.len() {
+            let n_params =
+                active_params(&terms, &inner.c, &inner.gm, &inner.lines, &inner.windows).len();
             let (_, _, p, z) = goodness(
                 curve,
                 &used,
@@ -1227,36 +1345,39 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
                 &inner.gm,
                 &inner.lines,
                 &inner.edf,
-                count_params(&inner),
+                n_params,
                 &mut memo,
             );
             if p >= REFIT_P || p.is_nan() {
                 break;
             }
-            let lead = leading_run(&z);
+            let mut lead = leading_run(&z);
+            if lead == 0 && q != InverseSquare::Quantization {
+                lead = transition(&z);
+            }
+            let first = used[0];
             if !trim_ends(&mut used, &mut excluded, curve.taus, &z, lead, min_keep) {
                 break;
             }
-            inner = irls(
-                curve,
-                &used,
-                &requested,
-                n_gm,
-                options.correlation_time,
-                &options.lines,
-            )?;
+            if used[0] != first && q == InverseSquare::Quantization {
+                // A filter bent the shortest τ: the points beyond the excluded ones still carry
+                // its −3N²τ_c/τ² (module docs, "Sensor filter").
+                (terms, q) = InverseSquare::filtered(&requested);
+            }
+            inner = refit(&used, &terms, q)?;
         }
     }
     Ok(finish(
         curve,
         &used,
-        &requested,
+        &terms,
         enabled,
         n_gm,
         inner,
         excluded,
         CovarianceSource::Sandwich,
         &mut memo,
+        options.bound_confidence,
     ))
 }
 
@@ -1279,6 +1400,7 @@ pub(crate) fn finish(
     excluded: Vec<(f64, f64, String)>,
     covariance: CovarianceSource,
     memo: &mut CorrelationMemo,
+    bound_confidence: f64,
 ) -> JointFit {
     let taus: Vec<f64> = used.iter().map(|&i| curve.taus[i]).collect();
     let c = inner.c;
@@ -1345,11 +1467,38 @@ pub(crate) fn finish(
         for (a, pa) in params.iter().enumerate() {
             for (b, pb) in params.iter().enumerate() {
                 if let (Param::Linear(ta), Param::Linear(tb)) = (pa, pb) {
-                    covariance[ta.index()][tb.index()] = m[(a, b)] * inflation;
+                    if c[ta.index()] > 0.0 && c[tb.index()] > 0.0 {
+                        covariance[ta.index()][tb.index()] = m[(a, b)] * inflation;
+                    }
                 }
             }
         }
     }
+    // A negative 1/τ² coefficient is the sensor filter's −3N²τ_c/τ²: τ_c = −c_Q/c_N, its
+    // uncertainty by the delta method from the (inflated) covariance of (c_Q, c_N).
+    let (qi, ni) = (Term::Quantization.index(), Term::AngleRandomWalk.index());
+    let position = |t: Term| {
+        params
+            .iter()
+            .position(|p| matches!(p, Param::Linear(x) if *x == t))
+    };
+    let filter_correlation_time = (c[qi] < 0.0 && c[ni] > 0.0).then(|| {
+        let tau_c = -c[qi] / c[ni];
+        let u = match (
+            &cov,
+            position(Term::Quantization),
+            position(Term::AngleRandomWalk),
+        ) {
+            (Some(m), Some(a), Some(b)) => {
+                let (vq, vn, vqn) = (m[(a, a)], m[(b, b)], m[(a, b)]);
+                let rel2 =
+                    vq / (c[qi] * c[qi]) + vn / (c[ni] * c[ni]) - 2.0 * vqn / (c[qi] * c[ni]);
+                tau_c * (rel2.max(0.0) * inflation).sqrt()
+            }
+            _ => f64::NAN,
+        };
+        (tau_c, u)
+    });
     let model: Vec<f64> = taus
         .iter()
         .map(|t| model_with_lines(&c, &inner.gm, &inner.lines, inner.t0, *t))
@@ -1375,7 +1524,23 @@ pub(crate) fn finish(
             if !enabled[j] {
                 return TermEstimate::missing(t, "not requested");
             }
-            if c[j] <= 0.0 {
+            if c[j] < 0.0 {
+                return TermEstimate::missing(
+                    t,
+                    format!(
+                        "the net 1/τ² part of the model is negative: the sensor's filter \
+                         (correlation time τ_c = {} s, diagnostics.filter_correlation_time) \
+                         outweighs any quantisation noise in {}..{} s",
+                        sig(
+                            -c[j] / c[Term::AngleRandomWalk.index()].max(f64::MIN_POSITIVE),
+                            3
+                        ),
+                        taus[0],
+                        taus[taus.len() - 1]
+                    ),
+                );
+            }
+            if c[j] == 0.0 {
                 return TermEstimate::missing(
                     t,
                     format!(
@@ -1408,7 +1573,14 @@ pub(crate) fn finish(
         })
         .collect();
     // A requested term the fit set to zero is bounded from above by the points it used.
-    super::bound::attach(&mut terms, enabled, curve, used, &inner.edf);
+    super::bound::attach(
+        &mut terms,
+        enabled,
+        curve,
+        used,
+        &inner.edf,
+        bound_confidence,
+    );
     let mut gauss_markov_terms = Vec::new();
     for (g, &(q2, t)) in inner.gm.iter().enumerate() {
         if q2 <= 0.0 {
@@ -1507,7 +1679,7 @@ pub(crate) fn finish(
     let tau_range = (taus[0], taus[taus.len() - 1]);
     JointFit {
         terms,
-        squared: c,
+        squared: spectral(&c),
         covariance,
         gauss_markov_squared: inner.gm,
         gauss_markov: gauss_markov_terms,
@@ -1527,6 +1699,7 @@ pub(crate) fn finish(
             tau_range,
             excluded,
             warnings,
+            filter_correlation_time,
         },
     }
 }
@@ -1578,6 +1751,7 @@ pub fn diagnose(
         tau_range: (curve.taus[used[0]], curve.taus[used[used.len() - 1]]),
         excluded: Vec::new(),
         warnings,
+        filter_correlation_time: None,
     })
 }
 
@@ -1615,6 +1789,109 @@ mod tests {
             let (enabled, n_gm) = parse_model_terms(&symbols).unwrap();
             assert_eq!(model_term_symbols(&enabled, n_gm), symbols);
         }
+    }
+
+    /// Exact Allan variance of unit white noise through a moving average of `len` taps, from
+    /// its autocovariance `r(k) = (len − |k|)/len²`: `AVAR(m) = [Var S_m − Cov(S_m, S'_m)]/m²`
+    /// with `S_m` the sum of `m` consecutive samples (no approximation).
+    fn moving_average_avar(len: usize, m: usize) -> f64 {
+        let r = |k: i64| {
+            let k = k.unsigned_abs() as usize;
+            if k < len {
+                (len - k) as f64 / (len * len) as f64
+            } else {
+                0.0
+            }
+        };
+        let m = m as i64;
+        let var: f64 = (-m + 1..m).map(|j| (m - j.abs()) as f64 * r(j)).sum();
+        let cov: f64 = (1..2 * m).map(|j| (m - (j - m).abs()) as f64 * r(j)).sum();
+        (var - cov) / (m * m) as f64
+    }
+
+    #[test]
+    fn free_column_is_not_sign_constrained() {
+        // y = 2·a − 1·b exactly: plain NNLS must zero b, with b free it is recovered.
+        let a: Vec<f64> = (1..=6).map(|i| i as f64).collect();
+        let b: Vec<f64> = (1..=6).map(|i| 1.0 / i as f64).collect();
+        let y: Vec<f64> = a.iter().zip(&b).map(|(a, b)| 2.0 * a - b).collect();
+        let w = vec![1.0; 6];
+        let cols = vec![a.clone(), b.clone()];
+        let (coef, chi2) = nnls(&cols, &y, &Whitener::Diagonal(&w), Some(1)).unwrap();
+        assert!((coef[0] - 2.0).abs() < 1e-12 && (coef[1] + 1.0).abs() < 1e-12 && chi2 < 1e-20);
+        let (coef, chi2) = nnls(&cols, &y, &Whitener::Diagonal(&w), None).unwrap();
+        assert!(coef[1] == 0.0 && coef[0] > 0.0 && chi2 > 1e-3);
+        // A free column never forces the others negative: y = −a + b, a constrained.
+        let y: Vec<f64> = a.iter().zip(&b).map(|(a, b)| -a + b).collect();
+        // (the free coefficient is then the projection of y on b, whatever its sign).
+        let (coef, _) = nnls(&cols, &y, &Whitener::Diagonal(&w), Some(1)).unwrap();
+        let projection = y.iter().zip(&b).map(|(y, b)| y * b).sum::<f64>()
+            / b.iter().map(|b| b * b).sum::<f64>();
+        assert_eq!(coef[0], 0.0);
+        assert!((coef[1] - projection).abs() < 1e-12 && projection < 0.0);
+    }
+
+    /// The exact Allan variance of white noise through a 4-tap moving average (plus flicker and
+    /// a random walk): the automatic fit excludes the filter's first points and models the rest
+    /// as N²/τ·(1 − 3τ_c/τ), τ_c = t0·Σ_k k ρ(k) = 0.625 t0, recovering N and τ_c.
+    #[test]
+    fn a_filters_law_is_recovered_beyond_its_length() {
+        let t0 = 0.01;
+        let n = 2_880_000usize;
+        let m: Vec<usize> = (0..21).map(|k| 1usize << k).collect();
+        let taus: Vec<f64> = m.iter().map(|&m| m as f64 * t0).collect();
+        let truth = [0.0, 1e-5, 4e-8, 1e-9, 0.0];
+        // Unit white noise has N² = t0 per unit variance: scale to N² = 1e-5.
+        let var: Vec<f64> = m
+            .iter()
+            .zip(&taus)
+            .map(|(&mm, &tau)| {
+                truth[1] / t0 * moving_average_avar(4, mm)
+                    + model_variance(&[0.0, 0.0, 4e-8, 1e-9, 0.0], tau)
+            })
+            .collect();
+        let terms: Vec<usize> = m.iter().map(|&m| n + 1 - 2 * m).collect();
+        let curve = Curve {
+            taus: &taus,
+            variance: &var,
+            m: &m,
+            n_terms: &terms,
+            overlapping: true,
+            edf: None,
+        };
+        let options = FitOptions {
+            enabled: [false, true, true, true, false],
+            ..FitOptions::default()
+        };
+        let fit = fit(&curve, &options).unwrap();
+        let (tau_c, u) = fit
+            .diagnostics
+            .filter_correlation_time
+            .expect("a filter is seen");
+        assert!((tau_c / (0.625 * t0) - 1.0).abs() < 1e-6, "τ_c = {tau_c}");
+        assert!(u.is_finite());
+        assert!((fit.squared[1] / truth[1] - 1.0).abs() < 1e-8);
+        assert!(fit.squared[0] == 0.0, "a filter is not quantisation noise");
+        assert!(fit.diagnostics.excluded.iter().any(|e| e.2 == SHORT_REASON));
+        assert!(
+            fit.used[0] >= 2,
+            "the points inside the filter's length are not used"
+        );
+        // Without the automatic range (no filter seen) N absorbs the filter instead.
+        let plain = fit_no_auto(&curve);
+        assert!(plain.diagnostics.filter_correlation_time.is_none());
+    }
+
+    fn fit_no_auto(curve: &Curve<'_>) -> JointFit {
+        fit(
+            curve,
+            &FitOptions {
+                enabled: [false, true, true, true, false],
+                automatic_range: false,
+                ..FitOptions::default()
+            },
+        )
+        .unwrap()
     }
 
     /// Exact model curve on octave τ (no noise): the fit must return the coefficients.

@@ -45,6 +45,16 @@
 //! `J − 2(K − p)` at a fixed number K of moments), used here as the wavelet-variance information
 //! criterion; it penalises parameters the way AIC does and prefers the smaller model on ties.
 //!
+//! **Sensor filter.** As in the joint fit ([`super::fit`](mod@super::fit), "Sensor filter"),
+//! once the automatic scale selection has excluded filtered first scales, the `1/τ²` column
+//! models the filter's `−3N²τ_c/τ²` at the remaining ones. The law holds exactly only beyond the
+//! filter's impulse response, and the optimal weights lean on the first scale used, so a
+//! Hausman test then checks it: under the law, dropping the first scale changes the efficient
+//! estimate of `N²` by `d` with `Var(d) = Var(N²_without) − Var(N²_with)` (Hausman,
+//! Econometrica 46 (1978) 1251); while `|d| > 2√Var(d)` the first scale is dropped. On 1 h
+//! 100 Hz logs through a 31-tap FIR, a 4-tap moving average or a second-order Butterworth, N is
+//! then within its uncertainty of the truth (`tests/test_lines.py`, `bench_coverage.py`).
+//!
 //! **Goodness of fit** is reported exactly as for the joint fit ([`super::fit::Diagnostics`])
 //! on the Allan-variance equivalent `2ν̂²`, so both estimators' diagnostics read the same.
 
@@ -54,9 +64,9 @@ use rayon::prelude::*;
 use super::covariance::correlation_with;
 use super::curve::{Curve, TermEstimate};
 use super::fit::{
-    CorrelationMemo, CovarianceSource, Inner, JointFit, REFIT_P, Whitener, active_params,
-    edf_model, finish, goodness, irls, jacobian, leading_run, model_with_lines, profile_times,
-    trim_ends,
+    CorrelationMemo, CovarianceSource, Inner, InverseSquare, JointFit, REFIT_P, SHORT_REASON,
+    Whitener, active_params, edf_model, finish, goodness, irls, jacobian, leading_run,
+    model_with_lines, profile_times, spectral, trim_ends,
 };
 use super::gauss_markov;
 use super::model::Term;
@@ -85,6 +95,9 @@ pub struct GmwmOptions {
     pub automatic_range: bool,
     /// Sinusoidal terms `(seed frequency, half-width)` in Hz (as [`super::FitOptions::lines`]).
     pub lines: Vec<(f64, f64)>,
+    /// One-sided confidence level of the upper bounds of the terms the fit sets to zero or the
+    /// selection drops (as [`super::FitOptions::bound_confidence`]).
+    pub bound_confidence: f64,
 }
 
 impl Default for GmwmOptions {
@@ -98,6 +111,7 @@ impl Default for GmwmOptions {
             min_blocks: 8,
             automatic_range: false,
             lines: Vec::new(),
+            bound_confidence: super::bound::BOUND_CONFIDENCE,
         }
     }
 }
@@ -163,7 +177,7 @@ impl Scales {
 fn weight_factor(curve: &Curve<'_>, inner: &Inner) -> Option<DMatrix<f64>> {
     let n = curve.len();
     let t0 = curve.taus[0] / curve.m[0] as f64;
-    let rho = correlation_with(curve.m, curve.n_terms, t0, &inner.c, &inner.gm);
+    let rho = correlation_with(curve.m, curve.n_terms, t0, &spectral(&inner.c), &inner.gm);
     let s: Vec<f64> = (0..n)
         .map(|i| {
             let mu = model_with_lines(&inner.c, &inner.gm, &inner.lines, inner.t0, curve.taus[i])
@@ -187,15 +201,16 @@ type Candidate = ([bool; 5], usize);
 /// A GMWM estimate: fit state, Cholesky factor of Ω, J.
 type Estimate = (Inner, DMatrix<f64>, f64);
 
-/// One GMWM estimate of a fixed model.
+/// One GMWM estimate of a fixed model (`q`: how the `1/τ²` column enters, [`InverseSquare`]).
 fn estimate(
     curve: &Curve<'_>,
     requested: &[Term],
     n_gm: usize,
     windows: &[(f64, f64)],
+    q: InverseSquare,
 ) -> Result<Estimate> {
     let used: Vec<usize> = (0..curve.len()).collect();
-    let mut inner = irls(curve, &used, requested, n_gm, None, windows)?;
+    let mut inner = irls(curve, &used, requested, n_gm, None, windows, q)?;
     let singular = || Error::Singular {
         reason: "the wavelet-variance covariance is not positive definite".into(),
     };
@@ -210,6 +225,7 @@ fn estimate(
             &Whitener::Cholesky(&l),
             windows,
             inner.t0,
+            q,
         )
         .ok_or_else(|| Error::Singular {
             reason: "no subset of the requested terms gives a non-negative generalized \
@@ -352,7 +368,8 @@ fn bootstrap_covariance(
             sinusoid::add_lines(&mut rate, t0, &lines).ok()?;
             let wv = haar(&rate, t0, min_blocks).ok()?;
             let scales = Scales::of(&wv, t0).subset(used);
-            let (est, _, _) = estimate(&scales.curve(), requested, n_gm, &inner.windows).ok()?;
+            let (est, _, _) =
+                estimate(&scales.curve(), requested, n_gm, &inner.windows, inner.q).ok()?;
             Some(
                 params
                     .iter()
@@ -414,6 +431,7 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
     if !options.enabled.iter().any(|e| *e) && options.gauss_markov == 0 {
         return Err(Error::invalid("terms", "no term requested"));
     }
+    crate::validate::probability("bound_confidence", options.bound_confidence)?;
     let wv = haar(rate, t0, options.min_blocks)?;
     let all_scales = Scales::of(&wv, t0);
     let full = all_scales.curve();
@@ -449,6 +467,16 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
     } else {
         ((0..full.len()).collect(), Vec::new())
     };
+    // A sensor filter seen at the first scales: its −3N²τ_c/τ² is modelled at the rest.
+    let filtered = excluded.iter().any(|e| e.2 == SHORT_REASON);
+    let fitted_terms = |e: [bool; 5]| -> (Vec<Term>, InverseSquare) {
+        let requested: Vec<Term> = Term::ALL.into_iter().filter(|t| e[t.index()]).collect();
+        if filtered {
+            InverseSquare::filtered(&requested)
+        } else {
+            (requested, InverseSquare::Quantization)
+        }
+    };
     let scales = all_scales.subset(&used);
     let curve = scales.curve();
     let mut candidates: Vec<([bool; 5], usize)> = Vec::new();
@@ -476,8 +504,8 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
     let results: Vec<(Candidate, Result<Estimate>)> = candidates
         .par_iter()
         .map(|&(e, g)| {
-            let requested: Vec<Term> = Term::ALL.into_iter().filter(|t| e[t.index()]).collect();
-            ((e, g), estimate(&curve, &requested, g, &options.lines))
+            let (terms, q) = fitted_terms(e);
+            ((e, g), estimate(&curve, &terms, g, &options.lines, q))
         })
         .collect();
     let mut best: Option<(Candidate, Inner, DMatrix<f64>, f64)> = None;
@@ -486,9 +514,8 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
     for ((e, g), r) in results {
         match r {
             Ok((inner, l, j)) => {
-                let requested: Vec<Term> = Term::ALL.into_iter().filter(|t| e[t.index()]).collect();
                 let p = active_params(
-                    &requested,
+                    &fitted_terms(e).0,
                     &inner.c,
                     &inner.gm,
                     &inner.lines,
@@ -517,10 +544,7 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
             reason: "no candidate model could be fitted".into(),
         }));
     };
-    let requested: Vec<Term> = Term::ALL
-        .into_iter()
-        .filter(|t| enabled[t.index()])
-        .collect();
+    let (requested, _) = fitted_terms(enabled);
     let cov = if options.bootstrap > 0 {
         bootstrap_covariance(
             rate.len(),
@@ -547,6 +571,7 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
         excluded,
         CovarianceSource::Given(cov),
         &mut CorrelationMemo::default(),
+        options.bound_confidence,
     );
     label_dropped(&mut fit, options.enabled, enabled, n_gm, criterion);
     Ok(GmwmFit {
@@ -592,32 +617,29 @@ fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result
             correlation_time: None,
             automatic_range: true,
             lines: options.lines.clone(),
+            bound_confidence: options.bound_confidence,
         },
     )?;
     let mut used = joint.used;
     let mut excluded = joint.diagnostics.excluded;
     let min_keep = (n_params + 2).max(full.len().div_ceil(2)).max(3);
-    let fit_on = |used: &[usize]| -> Result<Inner> {
-        let sub = all.subset(used);
-        estimate(
-            &sub.curve(),
-            &requested,
-            options.gauss_markov,
-            &options.lines,
-        )
-        .map(|e| e.0)
+    // Once a filter is seen (an excluded leading run), the 1/τ² column models it.
+    let fitted = |excluded: &[(f64, f64, String)]| {
+        if excluded.iter().any(|e| e.2 == SHORT_REASON) {
+            InverseSquare::filtered(&requested)
+        } else {
+            (requested.clone(), InverseSquare::Quantization)
+        }
     };
-    let mut inner = fit_on(&used)?;
+    let fit_on = |used: &[usize], terms: &[Term], q: InverseSquare| -> Result<Inner> {
+        let sub = all.subset(used);
+        estimate(&sub.curve(), terms, options.gauss_markov, &options.lines, q).map(|e| e.0)
+    };
+    let (mut terms, mut q) = fitted(&excluded);
+    let mut inner = fit_on(&used, &terms, q)?;
     let mut memo = CorrelationMemo::default();
     for _ in 0..full.len() {
-        let p = active_params(
-            &requested,
-            &inner.c,
-            &inner.gm,
-            &inner.lines,
-            &inner.windows,
-        )
-        .len();
+        let p = active_params(&terms, &inner.c, &inner.gm, &inner.lines, &inner.windows).len();
         let (_, _, pv, z) = goodness(
             &full,
             &used,
@@ -632,6 +654,9 @@ fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result
             break;
         }
         let mut lead = leading_run(&z);
+        if lead == 0 && q != InverseSquare::Quantization {
+            lead = super::fit::transition(&z);
+        }
         if lead == 0 {
             // The generalized least squares spreads the misfit of filtered first scales over
             // their correlated neighbours, whose standardised residuals then stay above −2: a
@@ -641,14 +666,56 @@ fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result
         if !trim_ends(&mut used, &mut excluded, full.taus, &z, lead, min_keep) {
             break;
         }
-        inner = fit_on(&used)?;
+        (terms, q) = fitted(&excluded);
+        inner = fit_on(&used, &terms, q)?;
+    }
+    if q != InverseSquare::Quantization {
+        // The filter's law N²/τ·(1 − 3τ_c/τ) is exact only beyond its impulse response; the
+        // first scale used may still sit in the transition by less than its residual shows
+        // yet more than N's uncertainty allows (an IIR filter's first scales: +1 % at m = 2).
+        // Hausman's test: under the law, dropping the first scale changes the efficient
+        // estimate of N² by d with Var(d) = Var(N²_dropped) − Var(N²_kept); |d| > 2√Var(d)
+        // says the first scale does not follow the law, and it is dropped.
+        while used.len() > min_keep {
+            let white = |used: &[usize]| -> Option<(f64, f64)> {
+                let sub = all.subset(used);
+                let curve = sub.curve();
+                let (inner, l, _) =
+                    estimate(&curve, &terms, options.gauss_markov, &options.lines, q).ok()?;
+                let params =
+                    active_params(&terms, &inner.c, &inner.gm, &inner.lines, &inner.windows);
+                let k = params
+                    .iter()
+                    .position(|p| matches!(p, super::fit::Param::Linear(Term::AngleRandomWalk)))?;
+                let cov = asymptotic_covariance(&curve, &inner, &l, &terms)?;
+                Some((inner.c[Term::AngleRandomWalk.index()], cov[(k, k)]))
+            };
+            let (Some((kept, v_kept)), Some((dropped, v_dropped))) =
+                (white(&used), white(&used[1..]))
+            else {
+                break;
+            };
+            let var = v_dropped - v_kept;
+            if !(var > 0.0 && (dropped - kept).abs() > 2.0 * var.sqrt()) {
+                break;
+            }
+            super::fit::exclude(
+                &mut excluded,
+                full.taus[used[0]],
+                full.taus[used[0]],
+                SHORT_REASON,
+            );
+            used.remove(0);
+        }
     }
     Ok((used, excluded))
 }
 
 /// Terms the user asked for that the model selection left out are missing because of the
 /// selection, not because the non-negative fit set them to zero (which is what [`finish`] says of
-/// every zero term): relabel them with the chosen model and its WVIC.
+/// every zero term): relabel them with the chosen model and its WVIC. A dropped term is still a
+/// term the data do not show, so it keeps the upper bound [`finish`] attached (the same bound a
+/// term the non-negative fit set to zero gets: other terms held at zero, [`super::bound`]).
 fn label_dropped(
     fit: &mut JointFit,
     requested: [bool; 5],
@@ -664,7 +731,9 @@ fn label_dropped(
     for t in &mut fit.terms {
         let j = t.term.index();
         if requested[j] && !chosen[j] {
+            let bound = t.upper_bound.take();
             *t = TermEstimate::missing(t.term, reason.clone());
+            t.upper_bound = bound;
         }
     }
     for gm in fit.gauss_markov.iter_mut().skip(n_gm) {

@@ -46,6 +46,9 @@ pub struct ReadOffOptions {
     pub min_points: usize,
     /// Explicit τ ranges (s) per term in [`Term::ALL`] order, overriding detection.
     pub regions: [Option<(f64, f64)>; 5],
+    /// One-sided confidence level of the upper bounds of the terms the read-off does not find
+    /// ([`super::bound`]; default [`super::BOUND_CONFIDENCE`]).
+    pub bound_confidence: f64,
 }
 
 impl Default for ReadOffOptions {
@@ -54,6 +57,7 @@ impl Default for ReadOffOptions {
             tolerance: 0.1,
             min_points: 3,
             regions: [None; 5],
+            bound_confidence: super::bound::BOUND_CONFIDENCE,
         }
     }
 }
@@ -145,6 +149,7 @@ pub fn read_off(
     if options.min_points == 0 {
         return Err(Error::invalid("min_points", "must be >= 1"));
     }
+    crate::validate::probability("bound_confidence", options.bound_confidence)?;
     let min_points = options.min_points;
     for (j, r) in options.regions.iter().enumerate() {
         if let Some((lo, hi)) = r {
@@ -302,7 +307,14 @@ pub fn read_off(
     // A requested term the read-off did not find is bounded from above by every point.
     let used: Vec<usize> = (0..curve.len()).filter(|&i| positive(i)).collect();
     let used_edf: Vec<f64> = used.iter().map(|&i| edf[i]).collect();
-    super::bound::attach(&mut terms, enabled, curve, &used, &used_edf);
+    super::bound::attach(
+        &mut terms,
+        enabled,
+        curve,
+        &used,
+        &used_edf,
+        options.bound_confidence,
+    );
     Ok(ReadOff {
         terms,
         local_slopes: slopes,
