@@ -314,6 +314,7 @@ fn detect_lines<'py>(
             d.set_item("ratio", l.ratio)?;
             d.set_item("p_value", l.p_value)?;
             d.set_item("resolution", l.resolution)?;
+            d.set_item("frequency_uncertainty", l.frequency_uncertainty)?;
             Ok(d)
         })
         .collect()

@@ -279,6 +279,7 @@ class SpectralLine(TypedDict):
     ratio: float
     p_value: float
     resolution: float
+    frequency_uncertainty: float
 
 def detect_lines(
     data: NDArray[np.float64], t0: float, false_alarm: float, half_width: int, max_lines: int
