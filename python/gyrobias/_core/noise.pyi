@@ -107,7 +107,6 @@ class JointFit(TypedDict):
     terms: list[TermEstimate]
     squared: list[float]
     gauss_markov: list[GaussMarkovTerm]
-    gauss_markov_squared: list[tuple[float, float]]
     chi2: float
     dof: int
     tau_range: tuple[float, float]
@@ -133,7 +132,6 @@ class Gmwm(TypedDict):
     terms: list[TermEstimate]
     squared: list[float]
     gauss_markov: list[GaussMarkovTerm]
-    gauss_markov_squared: list[tuple[float, float]]
     chi2: float
     dof: int
     tau_range: tuple[float, float]

@@ -333,9 +333,9 @@ class SinusoidTerm:
     ----------
     frequency : Term
         f₀ in Hz: a detected line's is the periodogram maximum, with the periodogram's
-        uncertainty (:attr:`SpectralLine.frequency_uncertainty`); a frequency refined on the
-        Allan curve (a seed with no detected line, a ``(f, half_width)`` window) has the fit's
-        standard uncertainty; one held fixed (``lines=[(f, 0.0)]``) is ``f`` exactly, without
+        uncertainty (:attr:`gyrobias.noise.SpectralLine.frequency_uncertainty`); a frequency
+        refined on the Allan curve (a seed with no detected line, a ``(f, half_width)``
+        window) has the fit's standard uncertainty; one held fixed (``lines=[(f, 0.0)]``) is ``f`` exactly, without
         uncertainty (``None``: given, not estimated).
     amplitude : Term
         Ω₀ in the rate unit of the data.

@@ -298,8 +298,8 @@ def fit(
 
         - a :class:`SpectralLine` (from :func:`gyrobias.noise.detect_lines`): held at its
           frequency, the periodogram maximum, which is reported with the periodogram's
-          uncertainty (:attr:`SpectralLine.frequency_uncertainty`, ~1e-7 Hz on a 2 h log);
-          ``"auto"`` does the same with every line of ``allan.lines``;
+          uncertainty (:attr:`gyrobias.noise.SpectralLine.frequency_uncertainty`, ~1e-7 Hz
+          on a 2 h log); ``"auto"`` does the same with every line of ``allan.lines``;
         - a float ``f``, a seed: when ``allan.lines`` holds a line within ±1 % of ``f``, that
           line is modelled (as if its SpectralLine had been given: the periodogram of the rate
           pins a frequency far better than the Allan curve); otherwise ``f`` is refined within
@@ -307,7 +307,8 @@ def fit(
         - a pair ``(f, half_width)``: refined within ``f ± half_width`` on the Allan curve;
           ``half_width = 0`` holds the frequency at exactly ``f`` (a frequency you know, e.g. a
           motor at 23.000 Hz): it is then not a parameter of the fit, and its
-          :attr:`gyrobias.noise.SinusoidTerm.frequency` has no uncertainty (``None``: given, not estimated).
+          :attr:`gyrobias.noise.SinusoidTerm.frequency` has no uncertainty (``None``: given,
+          not estimated).
 
         A negative or NaN frequency or half-width, a frequency outside (0, fs/2] or a
         half-width not below the frequency raise ``ValueError`` naming ``lines``.
