@@ -102,7 +102,7 @@ def add_read_arguments(
         "--time-unit",
         choices=("auto", "s", "ms", "us", "ns"),
         default="auto",
-        help="unit of the timestamps (default auto: ns if the median step ≥ 1000, else s)",
+        help="unit of the timestamps (default auto: by the median step: ns from 1e5, us from 1000, else s)",
     )
     src.add_argument(
         "--delimiter",
