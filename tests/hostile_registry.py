@@ -231,7 +231,7 @@ REGISTRY: dict[str, str] = {
     "noise.SinusoidTerm.__init__": "frequency:field amplitude:field tau_range:field missing:field",
     "noise.SinusoidTerm.to_dict": "",
     "noise.SpectralLine.__init__": "frequency:field amplitude:field unit:field ratio:field "
-    "p_value:field resolution:field",
+    "p_value:field resolution:field frequency_uncertainty:field",
     "noise.SpectralLine.to_dict": "",
     "noise.WaveletVariance.__init__": "levels:field scales:field variance:field ci_low:field "
     "ci_high:field edf:field n_coefficients:field robust:field efficiency:field "

@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from scipy import stats
 
 import gyrobias
-from gyrobias import allan, fleet, io, noise
+from gyrobias import _core, allan, fleet, io, noise
 from gyrobias.cli import main
 
 FS = 100.0
@@ -632,9 +632,7 @@ def test_summary_decides_whether_the_spread_is_real() -> None:
     false_real = 0
     for _ in range(2000):
         x = 1.0 + rng.normal(0.0, 0.01, 30)
-        false_real += fleet.spread._spread(x, u, fleet.SPREAD_ALPHA, fleet.SPREAD_MIN_RATIO)[
-            "spread_real"
-        ]
+        false_real += fleet.spread._spread(x, u, _DEFAULT_TEST)["spread_real"]
     # At n = 30 the p < 1 % condition is the binding one: the rate is alpha (binomial s.d. 0.2 %).
     assert false_real / 2000 < fleet.SPREAD_ALPHA + 0.005
     # ... and a real spread of twice the uncertainties is found nearly always.
@@ -642,8 +640,7 @@ def test_summary_decides_whether_the_spread_is_real() -> None:
         fleet.spread._spread(
             1.0 + rng.normal(0.0, 0.02, 30) + rng.normal(0.0, 0.01, 30),
             u,
-            fleet.SPREAD_ALPHA,
-            fleet.SPREAD_MIN_RATIO,
+            _DEFAULT_TEST,
         )["spread_real"]
         for _ in range(500)
     )
@@ -768,7 +765,7 @@ def test_spread_equals_numpy_and_scipy(units: list[tuple[float, float]], alpha: 
     median and MAD exactly as NumPy's convention, the sums to 1e-12, the tail to SciPy's 1e-10."""
     x = np.asarray([v for v, _ in units])
     u = np.asarray([e for _, e in units])
-    got = fleet.spread._spread(x, u, alpha, fleet.SPREAD_MIN_RATIO)
+    got = fleet.spread._spread(x, u, _core.fleet.SpreadTest(alpha, fleet.SPREAD_MIN_RATIO))
     ref = _spread_reference(x, u)
     assert got["median"] == ref["median"]
     assert got["spread"] == pytest.approx(ref["spread"], rel=1e-15, abs=1e-300)
@@ -789,11 +786,29 @@ def test_spread_equals_numpy_and_scipy(units: list[tuple[float, float]], alpha: 
     )
 
 
+#: The summary's default levels, as the core's checked test object.
+_DEFAULT_TEST = _core.fleet.SpreadTest(fleet.SPREAD_ALPHA, fleet.SPREAD_MIN_RATIO)
+
+
 def test_spread_checks_are_the_core_s() -> None:
+    # The levels are checked once, by the core, when the test is built; the values per call.
     x, u = np.array([1.0, 2.0, 3.0]), np.array([0.1, 0.1, 0.1])
-    with pytest.raises(ValueError, match="alpha"):
-        fleet.spread._spread(x, u, 1.5, 1.2)
-    with pytest.raises(ValueError, match="min_ratio"):
-        fleet.spread._spread(x, u, 0.01, -1.0)
+    with pytest.raises(ValueError, match="^alpha must lie strictly between 0 and 1, got 1.5$"):
+        _core.fleet.SpreadTest(1.5, 1.2)
+    for bad in (0.0, -1.0, math.nan):
+        with pytest.raises(ValueError, match="^min_ratio must be finite and > 0, got"):
+            _core.fleet.SpreadTest(0.01, bad)
     with pytest.raises(ValueError, match="values"):
-        fleet.spread._spread(np.array([1.0, np.nan]), u[:2], 0.01, 1.2)
+        fleet.spread._spread(np.array([1.0, np.nan]), u[:2], _DEFAULT_TEST)
+    assert fleet.spread._spread(x, u, _DEFAULT_TEST)["dof"] == 2
+
+
+def test_summary_refuses_bad_levels_before_any_work() -> None:
+    # Also when no term has a value (so no test would run): the levels are the core's check.
+    table = pd.DataFrame(
+        {"axis": pd.Series([], dtype=object), "error": pd.Series([], dtype=object)}
+    )
+    assert fleet.summary(table).empty
+    for kw, arg in (({"alpha": 1.5}, "alpha"), ({"min_ratio": 0.0}, "min_ratio")):
+        with pytest.raises(ValueError, match=f"^{arg} must"):
+            fleet.summary(table, **kw)

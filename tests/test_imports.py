@@ -293,9 +293,10 @@ def test_each_module_imports_in_a_fresh_interpreter() -> None:
     # ``python -c "import gyrobias.noise"`` for every module: an import-order problem that
     # bites only when a particular module is imported first fails here. Importing
     # ``gyrobias.x`` runs ``gyrobias/__init__`` first, so every module that ``import gyrobias``
-    # loads starts from the same state; those are imported fresh as ``gyrobias`` (plus the
-    # allan/noise/plotting trio by name), and every other module (cli, fleet, report, ...) on
-    # its own. ``__main__`` is the command line itself (it runs on import) and is left out.
+    # loads starts from the same state (the façade is lazy: that is only ``_generics``); those
+    # are imported fresh as ``gyrobias`` (plus the allan/noise/plotting trio by name), and every
+    # other module on its own. ``__main__`` is the command line itself (it runs on import) and
+    # is left out.
     _, code, package, err = _import_fresh("gyrobias")
     assert code == 0, err
     loaded_by_package = set(package)
@@ -307,8 +308,8 @@ def test_each_module_imports_in_a_fresh_interpreter() -> None:
         results = [("gyrobias", code, package, err), *pool.map(_import_fresh, modules)]
     failed = [f"{m}: {err.strip().splitlines()[-1:]}" for m, rc, _, err in results if rc != 0]
     assert failed == []
-    # No import loads matplotlib: gyrobias.plotting (loaded by ``import gyrobias`` for its
-    # ``.plot()`` registrations) imports it only when a plot is drawn.
+    # No import loads matplotlib: gyrobias.plotting (loaded for its ``.plot()`` registrations)
+    # imports it only when a plot is drawn.
     for module, _, loaded, _ in results:
         assert not any(m.split(".")[0] == "matplotlib" for m in loaded), module
 

@@ -220,6 +220,33 @@ def test_xsens_preamble_is_skipped_and_its_rate_used(tmp_path: Path) -> None:
     assert load(no_rate, columns="Gyr_X").fs is None
 
 
+@pytest.mark.parametrize(
+    ("step", "unit", "fs"),
+    [
+        (9091, "us", 1e6 / 9091),  # YEI 3-Space ChipTimeUS at 110 Hz
+        (20000, "us", 50.0),  # micros() at 50 Hz
+        (1000, "us", 1000.0),
+        (100_000, "ns", 10_000.0),
+        (1_000_000, "ns", 1000.0),
+        (999, "s", 1 / 999),
+    ],
+)
+def test_time_unit_guess_from_the_median_step(
+    tmp_path: Path, step: int, unit: str, fs: float
+) -> None:
+    # A real YEI log (scikit-kinematics 0.10.4 tests/data/data_yei.txt: "# Data format:
+    # %int(ChipTimeUS),..." then bare rows) had its microsecond stamps read as nanoseconds:
+    # fs = 109955 Hz for a 110 Hz sensor. Steps from 1000 to 1e5 are now microseconds.
+    path = tmp_path / "yei.txt"
+    path.write_text(
+        '# Data format: "%int(ChipTimeUS),%float(RawGyroX)"\n'
+        + "".join(f"{90198 + step * i},{0.001 * (i % 7)}\n" for i in range(200))
+    )
+    log = load(path, time_column=0)
+    assert log.sampling.time_unit == unit
+    assert log.fs == pytest.approx(fs, rel=1e-6)
+
+
 def test_explicit_time_unit_overrides(tmp_path: Path) -> None:
     path = _write(
         tmp_path / "log.csv", "t,g", np.column_stack([np.arange(100) * 10, np.ones(100)]), fmt="%d"

@@ -30,36 +30,49 @@ unit-aware Python interfaces:
 ``Cargo.toml`` (the wheel, ``gyrobias --version`` and the CHANGELOG's release use the same).
 """
 
-# The package façade: it imports the science modules and every module that registers the
-# result objects' methods (plotting: ``.plot()``; exports (kalibr included), conservative:
-# ``.export()`` and kin; see gyrobias._generics), so these are loaded whatever the caller
-# imports first. plotting loads matplotlib only when a plot is drawn. The layers:
-# docs/architecture.md.
-from gyrobias import (
-    allan,
-    codegen,
-    conservative,
-    datasheet,
-    exports,
-    fir,
-    fractional,
-    io,
-    kalman,
-    noise,
-    plotting,
-    predict,
-    spectral,
-    thermal,
-)
-from gyrobias._core import GyroLinAlgError
-from gyrobias._version import __version__
-from gyrobias.allan import AllanResult, adev, avar
-from gyrobias.fir import KaiserLowpass, kaiser_lowpass
-from gyrobias.kalman import FixedGainKalman
-from gyrobias.noise import NoiseCoefficients
-from gyrobias.predict import FractionalKalmanPredictor, Prediction
-from gyrobias.spectral import LSSAResult, lssa
-from gyrobias.thermal import AR1Fit, TemperatureModel, fit_ar1
+# The package façade, loaded lazily (PEP 562): ``import gyrobias`` runs only this file and the
+# leaf ``gyrobias._generics``, so that ``gyrobias --help`` and ``gyrobias --version`` import
+# neither NumPy nor the compiled core. A public name is imported at its first use
+# (``gyrobias.adev``, ``gyrobias.noise``, ``from gyrobias import *``). The result objects'
+# methods (plotting: ``.plot()``; exports (kalibr included), conservative: ``.export()`` and kin;
+# codegen: ``.to_c()``) are registered by those modules when they are imported; this module hands
+# :func:`_register_methods` to ``gyrobias._generics``, which runs it the first time a generic
+# function finds no method, so the methods are in place whatever the caller imported first.
+# plotting loads matplotlib only when a plot is drawn. The layers: docs/architecture.md.
+from __future__ import annotations
+
+import importlib
+import importlib.util
+from typing import TYPE_CHECKING, Any
+
+from gyrobias import _generics
+
+if TYPE_CHECKING:  # what the first use binds, for type checkers and editors
+    from gyrobias import (
+        allan,
+        codegen,
+        conservative,
+        datasheet,
+        exports,
+        fir,
+        fractional,
+        io,
+        kalman,
+        noise,
+        plotting,
+        predict,
+        spectral,
+        thermal,
+    )
+    from gyrobias._core import GyroLinAlgError
+    from gyrobias._version import __version__
+    from gyrobias.allan import AllanResult, adev, avar
+    from gyrobias.fir import KaiserLowpass, kaiser_lowpass
+    from gyrobias.kalman import FixedGainKalman
+    from gyrobias.noise import NoiseCoefficients
+    from gyrobias.predict import FractionalKalmanPredictor, Prediction
+    from gyrobias.spectral import LSSAResult, lssa
+    from gyrobias.thermal import AR1Fit, TemperatureModel, fit_ar1
 
 __all__ = [
     "AR1Fit",
@@ -93,3 +106,49 @@ __all__ = [
     "spectral",
     "thermal",
 ]
+
+#: The module each public function, class and constant comes from (the other public names are
+#: the subpackages themselves).
+_HOMES = {
+    "AR1Fit": "gyrobias.thermal",
+    "AllanResult": "gyrobias.allan",
+    "FixedGainKalman": "gyrobias.kalman",
+    "FractionalKalmanPredictor": "gyrobias.predict",
+    "GyroLinAlgError": "gyrobias._core",
+    "KaiserLowpass": "gyrobias.fir",
+    "LSSAResult": "gyrobias.spectral",
+    "NoiseCoefficients": "gyrobias.noise",
+    "Prediction": "gyrobias.predict",
+    "TemperatureModel": "gyrobias.thermal",
+    "__version__": "gyrobias._version",
+    "adev": "gyrobias.allan",
+    "avar": "gyrobias.allan",
+    "fit_ar1": "gyrobias.thermal",
+    "kaiser_lowpass": "gyrobias.fir",
+    "lssa": "gyrobias.spectral",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """A name's first use: import it (the module a public name comes from, or a submodule,
+    public or not: ``gyrobias.fleet`` and ``gyrobias.report`` work after ``import gyrobias``)."""
+    if name in _HOMES:
+        value = getattr(importlib.import_module(_HOMES[name]), name)
+    elif not name.startswith("__") and importlib.util.find_spec(f"gyrobias.{name}") is not None:
+        value = importlib.import_module(f"gyrobias.{name}")
+    else:
+        raise AttributeError(f"module 'gyrobias' has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})
+
+
+def _register_methods() -> None:
+    """Import every module that registers the result objects' methods in gyrobias._generics."""
+    from gyrobias import codegen, conservative, exports, plotting  # noqa: F401
+
+
+_generics.set_loader(_register_methods)

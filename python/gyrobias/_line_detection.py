@@ -124,6 +124,7 @@ def _detect_column(
             ratio=float(d["ratio"]),
             p_value=float(d["p_value"]),
             resolution=float(d["resolution"]),
+            frequency_uncertainty=float(d["frequency_uncertainty"]),
         )
         for d in raw
     )

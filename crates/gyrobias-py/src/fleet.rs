@@ -1,6 +1,6 @@
 //! Bindings of `gyrocore::fleet`.
 
-use gyrocore::fleet::{self, Spread};
+use gyrocore::fleet::{self, Spread, SpreadTest};
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 
@@ -78,26 +78,55 @@ impl PySpread {
     }
 }
 
+/// The levels of the homogeneity test (`gyrocore::fleet::SpreadTest`), checked by the core
+/// when built; read-only.
+#[pyclass(name = "SpreadTest", module = "gyrobias._core.fleet", frozen)]
+struct PySpreadTest {
+    inner: SpreadTest,
+}
+
+#[pymethods]
+impl PySpreadTest {
+    #[new]
+    #[pyo3(signature = (alpha, min_ratio))]
+    fn new(alpha: f64, min_ratio: f64) -> PyResult<Self> {
+        Ok(Self {
+            inner: core(SpreadTest::new(alpha, min_ratio))?,
+        })
+    }
+    /// Significance level, in (0, 1).
+    #[getter]
+    fn alpha(&self) -> f64 {
+        self.inner.alpha()
+    }
+    /// Smallest Birge ratio of a real spread.
+    #[getter]
+    fn min_ratio(&self) -> f64 {
+        self.inner.min_ratio()
+    }
+}
+
 /// Median, spread and homogeneity test of one coefficient (`gyrocore::fleet::spread`).
 #[pyfunction]
-#[pyo3(signature = (values, uncertainties, alpha, min_ratio))]
+#[pyo3(signature = (values, uncertainties, test))]
 #[allow(clippy::needless_pass_by_value)]
 fn spread(
     py: Python<'_>,
     values: PyReadonlyArray1<'_, f64>,
     uncertainties: PyReadonlyArray1<'_, f64>,
-    alpha: f64,
-    min_ratio: f64,
+    test: PyRef<'_, PySpreadTest>,
 ) -> PyResult<PySpread> {
     let x = c_order(&values);
     let u = c_order(&uncertainties);
-    let inner = core(py.detach(|| fleet::spread(&x, &u, alpha, min_ratio)))?;
+    let levels = test.inner;
+    let inner = core(py.detach(|| fleet::spread(&x, &u, levels)))?;
     Ok(PySpread { inner })
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("MAD_TO_SD", fleet::MAD_TO_SD)?;
     m.add_class::<PySpread>()?;
+    m.add_class::<PySpreadTest>()?;
     m.add_function(wrap_pyfunction!(robust_z, m)?)?;
     m.add_function(wrap_pyfunction!(spread, m)?)
 }

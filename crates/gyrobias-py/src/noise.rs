@@ -314,6 +314,7 @@ fn detect_lines<'py>(
             d.set_item("ratio", l.ratio)?;
             d.set_item("p_value", l.p_value)?;
             d.set_item("resolution", l.resolution)?;
+            d.set_item("frequency_uncertainty", l.frequency_uncertainty)?;
             Ok(d)
         })
         .collect()
@@ -459,7 +460,6 @@ fn fit<'py>(
     d.set_item("terms", terms_to_py(py, &fit.terms)?)?;
     d.set_item("squared", fit.squared.to_vec())?;
     d.set_item("gauss_markov", gauss_markov_dicts(py, &fit.gauss_markov)?)?;
-    d.set_item("gauss_markov_squared", fit.gauss_markov_squared.clone())?;
     d.set_item("chi2", fit.chi2)?;
     d.set_item("dof", fit.dof)?;
     d.set_item("tau_range", fit.tau_range)?;
@@ -577,7 +577,6 @@ fn gmwm<'py>(
     d.set_item("terms", terms_to_py(py, &fit.terms)?)?;
     d.set_item("squared", fit.squared.to_vec())?;
     d.set_item("gauss_markov", gauss_markov_dicts(py, &fit.gauss_markov)?)?;
-    d.set_item("gauss_markov_squared", fit.gauss_markov_squared.clone())?;
     d.set_item("chi2", fit.chi2)?;
     d.set_item("dof", fit.dof)?;
     d.set_item("tau_range", fit.tau_range)?;

@@ -179,6 +179,7 @@ fn fill_time_into(
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("GAP_FACTOR", timestamps::GAP_FACTOR)?;
     m.add("NS_THRESHOLD", timestamps::NS_THRESHOLD)?;
+    m.add("US_THRESHOLD", timestamps::US_THRESHOLD)?;
     m.add("JITTER_WARN", timestamps::JITTER_WARN)?;
     m.add("FS_TOLERANCE", timestamps::FS_TOLERANCE)?;
     m.add_class::<PySampling>()?;

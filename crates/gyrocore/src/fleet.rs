@@ -116,21 +116,51 @@ pub struct Spread {
     pub real: Option<bool>,
 }
 
+/// The levels of the "is the spread real?" test of [`spread`] (module docs): the significance
+/// level `alpha` and the smallest Birge ratio `min_ratio` that counts as a real spread.
+///
+/// Checked once, when built ([`SpreadTest::new`]): a caller that tests many coefficients with
+/// the same levels (the fleet summary, one test per axis and term) builds one and refuses bad
+/// levels before any work, and [`spread`] cannot be given unchecked ones.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpreadTest {
+    alpha: f64,
+    min_ratio: f64,
+}
+
+impl SpreadTest {
+    /// The test at level `alpha` with the Birge-ratio floor `min_ratio`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming `alpha` unless it lies strictly between 0 and 1
+    /// ([`validate::probability`]), or naming `min_ratio` unless it is finite and > 0
+    /// ([`validate::positive`]).
+    pub fn new(alpha: f64, min_ratio: f64) -> Result<Self> {
+        validate::probability("alpha", alpha)?;
+        validate::positive("min_ratio", min_ratio)?;
+        Ok(Self { alpha, min_ratio })
+    }
+
+    /// The significance level, in (0, 1).
+    #[must_use]
+    pub fn alpha(&self) -> f64 {
+        self.alpha
+    }
+
+    /// The smallest Birge ratio of a real spread, finite and > 0.
+    #[must_use]
+    pub fn min_ratio(&self) -> f64 {
+        self.min_ratio
+    }
+}
+
 /// Median, spread, mean uncertainty and the homogeneity test of one coefficient over a fleet
-/// (module docs). Units whose uncertainty is not finite and positive take part in the median
-/// and spread but not in the weighted test.
+/// (module docs), at the levels of `test`. Units whose uncertainty is not finite and positive
+/// take part in the median and spread but not in the weighted test.
 ///
 /// # Errors
-/// As [`robust_z`]; `alpha` not in (0, 1) or `min_ratio` not finite and ≥ 0
-/// ([`Error::InvalidParameter`]).
-pub fn spread(values: &[f64], uncertainties: &[f64], alpha: f64, min_ratio: f64) -> Result<Spread> {
-    if !(alpha > 0.0 && alpha < 1.0) {
-        return Err(Error::invalid(
-            "alpha",
-            format!("must be in (0, 1), got {alpha}"),
-        ));
-    }
-    validate::non_negative("min_ratio", min_ratio)?;
+/// As [`robust_z`] (the levels were checked when `test` was built).
+pub fn spread(values: &[f64], uncertainties: &[f64], test: SpreadTest) -> Result<Spread> {
     check(values, uncertainties)?;
     let (median, spread) = median_spread(values);
     let weighted: Vec<(f64, f64)> = values
@@ -181,7 +211,7 @@ pub fn spread(values: &[f64], uncertainties: &[f64], alpha: f64, min_ratio: f64)
         out.dof = Some(dof);
         out.birge_ratio = ratio;
         out.p_value = p;
-        out.real = Some(p < alpha && ratio >= min_ratio);
+        out.real = Some(p < test.alpha && ratio >= test.min_ratio);
     }
     Ok(out)
 }
@@ -222,7 +252,8 @@ mod tests {
     fn homogeneity_by_hand() {
         let x = [1.0, 2.0, 4.0];
         let u = [1.0, 1.0, 2.0];
-        let s = spread(&x, &u, 0.05, 1.2).unwrap();
+        let test = SpreadTest::new(0.05, 1.2).unwrap();
+        let s = spread(&x, &u, test).unwrap();
         // weights 1, 1, 0.25: X̄_w = (1 + 2 + 1)/2.25 = 16/9.
         let m: f64 = 16.0 / 9.0;
         let chi2 = (1.0 - m).powi(2) + (2.0 - m).powi(2) + 0.25 * (4.0 - m).powi(2);
@@ -235,11 +266,23 @@ mod tests {
         assert!((s.mean_uncertainty - 2.0_f64.sqrt()).abs() < 1e-15);
         assert_eq!(s.median, 2.0);
         // One weighted unit: no test.
-        let s = spread(&x, &[1.0, f64::NAN, 0.0], 0.05, 1.2).unwrap();
+        let s = spread(&x, &[1.0, f64::NAN, 0.0], test).unwrap();
         assert_eq!(s.dof, None);
         assert!(s.chi2.is_nan());
         assert_eq!(s.real, None);
-        assert!(spread(&x, &u, 0.0, 1.2).is_err());
-        assert!(spread(&x, &u, 0.05, -1.0).is_err());
+    }
+
+    #[test]
+    fn test_levels_are_checked_once_when_built() {
+        for alpha in [0.0, 1.0, -0.1, 1.5, f64::NAN, f64::INFINITY] {
+            let e = SpreadTest::new(alpha, 1.2).unwrap_err().to_string();
+            assert!(e.contains("alpha must lie strictly between 0 and 1"), "{e}");
+        }
+        for ratio in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            let e = SpreadTest::new(0.05, ratio).unwrap_err().to_string();
+            assert!(e.contains("min_ratio must be finite and > 0"), "{e}");
+        }
+        let t = SpreadTest::new(0.01, 1.2).unwrap();
+        assert_eq!((t.alpha(), t.min_ratio()), (0.01, 1.2));
     }
 }

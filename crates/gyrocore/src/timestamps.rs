@@ -17,8 +17,9 @@
 //! quantised interval value; the 9 significant digits drop the decimal-rounding noise of
 //! timestamps written as text (`0.0100` s → 100.00000000000213 Hz without it). A time unit not
 //! stated is guessed from the median positive step of the raw stamps: nanoseconds from
-//! [`NS_THRESHOLD`] up (no gyro log has samples 1000 s apart, and every rate below 1 MHz is
-//! ≥ 1000 ns apart), seconds below. A gap of `c` missing samples between `t_a` and `t_b` is
+//! [`NS_THRESHOLD`] = 10⁵ up (rates up to 10 kHz; no gyro log has samples 10⁵ s apart),
+//! microseconds from [`US_THRESHOLD`] = 10³ up to it (rates 10 Hz – 1 kHz: `micros()` clocks,
+//! x-io and YEI logs, which read as nanoseconds gave 1000× the rate), seconds below. A gap of `c` missing samples between `t_a` and `t_b` is
 //! filled with `t_a + (t_b − t_a)·j/(c + 1)`, `j = 1..c`.
 //!
 //! Raw stamps may be integers (`i64`, exact epoch nanoseconds) or floats; intervals are
@@ -31,8 +32,12 @@ use crate::{Error, Result};
 
 /// Intervals longer than this multiple of the median interval count as gaps.
 pub const GAP_FACTOR: f64 = 1.5;
-/// A median raw step at least this large means the stamps are nanoseconds (unit guess).
-pub const NS_THRESHOLD: f64 = 1e3;
+/// A median raw step at least this large means the stamps are nanoseconds (unit guess): as
+/// nanoseconds, a smaller step would be a rate above 10 kHz.
+pub const NS_THRESHOLD: f64 = 1e5;
+/// A median raw step at least this large, and below [`NS_THRESHOLD`], means microseconds
+/// (10 Hz – 1 kHz; as seconds it would be a sample every 17 minutes or more).
+pub const US_THRESHOLD: f64 = 1e3;
 /// Relative jitter (s.d. of the regular intervals / median interval) above which the sampling
 /// is called irregular.
 pub const JITTER_WARN: f64 = 0.01;
@@ -75,10 +80,13 @@ pub fn median_positive_step<T: Stamp>(stamps: &[T]) -> f64 {
 }
 
 /// The unit of stamps whose median positive step is `median_step` when no unit is stated:
-/// `"ns"` from [`NS_THRESHOLD`] up, else `"s"` (module docs).
+/// `"ns"` from [`NS_THRESHOLD`] up, `"us"` from [`US_THRESHOLD`] up to it, else `"s"`
+/// (module docs).
 pub fn guess_unit(median_step: f64) -> &'static str {
     if median_step >= NS_THRESHOLD {
         "ns"
+    } else if median_step >= US_THRESHOLD {
+        "us"
     } else {
         "s"
     }
@@ -291,6 +299,17 @@ mod tests {
         assert_eq!(median_positive_step(&ns), 1e7);
         assert_eq!(guess_unit(median_positive_step(&ns)), "ns");
         assert_eq!(guess_unit(median_positive_step(&[0.0, 0.01, 0.02])), "s");
+        // Microsecond stamps of a 110 Hz YEI log (scikit-kinematics data_yei.txt) and of a
+        // 50 Hz x-IMU3 log; nanoseconds at 10 kHz; the boundaries themselves.
+        assert_eq!(
+            guess_unit(median_positive_step(&[90198.0, 99285.0, 108380.0])),
+            "us"
+        );
+        assert_eq!(guess_unit(20_034.0), "us");
+        assert_eq!(guess_unit(1e5), "ns");
+        assert_eq!(guess_unit(99_999.0), "us");
+        assert_eq!(guess_unit(1e3), "us");
+        assert_eq!(guess_unit(999.0), "s");
         assert_eq!(median_positive_step(&[1.0, 1.0]), 0.0);
         assert_eq!(repeated_rows(&ns), vec![3]);
         assert_eq!(backward_rows(&[0.0, 2.0, 1.0, 3.0, 2.5]), vec![2, 4]);

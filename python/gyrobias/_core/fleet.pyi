@@ -5,7 +5,7 @@ from typing import final
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["MAD_TO_SD", "Spread", "robust_z", "spread"]
+__all__ = ["MAD_TO_SD", "Spread", "SpreadTest", "robust_z", "spread"]
 
 MAD_TO_SD: float
 
@@ -30,12 +30,19 @@ class Spread:
     @property
     def real(self) -> bool | None: ...
 
+@final
+class SpreadTest:
+    def __new__(cls, alpha: float, min_ratio: float) -> SpreadTest: ...
+    @property
+    def alpha(self) -> float: ...
+    @property
+    def min_ratio(self) -> float: ...
+
 def robust_z(
     values: NDArray[np.float64], uncertainties: NDArray[np.float64]
 ) -> NDArray[np.float64]: ...
 def spread(
     values: NDArray[np.float64],
     uncertainties: NDArray[np.float64],
-    alpha: float,
-    min_ratio: float,
+    test: SpreadTest,
 ) -> Spread: ...

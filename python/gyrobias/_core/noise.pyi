@@ -107,7 +107,6 @@ class JointFit(TypedDict):
     terms: list[TermEstimate]
     squared: list[float]
     gauss_markov: list[GaussMarkovTerm]
-    gauss_markov_squared: list[tuple[float, float]]
     chi2: float
     dof: int
     tau_range: tuple[float, float]
@@ -133,7 +132,6 @@ class Gmwm(TypedDict):
     terms: list[TermEstimate]
     squared: list[float]
     gauss_markov: list[GaussMarkovTerm]
-    gauss_markov_squared: list[tuple[float, float]]
     chi2: float
     dof: int
     tau_range: tuple[float, float]
@@ -279,6 +277,7 @@ class SpectralLine(TypedDict):
     ratio: float
     p_value: float
     resolution: float
+    frequency_uncertainty: float
 
 def detect_lines(
     data: NDArray[np.float64], t0: float, false_alarm: float, half_width: int, max_lines: int

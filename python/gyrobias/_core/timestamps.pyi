@@ -10,6 +10,7 @@ __all__ = [
     "GAP_FACTOR",
     "JITTER_WARN",
     "NS_THRESHOLD",
+    "US_THRESHOLD",
     "Sampling",
     "analyse",
     "backward_rows",
@@ -22,6 +23,7 @@ __all__ = [
 
 GAP_FACTOR: float
 NS_THRESHOLD: float
+US_THRESHOLD: float
 JITTER_WARN: float
 FS_TOLERANCE: float
 

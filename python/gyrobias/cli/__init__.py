@@ -46,14 +46,16 @@ EXPERIMENTS: list[str] = [
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser with every registered subcommand."""
-    from gyrobias._version import __version__
+    """The argument parser with every registered subcommand.
 
+    Building it imports no NumPy and not the compiled core: the subcommand modules import the
+    library inside their ``run`` functions, and ``--version`` looks the version up only when
+    given (``tests/test_cli_startup.py``)."""
     parser = Parser(
         prog="gyrobias",
         description="MEMS gyroscope noise analysis and bias prediction.",
     )
-    parser.add_argument("--version", action="version", version=f"gyrobias {__version__}")
+    parser.add_argument("--version", action=_VersionAction)
     parser.add_argument(
         "--traceback",
         action="store_true",
@@ -70,6 +72,38 @@ def build_parser() -> argparse.ArgumentParser:
         for name in EXPERIMENTS:
             importlib.import_module(name).register_experiment(exp_subparsers)
     return parser
+
+
+class _VersionAction(argparse.Action):
+    """``--version``: print ``gyrobias X.Y.Z`` and exit, the version looked up only then."""
+
+    def __init__(self, option_strings: Sequence[str], dest: str = argparse.SUPPRESS) -> None:
+        super().__init__(
+            option_strings,
+            dest,
+            default=argparse.SUPPRESS,
+            nargs=0,
+            help="show the version and exit",
+        )
+
+    def __call__(self, parser: argparse.ArgumentParser, *_: object) -> None:
+        parser._print_message(f"gyrobias {_version()}\n", sys.stdout)
+        parser.exit()
+
+
+def _version() -> str:
+    """The installed distribution's version, from its metadata (no NumPy, no extension): maturin
+    writes the same Cargo.toml version there as into the extension (``tests/test_version.py``
+    checks that they agree). When gyrobias is not installed (run from a source tree), the
+    extension's own."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("gyrobias")
+    except PackageNotFoundError:
+        from gyrobias._version import __version__
+
+        return __version__
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -25,10 +25,12 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
-from gyrobias import io
 from gyrobias.cli import _types
+
+if TYPE_CHECKING:
+    from gyrobias import io
 
 __all__ = [
     "ProgressBar",
@@ -100,7 +102,7 @@ def add_read_arguments(
         "--time-unit",
         choices=("auto", "s", "ms", "us", "ns"),
         default="auto",
-        help="unit of the timestamps (default auto: ns if the median step ≥ 1000, else s)",
+        help="unit of the timestamps (default auto: by the median step: ns from 1e5, us from 1000, else s)",
     )
     src.add_argument(
         "--delimiter",
@@ -193,6 +195,9 @@ def read_log(
     options = load_options(args)
     if fs is not None:
         options["fs"] = fs
+    # gyrobias.io (NumPy, the core) only when a log is read: building the parser stays light.
+    from gyrobias import io
+
     bar = None
     if _wants_progress(args, path):
         bar = progress_bar(f"reading {path.name}", args)

@@ -20,7 +20,6 @@ import sys
 import time
 from typing import Any
 
-from gyrobias import allan
 from gyrobias.cli import _types
 from gyrobias.cli import noise as noise_cli
 from gyrobias.cli._common import (
@@ -33,18 +32,20 @@ from gyrobias.cli._common import (
 
 __all__ = ["ProgressBar", "register", "run"]
 
-_FUNCTIONS = {
-    "adev": allan.adev,
-    "mdev": allan.mdev,
-    "hdev": allan.hdev,
-    "totdev": allan.totdev,
-    "tdev": allan.tdev,
-    "mtotdev": allan.mtotdev,
-    "htotdev": allan.htotdev,
-    "theo1": allan.theo1,
-    "theobr": allan.theobr,
-    "theoh": allan.theoh,
-}
+#: The ``--kind`` choices: each is the function of that name in :mod:`gyrobias.allan` (imported
+#: by :func:`run`, so that building the parser imports neither NumPy nor the core).
+_KINDS = (
+    "adev",
+    "mdev",
+    "hdev",
+    "totdev",
+    "tdev",
+    "mtotdev",
+    "htotdev",
+    "theo1",
+    "theobr",
+    "theoh",
+)
 #: Logs with at least this many samples × channels get a progress bar on a terminal.
 PROGRESS_MIN_VALUES = 1_000_000
 
@@ -79,7 +80,7 @@ def register(subparsers: Any) -> None:
     ana = p.add_argument_group("analysis")
     ana.add_argument(
         "--kind",
-        choices=tuple(_FUNCTIONS),
+        choices=_KINDS,
         default="adev",
         help="deviation (default adev): adev, mdev, hdev (overlapping = Stable32 OHDEV; with "
         "--non-overlapping Stable32 HDEV), totdev, tdev (time deviation, angle unit), "
@@ -135,6 +136,8 @@ def register(subparsers: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Execute ``gyrobias allan``."""
+    from gyrobias import allan
+
     if args.non_overlapping and args.kind not in ("adev", "hdev"):
         raise ValueError("--non-overlapping applies to --kind adev and hdev only")
     confidence = None if args.no_confidence else args.confidence
@@ -182,7 +185,7 @@ def run(args: argparse.Namespace) -> int:
                 kw["overlapping"] = not args.non_overlapping
             if log.sampling.filled_samples:
                 kw.update(_gap_option(args.kind))
-            out = _FUNCTIONS[args.kind](part, fs, **kw)
+            out = getattr(allan, args.kind)(part, fs, **kw)
             assert isinstance(out, tuple)
             by_column.update(zip(cols, out))
             done += share
@@ -259,7 +262,9 @@ def _gap_option(kind: str) -> dict[str, str]:
     """``{"gaps": "omit"}`` for the NaN rows of ``--fill-gaps``, if the estimator supports it."""
     import inspect
 
-    if "gaps" in inspect.signature(_FUNCTIONS[kind]).parameters:
+    from gyrobias import allan
+
+    if "gaps" in inspect.signature(getattr(allan, kind)).parameters:
         return {"gaps": "omit"}
     raise ValueError(
         f"--fill-gaps marks missing samples with NaN, and this {kind.upper()} cannot skip gaps; "

@@ -15,11 +15,12 @@ import importlib
 import inspect
 import time
 from pathlib import Path
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from gyrobias.cli import _types
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["SECTIONS", "TRUE_COEFFICIENTS", "register", "run"]
 
@@ -75,6 +76,8 @@ def register(subparsers: Any) -> None:
 
 def _simulate(n: int, fs: float, seed: int) -> np.ndarray:
     """(n, 3) rate in deg/s; coefficients converted from customary to deg-based SI units."""
+    import numpy as np
+
     from gyrobias import _core, noise
 
     c = TRUE_COEFFICIENTS
@@ -97,6 +100,8 @@ def _simulate(n: int, fs: float, seed: int) -> np.ndarray:
 
 def run(args: argparse.Namespace) -> int:
     """Execute ``gyrobias demo``."""
+    import numpy as np
+
     from gyrobias import allan
     from gyrobias._validation import positive_float, sample_rate
 

@@ -14,20 +14,15 @@ import argparse
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
-from numpy.typing import NDArray
-
-from gyrobias import _core, noise
-from gyrobias.allan import AllanResult, adev
 from gyrobias.cli import _types
-from gyrobias.kalman import (
-    FixedGainKalman,
-    arw_from_deg_per_sqrt_hour,
-    q_omega_from_deg_per_hour,
-    rrw_from_deg_per_hour_1p5,
-)
+
+if TYPE_CHECKING:  # NumPy and the library are imported where the experiment runs
+    import numpy as np
+    from numpy.typing import NDArray
+
+    from gyrobias.allan import AllanResult
 
 FS = 200.0
 ARW_DEG_SQRT_H = 4.87
@@ -71,11 +66,20 @@ class KalmanExperiment:
 def simulate_gyro(n: int, fs: float, seed: int, *, arw: float, rrw: float) -> NDArray[np.float64]:
     """White rate noise ``N/√T·ξ`` plus a random-walk bias ``Σ K√T·ξ`` (SPEC §3), in °/s:
     :func:`gyrobias.noise.simulate` (the core's simulator and generator) from ``seed``."""
+    import numpy as np
+
+    from gyrobias import noise
+
     return np.asarray(noise.simulate(n, fs, arw=arw, rrw=rrw, seed=seed), dtype=np.float64)
 
 
 def _allan_read_off(x: NDArray[np.float64], fs: float) -> tuple[float, float, AllanResult]:
     """ARW = σ(τ = 1 s)·60 (°/√h) and bias instability = min σ / 0.664282 · 3600 (°/h)."""
+    import numpy as np
+
+    from gyrobias import noise
+    from gyrobias.allan import AllanResult, adev
+
     n = len(x)
     ms = np.unique(np.round(np.logspace(0, math.log10(n // 4), 40)).astype(int))
     ms = np.union1d(ms, [int(fs)])
@@ -97,6 +101,8 @@ def _allan_read_off(x: NDArray[np.float64], fs: float) -> tuple[float, float, Al
 
 
 def _sine_amplitude(y: NDArray[np.float64], t: NDArray[np.float64], f: float) -> float:
+    import numpy as np
+
     basis = np.column_stack([np.sin(2 * np.pi * f * t), np.cos(2 * np.pi * f * t), np.ones_like(t)])
     coef, *_ = np.linalg.lstsq(basis, y, rcond=None)
     return float(math.hypot(coef[0], coef[1]))
@@ -106,6 +112,16 @@ def simulate_tests(
     *, seed: int = 0, static_seconds: float = 3600.0, dynamic_seconds: float = 60.0, fs: float = FS
 ) -> KalmanExperiment:
     """Reproduce [NR]'s static (Table 2), constant-rate (Table 3) and swing (Table 4) tests."""
+    import numpy as np
+
+    from gyrobias import _core
+    from gyrobias.kalman import (
+        FixedGainKalman,
+        arw_from_deg_per_sqrt_hour,
+        q_omega_from_deg_per_hour,
+        rrw_from_deg_per_hour_1p5,
+    )
+
     # One seed per simulated record, from the core's generator.
     seeds = iter(_core.random.seeds(1 + len(PAPER_CONSTANT) + len(PAPER_SWING), seed))
     arw = arw_from_deg_per_sqrt_hour(ARW_DEG_SQRT_H)
@@ -263,6 +279,11 @@ def demo_section(rate: NDArray[np.float64], fs: float, outdir: Path) -> None:
     (rrw = 0) at 10 Hz (or fs/4 if lower), and ``kalman_allan.png`` in ``outdir`` shows the
     raw and filtered Allan deviations.
     """
+    import numpy as np
+
+    from gyrobias.allan import adev
+    from gyrobias.kalman import FixedGainKalman
+
     rate = np.asarray(rate, dtype=np.float64)
     sigma_w = float(np.median(np.std(np.diff(rate, axis=0), axis=0))) / math.sqrt(2.0)
     arw = sigma_w / math.sqrt(fs)

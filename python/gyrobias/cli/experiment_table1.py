@@ -15,12 +15,12 @@ from __future__ import annotations
 
 import argparse
 import time
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from gyrobias.cli import _types
-from gyrobias.predict import PAPER_TABLE1
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["register_experiment", "run", "simulate"]
 
@@ -75,6 +75,8 @@ def register_experiment(exp_subparsers: Any) -> None:
 
 def simulate(runs: int, n: int, sigma: float, seed: int, bias: float = 0.0) -> np.ndarray:
     """``runs`` type-II ARFIMA(0, ½, 0) series of ``n`` samples from the core generator."""
+    import numpy as np
+
     from gyrobias import fractional
 
     x = fractional.arfima(n, 0.5, sigma=sigma, size=runs, seed=seed, kind="type2")
@@ -83,7 +85,7 @@ def simulate(runs: int, n: int, sigma: float, seed: int, bias: float = 0.0) -> n
 
 def run(args: argparse.Namespace) -> int:
     """Execute ``gyrobias experiment table1``."""
-    from gyrobias.predict import FractionalKalmanPredictor, evaluate
+    from gyrobias.predict import PAPER_TABLE1, FractionalKalmanPredictor, evaluate
 
     if args.runs < 3:
         raise ValueError(f"--runs must be at least 3, got {args.runs}")

@@ -20,20 +20,27 @@ from __future__ import annotations
 
 import argparse
 import math
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from gyrobias.cli import _emit, _types
 from gyrobias.cli._common import add_read_arguments, read_log, require_fs
-from gyrobias.kalman import (
-    FixedGainKalman,
-    arw_from_deg_per_sqrt_hour,
-    rrw_from_deg_per_hour_1p5,
-)
 
-_ARW_UNITS = {"u/sqrt(s)": 1.0, "deg/sqrt(h)": arw_from_deg_per_sqrt_hour(1.0)}
-_RRW_UNITS = {"u/s^1.5": 1.0, "deg/h^1.5": rrw_from_deg_per_hour_1p5(1.0)}
+if TYPE_CHECKING:
+    from gyrobias.kalman import FixedGainKalman
+
+#: The ``--arw-unit`` and ``--rrw-unit`` choices (``filter`` and ``kalman design``); the factors
+#: to base units are gyrobias.kalman's, applied by :func:`_noise_in_base_units`.
+_ARW_UNITS = ("deg/sqrt(h)", "u/sqrt(s)")
+_RRW_UNITS = ("deg/h^1.5", "u/s^1.5")
+
+
+def _noise_in_base_units(args: argparse.Namespace) -> tuple[float, float]:
+    """``(--arw, --rrw)`` in u/√s and u/s^1.5: times the factor of their ``--*-unit``."""
+    from gyrobias.kalman import arw_from_deg_per_sqrt_hour, rrw_from_deg_per_hour_1p5
+
+    arw = {"u/sqrt(s)": 1.0, "deg/sqrt(h)": arw_from_deg_per_sqrt_hour(1.0)}[args.arw_unit]
+    rrw = {"u/s^1.5": 1.0, "deg/h^1.5": rrw_from_deg_per_hour_1p5(1.0)}[args.rrw_unit]
+    return args.arw * arw, args.rrw * rrw
 
 
 def register(subparsers: Any) -> argparse.ArgumentParser:
@@ -53,8 +60,8 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument(
         "--rrw", type=_types.non_negative, default=0.0, help="rate random walk K (see --rrw-unit)"
     )
-    p.add_argument("--arw-unit", choices=sorted(_ARW_UNITS), default="u/sqrt(s)")
-    p.add_argument("--rrw-unit", choices=sorted(_RRW_UNITS), default="u/s^1.5")
+    p.add_argument("--arw-unit", choices=_ARW_UNITS, default="u/sqrt(s)")
+    p.add_argument("--rrw-unit", choices=_RRW_UNITS, default="u/s^1.5")
     design = p.add_mutually_exclusive_group(required=True)
     design.add_argument("--bandwidth", type=_types.positive, help="target -3 dB bandwidth in Hz")
     design.add_argument(
@@ -76,14 +83,19 @@ def run(args: argparse.Namespace) -> int:
     Bad input raises ``ValueError``/``OSError``, which the ``gyrobias`` entry point prints as
     one error line (exit code 2).
     """
+    import numpy as np
+
+    from gyrobias.kalman import FixedGainKalman
+
     log = read_log(args)
     z = np.ascontiguousarray(log.data)
     names = list(log.columns)
     fs = require_fs(log, args.log)
+    arw, rrw = _noise_in_base_units(args)
     kf = FixedGainKalman(
         fs,
-        arw=args.arw * _ARW_UNITS[args.arw_unit],
-        rrw=args.rrw * _RRW_UNITS[args.rrw_unit],
+        arw=arw,
+        rrw=rrw,
         q_omega=args.q_omega,
         bandwidth=args.bandwidth,
         form=args.form,

@@ -14,7 +14,6 @@ import argparse
 from typing import Any
 
 from gyrobias.cli import _emit
-from gyrobias.fir import kaiser_lowpass
 
 
 def register(subparsers: Any) -> argparse.ArgumentParser:
@@ -41,6 +40,8 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``gyrobias fir design``; returns the exit status."""
+    from gyrobias.fir import kaiser_lowpass
+
     f = kaiser_lowpass(args.fs, args.fpass, args.fstop, apass_db=args.apass, astop_db=args.astop)
     print(
         f"Kaiser FIR low-pass: {f.numtaps} taps, A = {f.attenuation_db:.4g} dB, "

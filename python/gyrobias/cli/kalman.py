@@ -17,8 +17,7 @@ import argparse
 from typing import Any
 
 from gyrobias.cli import _emit
-from gyrobias.cli.filter import _ARW_UNITS, _RRW_UNITS, describe
-from gyrobias.kalman import FixedGainKalman
+from gyrobias.cli.filter import _ARW_UNITS, _RRW_UNITS, _noise_in_base_units, describe
 
 
 def register(subparsers: Any) -> argparse.ArgumentParser:
@@ -36,8 +35,8 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
     d.add_argument("--fs", type=float, required=True, metavar="HZ", help="sample rate")
     d.add_argument("--arw", type=float, required=True, help="angle random walk N (see --arw-unit)")
     d.add_argument("--rrw", type=float, default=0.0, help="rate random walk K (see --rrw-unit)")
-    d.add_argument("--arw-unit", choices=sorted(_ARW_UNITS), default="u/sqrt(s)")
-    d.add_argument("--rrw-unit", choices=sorted(_RRW_UNITS), default="u/s^1.5")
+    d.add_argument("--arw-unit", choices=_ARW_UNITS, default="u/sqrt(s)")
+    d.add_argument("--rrw-unit", choices=_RRW_UNITS, default="u/s^1.5")
     design = d.add_mutually_exclusive_group(required=True)
     design.add_argument("--bandwidth", type=float, help="target -3 dB bandwidth in Hz")
     design.add_argument("--q-omega", type=float, help="per-step rate process noise, (u/s)^2")
@@ -49,10 +48,13 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``gyrobias kalman design``; returns the exit status."""
+    from gyrobias.kalman import FixedGainKalman
+
+    arw, rrw = _noise_in_base_units(args)
     kf = FixedGainKalman(
         args.fs,
-        arw=args.arw * _ARW_UNITS[args.arw_unit],
-        rrw=args.rrw * _RRW_UNITS[args.rrw_unit],
+        arw=arw,
+        rrw=rrw,
         q_omega=args.q_omega,
         bandwidth=args.bandwidth,
         form=args.form,

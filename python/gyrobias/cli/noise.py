@@ -15,14 +15,14 @@ import argparse
 import sys
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
-from gyrobias import _core, noise
 from gyrobias.cli import _types
-from gyrobias.noise import NoiseCoefficients, fit
-from gyrobias.units import conversion_factor
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from gyrobias.noise import NoiseCoefficients
 
 __all__ = ["add_fit_arguments", "demo_section", "run_fit"]
 
@@ -101,6 +101,9 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
     kalibr=PATH``: it goes through the same writer (:func:`gyrobias.exports.export`). Exits with
     a message when the fit or an export is impossible.
     """
+    from gyrobias import _core
+    from gyrobias.noise import NoiseCoefficients, fit
+
     # Refused even when nothing is fitted (an ignored option is still checked); the range is
     # the core's check, named as the user typed it.
     bound_confidence = _core.validate.probability(
@@ -242,6 +245,8 @@ def _true_per_axis(
     true_coefficients: Mapping[str, Any] | None, n_axes: int
 ) -> dict[str, list[float]]:
     """Normalise the true coefficients to {simulate keyword: [value per axis]} in base units."""
+    import numpy as np
+
     out: dict[str, list[float]] = {}
     for key, value in (true_coefficients or {}).items():
         if key in _CUSTOMARY_KEYS:
@@ -280,7 +285,12 @@ def demo_section(
         ``bias_instability_deg_per_h``, ``rrw_deg_per_h_1_5``); each a scalar or one value per
         axis. Without it only the recovered values are printed.
     """
+    import numpy as np
+
+    from gyrobias import noise
     from gyrobias.allan import adev
+    from gyrobias.noise import fit
+    from gyrobias.units import conversion_factor
 
     data = np.asarray(rate, dtype=np.float64)
     matrix = data.reshape(-1, 1) if data.ndim == 1 else data

@@ -14,12 +14,13 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import Any
-
-import numpy as np
-from numpy.typing import NDArray
+from typing import TYPE_CHECKING, Any
 
 from gyrobias.cli import _types
+
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
 
 __all__ = ["demo_section", "register", "run"]
 
@@ -95,6 +96,8 @@ def register(subparsers: Any) -> None:
 
 def _read_log(args: argparse.Namespace) -> tuple[NDArray[np.float64], float]:
     """One channel of the log and the sample rate (shared reader; sampling problems reported)."""
+    import numpy as np
+
     from gyrobias.cli._common import read_log, require_fs
 
     log = read_log(args)
@@ -150,6 +153,8 @@ def run(args: argparse.Namespace) -> int:
 
 def demo_section(rate: NDArray[np.float64], fs: float, outdir: Path) -> None:
     """Bias prediction on the demo's simulated log (z axis): [BP]'s batch test and a plot."""
+    import numpy as np
+
     from gyrobias.predict import FractionalKalmanPredictor, evaluate
 
     y = np.ascontiguousarray(np.asarray(rate, dtype=float)[:, -1])

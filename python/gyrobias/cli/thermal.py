@@ -17,18 +17,21 @@ import argparse
 import math
 import sys
 from pathlib import Path
-from typing import Any
-
-import numpy as np
-from numpy.typing import NDArray
+from typing import TYPE_CHECKING, Any
 
 from gyrobias.cli import _types
+
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
 
 __all__ = ["register", "run"]
 
 
 def _load_log(args: argparse.Namespace, path: Path) -> NDArray[np.float64]:
     """One rate channel of a log file (default the first channel after the time column)."""
+    import numpy as np
+
     from gyrobias.cli._common import read_log
 
     log = read_log(args, path)

@@ -221,3 +221,17 @@ def check_full_scale(full_scale: float | None) -> float | None:
         return None
     # finite and > 0: the core's check (inf passed the `> 0` test before)
     return _core.validate.positive("full_scale", real("full_scale", full_scale))
+
+
+def check_arguments(
+    name: object, dtype: object, path: object, full_scale: float | None
+) -> tuple[str, str, Path, float | None]:
+    """The arguments every emitter shares, checked in this order (the first bad one is
+    reported): ``(name, dtype, directory, full_scale)`` as :func:`check_name`,
+    :func:`check_dtype`, :func:`check_directory` and :func:`check_full_scale` return them."""
+    return (
+        check_name(name),
+        check_dtype(dtype),
+        check_directory(path),
+        check_full_scale(full_scale),
+    )

@@ -15,10 +15,7 @@ from gyrobias.codegen._c import (
     SOURCE_PRELUDE,
     GeneratedC,
     array_body,
-    check_directory,
-    check_dtype,
-    check_full_scale,
-    check_name,
+    check_arguments,
     float_literal,
     int_literal,
     preamble,
@@ -51,10 +48,7 @@ def emit(
     """Write ``<name>.h``/``<name>.c`` for ``f`` into the directory ``path``."""
     if not isinstance(f, KaiserLowpass):
         raise TypeError(f"f must be a KaiserLowpass, got {type(f).__name__}")
-    name = check_name(name)
-    dtype = check_dtype(dtype)
-    directory = check_directory(path)
-    fs_units = check_full_scale(full_scale)
+    name, dtype, directory, fs_units = check_arguments(name, dtype, path, full_scale)
     taps = np.asarray(f.taps, dtype=np.float64)
     n = taps.size
     if not np.all(np.isfinite(taps)):

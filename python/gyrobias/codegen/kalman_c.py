@@ -11,10 +11,7 @@ from gyrobias.codegen._c import (
     Q31_NOTE,
     SOURCE_PRELUDE,
     GeneratedC,
-    check_directory,
-    check_dtype,
-    check_full_scale,
-    check_name,
+    check_arguments,
     float_literal,
     int_literal,
     preamble,
@@ -50,10 +47,7 @@ def emit(
     """Write ``<name>.h``/``<name>.c`` for ``kf`` into the directory ``path``."""
     if not isinstance(kf, FixedGainKalman):
         raise TypeError(f"kf must be a FixedGainKalman, got {type(kf).__name__}")
-    name = check_name(name)
-    dtype = check_dtype(dtype)
-    directory = check_directory(path)
-    fs_units = check_full_scale(full_scale)
+    name, dtype, directory, fs_units = check_arguments(name, dtype, path, full_scale)
     if dtype == "q31":
         header, source, info, size = _q31(kf, name, fs_units)
     else:

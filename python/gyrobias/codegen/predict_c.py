@@ -15,10 +15,7 @@ from gyrobias.codegen._c import (
     SOURCE_PRELUDE,
     GeneratedC,
     array_body,
-    check_directory,
-    check_dtype,
-    check_full_scale,
-    check_name,
+    check_arguments,
     float_literal,
     int_literal,
     preamble,
@@ -38,10 +35,7 @@ def emit(
     """Write ``<name>.h``/``<name>.c`` for ``cp`` into the directory ``path``."""
     if not isinstance(cp, CompiledPredictor):
         raise TypeError(f"cp must be a CompiledPredictor, got {type(cp).__name__}")
-    name = check_name(name)
-    dtype = check_dtype(dtype)
-    directory = check_directory(path)
-    fs_units = check_full_scale(full_scale)
+    name, dtype, directory, fs_units = check_arguments(name, dtype, path, full_scale)
     w = np.ascontiguousarray(cp.weights, dtype=np.float64)
     w0 = np.ascontiguousarray(cp.offset, dtype=np.float64)
     h, k = w.shape

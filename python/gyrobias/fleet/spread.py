@@ -91,15 +91,14 @@ def _chi2_sf(x: float, dof: int) -> float:
 
 
 def _spread(
-    x: NDArray[np.float64], u: NDArray[np.float64], alpha: float, min_ratio: float
+    x: NDArray[np.float64], u: NDArray[np.float64], test: _core.fleet.SpreadTest
 ) -> dict[str, Any]:
-    """The statistics of one term over the units that have it (``gyrocore::fleet::spread``;
-    see :func:`summary`)."""
+    """The statistics of one term over the units that have it at the levels of ``test``
+    (``gyrocore::fleet::spread``; see :func:`summary`)."""
     s = _core.fleet.spread(
         np.ascontiguousarray(x, dtype=np.float64),
         np.ascontiguousarray(u, dtype=np.float64),
-        alpha,
-        min_ratio,
+        test,
     )
     return {
         "median": s.median,
@@ -150,9 +149,9 @@ def summary(
     """
     pd = _require("pandas")
     _check_table(table)
-    # A test level in (0, 1) and a Birge-ratio floor > 0: the core's checks, before any work.
-    alpha = _core.validate.probability("alpha", real("alpha", alpha))
-    min_ratio = _core.validate.positive("min_ratio", real("min_ratio", min_ratio))
+    # A test level in (0, 1) and a Birge-ratio floor > 0: checked once, by the core, when the
+    # test is built (before any work, so levels are refused even for a table without values).
+    test = _core.fleet.SpreadTest(real("alpha", alpha), real("min_ratio", min_ratio))
     out = []
     ok = table[table["error"].isna()]
     for axis, group in ok.groupby("axis", dropna=False, sort=False):
@@ -162,7 +161,7 @@ def summary(
             have = np.isfinite(values)
             if not have.any():
                 continue
-            stats = _spread(values[have], unc[have], alpha, min_ratio)
+            stats = _spread(values[have], unc[have], test)
             units = group[f"{t}_unit"].dropna()
             flagged = (
                 group["out_of_family_terms"]

@@ -59,6 +59,7 @@ from gyrobias.io.timestamps import FS_TOLERANCE as FS_TOLERANCE
 from gyrobias.io.timestamps import GAP_FACTOR as GAP_FACTOR
 from gyrobias.io.timestamps import JITTER_WARN as JITTER_WARN
 from gyrobias.io.timestamps import NS_THRESHOLD as NS_THRESHOLD
+from gyrobias.io.timestamps import US_THRESHOLD as US_THRESHOLD
 
 __all__ = [
     # loading

@@ -80,9 +80,10 @@ def load(
         case-insensitive) if there is one; ``False`` means the log has no time column.
     time_unit : {"auto", "s", "ms", "us", "ns"}
         Unit of the timestamps. ``"auto"``: a ``_s``/``_ms``/``_us``/``_ns`` suffix of the
-        column name, or the unit in parentheses or brackets (``Timestamp (us)``), decides; otherwise nanoseconds if the median interval is ≥ 1000 (no gyro
-        log has samples 1000 s apart, and every rate below 1 MHz is ≥ 1000 ns apart), else
-        seconds. Millisecond or microsecond stamps without such a suffix need ``time_unit``.
+        column name, or the unit in parentheses or brackets (``Timestamp (us)``), decides;
+        otherwise the median interval: nanoseconds from 10⁵ (rates up to 10 kHz),
+        microseconds from 1000 (10 Hz – 1 kHz: ``micros()`` clocks, x-io, YEI), else seconds.
+        Millisecond stamps, and nanosecond stamps above 10 kHz, need ``time_unit``.
     fs : float, optional
         Sample rate in Hz. Required when there is no time column; with one, a value
         differing by more than 1 % from the timestamps' estimate is reported in the warnings

@@ -29,6 +29,9 @@ FS_TOLERANCE: float = _core.timestamps.FS_TOLERANCE
 JITTER_WARN: float = _core.timestamps.JITTER_WARN
 #: ``time_unit="auto"`` reads timestamps as nanoseconds when the median interval is at least this.
 NS_THRESHOLD: float = _core.timestamps.NS_THRESHOLD
+#: ``time_unit="auto"`` reads timestamps as microseconds from this median interval up to
+#: :data:`NS_THRESHOLD`.
+US_THRESHOLD: float = _core.timestamps.US_THRESHOLD
 
 _PER_SECOND = {"s": 1.0, "ms": 1e3, "us": 1e6, "ns": 1e9}
 _TIME_UNITS = ("auto", "s", "ms", "us", "ns")

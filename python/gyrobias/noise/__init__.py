@@ -37,14 +37,10 @@ References
    rate signal", Micromachines 6 (2015) 266, Table 1.
 """
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from gyrobias._line_detection import detect_lines
 from gyrobias._spectral_lines import SpectralLine
-
-# Datasheet values in (issue 13): gyrobias.datasheet builds NoiseCoefficients from
-# gyrobias.noise._types, so importing it here closes no cycle.
-from gyrobias.datasheet import Datasheet, from_datasheet  # noqa: I001
 from gyrobias.noise._types import (
     FLICKER_FACTOR,
     TERM_NAMES,
@@ -59,6 +55,9 @@ from gyrobias.noise._types import REJECT_P as REJECT_P
 from gyrobias.noise.fitting import fit, gauss_markov_avar, sinusoid_avar
 from gyrobias.noise.simulation import simulate
 from gyrobias.noise.wavelet import gmwm, wvar
+
+if TYPE_CHECKING:
+    from gyrobias.datasheet import Datasheet, from_datasheet
 
 __all__ = [
     # coefficients
@@ -93,9 +92,16 @@ def __getattr__(name: str) -> Any:
     """``write_kalibr``: the one Kalibr writer, :func:`gyrobias.exports.write_kalibr` (the
     keyword form of ``gyrobias.exports.export(..., "kalibr")``), looked up on first use — the
     exports package builds on these coefficient types, so ``gyrobias.noise`` cannot import it
-    while it loads."""
+    while it loads. ``Datasheet`` and ``from_datasheet`` (datasheet values in, issue 13) the
+    same way: :mod:`gyrobias.datasheet` builds on ``gyrobias.noise._types``, and importing that
+    runs this package first, so a program whose first import is ``gyrobias.datasheet`` would
+    find it half loaded here."""
     if name == "write_kalibr":
         from gyrobias.exports.kalibr import write_kalibr
 
         return write_kalibr
+    if name in ("Datasheet", "from_datasheet"):
+        from gyrobias import datasheet
+
+        return getattr(datasheet, name)
     raise AttributeError(f"module 'gyrobias.noise' has no attribute {name!r}")

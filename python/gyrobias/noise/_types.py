@@ -332,9 +332,11 @@ class SinusoidTerm:
     Attributes
     ----------
     frequency : Term
-        f₀ in Hz, refined in the fit within its window, with the fit's standard uncertainty;
-        a frequency held fixed (``lines=[(f, 0.0)]``) is ``f`` exactly, without uncertainty
-        (``None``: given, not estimated).
+        f₀ in Hz: a detected line's is the periodogram maximum, with the periodogram's
+        uncertainty (:attr:`gyrobias.noise.SpectralLine.frequency_uncertainty`); a frequency
+        refined on the Allan curve (a seed with no detected line, a ``(f, half_width)``
+        window) has the fit's standard uncertainty; one held fixed (``lines=[(f, 0.0)]``) is ``f`` exactly, without
+        uncertainty (``None``: given, not estimated).
     amplitude : Term
         Ω₀ in the rate unit of the data.
     tau_range : (float, float) or None
@@ -349,9 +351,16 @@ class SinusoidTerm:
     missing: str | None = None
 
     @classmethod
-    def _from_core(cls, raw: Mapping[str, Any], index: int, rate_unit: str | None) -> SinusoidTerm:
+    def _from_core(
+        cls,
+        raw: Mapping[str, Any],
+        index: int,
+        rate_unit: str | None,
+        held_uncertainty: float | None = None,
+    ) -> SinusoidTerm:
         """The one place a :class:`SinusoidTerm` is built from the core's ``LineEstimate``
-        (the ``index``-th line: symbol ``S``, ``S2``, …)."""
+        (the ``index``-th line: symbol ``S``, ``S2``, …); ``held_uncertainty`` is the
+        frequency's uncertainty when the fit held it (a detected line: the periodogram's)."""
         symbol = "S" if index == 0 else f"S{index + 1}"
         rng = (
             None
@@ -359,6 +368,8 @@ class SinusoidTerm:
             else (float(raw["tau_range"][0]), float(raw["tau_range"][1]))
         )
         f_unc = float(raw["frequency_uncertainty"])
+        if not np.isfinite(f_unc) and held_uncertainty is not None:
+            f_unc = float(held_uncertainty)
         return cls(
             frequency=Term(
                 symbol,
@@ -735,6 +746,7 @@ class NoiseCoefficients:
         edf_source: str,
         allan: AllanResult | None,
         detected: Sequence[SpectralLine] = (),
+        line_uncertainties: Sequence[float | None] = (),
     ) -> NoiseCoefficients:
         """The one place :class:`NoiseCoefficients` are built from the core's output.
 
@@ -742,7 +754,8 @@ class NoiseCoefficients:
         χ², fitted squares, τ range) or ``ReadOff`` (terms only: the τ range is then the
         curve's, ``taus[0]``…``taus[-1]``); ``diagnostics`` the matching ``Diagnostics``;
         ``detected`` the spectral lines the fit modelled as sinusoidal terms (reported in the
-        diagnostics with a warning that says so).
+        diagnostics with a warning that says so); ``line_uncertainties`` per sinusoid the
+        uncertainty of a frequency the fit held (the periodogram's, for a detected line).
         """
         names = TERM_NAMES[sensor or "gyro"]
         built = {
@@ -755,8 +768,10 @@ class NoiseCoefficients:
         }
         rate_unit = None if data_unit is None else base_unit(data_unit, "B")
         joint = "chi2" in raw
+        given = list(line_uncertainties)
         sinusoids = tuple(
-            SinusoidTerm._from_core(d, k, rate_unit) for k, d in enumerate(raw.get("lines", ()))
+            SinusoidTerm._from_core(d, k, rate_unit, given[k] if k < len(given) else None)
+            for k, d in enumerate(raw.get("lines", ()))
         )
         return cls(
             Q=built["Q"],

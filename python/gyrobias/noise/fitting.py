@@ -131,6 +131,15 @@ _LINES_FORMS = (
 )
 
 
+def _held(line: SpectralLine) -> tuple[tuple[float, float], SpectralLine]:
+    """A detected line's window: held at the periodogram's frequency (half-width 0). The
+    periodogram of the rate pins it to ``line.frequency_uncertainty`` (≈ 1e-7 Hz for a
+    0.05 deg/s line in 2 h of 0.2 deg/√h noise at 100 Hz), the Allan curve only to about
+    0.01 Hz: refined on the Allan curve within ±1 bin, the frequency went to the window's edge
+    (1.4e-4 Hz off) with a reported uncertainty of 0.015 Hz."""
+    return (line.frequency, 0.0), line
+
+
 def _line_item(
     x: Any, found: tuple[SpectralLine, ...]
 ) -> tuple[tuple[float, float], SpectralLine | None]:
@@ -138,7 +147,7 @@ def _line_item(
     behind it (if any). Only the form is checked here: the values (frequency in (0, fs/2],
     half-width finite, >= 0 and below the frequency) are the core's checks, naming ``lines``."""
     if isinstance(x, SpectralLine):
-        return (x.frequency, x.resolution), x
+        return _held(x)
     if isinstance(x, (str, bytes)) or isinstance(x, bool):
         raise TypeError(f"lines must be {_LINES_FORMS}, got an element {x!r}")
     if isinstance(x, Sequence) or isinstance(x, np.ndarray):
@@ -154,35 +163,38 @@ def _line_item(
     # is the better seed, and it is used as if its SpectralLine had been given.
     near = [d for d in found if abs(d.frequency - f) <= _SEED_WINDOW * abs(f)]
     if near:
-        best = min(near, key=lambda d: abs(d.frequency - f))
-        return (best.frequency, best.resolution), best
+        return _held(min(near, key=lambda d: abs(d.frequency - f)))
     return (f, _SEED_WINDOW * abs(f)), None
 
 
 def _line_windows(
     result: Any, lines: str | Sequence[float | SpectralLine | tuple[float, float]] | None
-) -> tuple[list[tuple[float, float]], tuple[SpectralLine, ...]]:
-    """The fit's line windows ``(seed Hz, half-width Hz)`` and the detected lines behind them.
+) -> tuple[list[tuple[float, float]], tuple[SpectralLine, ...], list[float | None]]:
+    """The fit's line windows ``(seed Hz, half-width Hz)``, the detected lines behind them and,
+    per window, the frequency uncertainty to report when the fit holds it (``None``: the
+    fit's own, or none for a frequency the user gave exactly).
 
-    A detected line (a :class:`SpectralLine`, or ``"auto"``) is refined within ±1 periodogram
-    bin (its frequency is already the periodogram maximum); a bare frequency snaps to the
-    detected line of ``result.lines`` within ±1 % of it, or else is refined within ±1 %; a
-    ``(frequency, half_width)`` pair is refined within ``frequency ± half_width``, and held at
-    ``frequency`` when ``half_width`` is 0.
+    A detected line (a :class:`SpectralLine`, or ``"auto"``) is held at its frequency, the
+    periodogram maximum, with the periodogram's uncertainty; a bare frequency snaps to the
+    detected line of ``result.lines`` within ±1 % of it, or else is refined within ±1 % on the
+    Allan curve; a ``(frequency, half_width)`` pair is refined within
+    ``frequency ± half_width``, and held at ``frequency`` when ``half_width`` is 0.
     """
     if lines is None:
-        return [], ()
+        return [], (), []
     found_raw = getattr(result, "lines", None)
     found = tuple(found_raw) if found_raw else ()
     if isinstance(lines, str):
         if lines != "auto":
             raise ValueError(f"lines must be {_LINES_FORMS}, got {lines!r}")
-        return [(x.frequency, x.resolution) for x in found], found
-    if not isinstance(lines, Sequence) and not isinstance(lines, np.ndarray):
+        items: list[tuple[tuple[float, float], SpectralLine | None]] = [_held(x) for x in found]
+    elif not isinstance(lines, Sequence) and not isinstance(lines, np.ndarray):
         raise TypeError(f"lines must be {_LINES_FORMS}, got {type(lines).__name__}")
-    items = [_line_item(x, found) for x in lines]
+    else:
+        items = [_line_item(x, found) for x in lines]
     detected = tuple(dict.fromkeys(d for _, d in items if d is not None))
-    return [w for w, _ in items], detected
+    given: list[float | None] = [None if d is None else d.frequency_uncertainty for _, d in items]
+    return [w for w, _ in items], detected, given
 
 
 def _edf_source(result: AllanResult) -> str:
@@ -284,8 +296,10 @@ def fit(
         and a warning says so. ``None`` fits no sinusoid. A sequence gives the lines, each one
         of (frequencies in Hz, in (0, fs/2]; a line above fs/2 is given at its alias):
 
-        - a :class:`SpectralLine` (from :func:`gyrobias.noise.detect_lines`): refined within
-          ±1 periodogram bin of its frequency;
+        - a :class:`SpectralLine` (from :func:`gyrobias.noise.detect_lines`): held at its
+          frequency, the periodogram maximum, which is reported with the periodogram's
+          uncertainty (:attr:`gyrobias.noise.SpectralLine.frequency_uncertainty`, ~1e-7 Hz
+          on a 2 h log); ``"auto"`` does the same with every line of ``allan.lines``;
         - a float ``f``, a seed: when ``allan.lines`` holds a line within ±1 % of ``f``, that
           line is modelled (as if its SpectralLine had been given: the periodogram of the rate
           pins a frequency far better than the Allan curve); otherwise ``f`` is refined within
@@ -293,7 +307,8 @@ def fit(
         - a pair ``(f, half_width)``: refined within ``f ± half_width`` on the Allan curve;
           ``half_width = 0`` holds the frequency at exactly ``f`` (a frequency you know, e.g. a
           motor at 23.000 Hz): it is then not a parameter of the fit, and its
-          :attr:`gyrobias.noise.SinusoidTerm.frequency` has no uncertainty (``None``: given, not estimated).
+          :attr:`gyrobias.noise.SinusoidTerm.frequency` has no uncertainty (``None``: given,
+          not estimated).
 
         A negative or NaN frequency or half-width, a frequency outside (0, fs/2] or a
         half-width not below the frequency raise ``ValueError`` naming ``lines``.
@@ -330,14 +345,16 @@ def fit(
     ``τ = m·t0`` (IEEE Std 952-1997 Annex C gives the continuous-time form
     ``Ω₀²·(sin²(πf₀τ)/(πf₀τ))²``; sampling multiplies it by ``(πf₀t0/sin(πf₀t0))²``, 1.19 at
     f₀ = 0.23·fs, so near τ ≈ 1/f₀ only the sampled form fits a real log; a line above fs/2
-    acts as its alias). Ω₀² enters linearly; f₀ is refined within its window (``lines``) by a
-    grid and golden-section profile of the weighted χ², and its standard uncertainty is the
-    sandwich one of the Allan-curve fit (held frequencies: none). The Allan curve sees a line
+    acts as its alias). Ω₀² enters linearly; f₀ is held (detected lines, zero half-widths) or
+    refined within its window (``lines``) by a grid and golden-section profile of the weighted
+    χ², with the sandwich uncertainty of the Allan-curve fit. The Allan curve sees a line
     only where its variance is a sizeable share of the noise's (τ ≲ 1 s for 0.05 deg/s at
     N = 0.2 deg/√h), so it pins f₀ to ~0.01 Hz on a 2 h log at 100 Hz (measured: rms error
     0.0077 Hz with reported u ≈ 0.015 Hz, an honest, conservative uncertainty), where a
-    least-squares sine fit of the rate or the periodogram maximum gives ~1e-7 Hz: hence the
-    snapping of seeds to detected lines. A sinusoid counts as white noise for the EDF of the weights.
+    least-squares sine fit of the rate or the periodogram maximum gives ~1e-7 Hz: hence
+    detected lines are held at the periodogram's frequency and seeds snap to them (refined on
+    the Allan curve within ±1 bin, a detected frequency went to the window's edge, 1.4e-4 Hz
+    off, reported ± 0.015 Hz). A sinusoid counts as white noise for the EDF of the weights.
 
     *Joint*: linear in ``c = (Q², N², B², K², R², σ_k²) ≥ 0`` for fixed correlation times, which
     are profiled out (grid and golden-section search in ln T). Weights ``w_i = edf_i/(2σ_i⁴)``
@@ -422,7 +439,7 @@ def fit(
         )
     term_list_in = [str(t) for t in terms] if not isinstance(terms, str) else [terms]
     want_sine = "S" in term_list_in
-    line_windows, detected = _line_windows(result, lines)
+    line_windows, detected, held_uncertainty = _line_windows(result, lines)
     if want_sine and not line_windows:
         raise ValueError(
             "terms contains 'S' but there is no line to model: pass lines=[f0, ...] (Hz) or "
@@ -526,4 +543,5 @@ def fit(
         edf_source=_edf_source(result),
         allan=result,
         detected=detected if method == "joint" else (),
+        line_uncertainties=held_uncertainty if method == "joint" else (),
     )

@@ -74,8 +74,8 @@ def gmwm(
         Periodic disturbances modelled by sinusoidal terms (wavelet variance ``½`` of the
         sampled-sine Allan variance, see :func:`fit`). ``"auto"``: the lines
         :func:`detect_lines` finds in each column (false-alarm level 0.01), said in a warning;
-        ``None``: none. A sequence as in :func:`fit`: a SpectralLine (refined within ±1 bin),
-        a float seed (snapped to the line :func:`detect_lines` finds within ±1 % of it in the
+        ``None``: none. A sequence as in :func:`fit`: a SpectralLine (held at its frequency,
+        with the periodogram's uncertainty; so are the lines of ``"auto"``), a float seed (snapped to the line :func:`detect_lines` finds within ±1 % of it in the
         column, else refined within ±1 %) or a ``(frequency, half_width)`` pair
         (``half_width = 0``: held at exactly that frequency, reported without uncertainty).
     bound_confidence : float
@@ -159,7 +159,7 @@ def gmwm(
         found: tuple[SpectralLine, ...] | None = None
         if _needs_detection(lines) and column.shape[0] >= MIN_SAMPLES:
             found = detect_lines(column, fs, units=units)  # type: ignore[assignment]
-        windows, detected = _line_windows(_Found(found), lines)
+        windows, detected, held_uncertainty = _line_windows(_Found(found), lines)
         if want_sine and not windows:
             raise ValueError(
                 "terms contains 'S' but there is no line to model: pass lines=[f0, ...] (Hz) "
@@ -201,6 +201,7 @@ def gmwm(
                 edf_source="SP1065 simple approximation",
                 allan=allan,
                 detected=detected,
+                line_uncertainties=held_uncertainty,
             )
         )
     if arr.ndim == 1:

@@ -48,6 +48,23 @@
 //! frequency) and the amplitude is `Ω̂₀ = 2|X(f̂)|/Σ_j w_j` (Hann coherent gain). The running
 //! median over a monotone spectrum is its value at the centre bin, so red noise (flicker, random
 //! walk) does not raise false alarms to first order.
+//!
+//! **Frequency uncertainty.** For `A sin(2π f j t0 + φ)` in noise that is white near `f` with
+//! per-sample variance `σ²` (the local floor: `E|W|² = σ² Σ w²`), the maximiser of the
+//! windowed DTFT has, to first order, `var(f̂) = (fs/2π)²·(σ²/(A²/2))·Σ w_j² t_j²/(Σ w_j t_j²)²`
+//! (`t_j = j − (n − 1)/2`; with `w = 1` this is the Cramér–Rao bound `12·fs²/((2π)²·η·n³)`,
+//! `η = A²/(2σ²)`: Rife & Boorstyn, IEEE Trans. Inf. Theory 20 (1974) 591; Kay, *Fundamentals of
+//! Statistical Signal Processing I* (1993), Example 3.14). With the peak-to-floor ratio
+//! `ρ = |X(f̂)|²/Ŝ = (A²/4σ²)(Σw)²/Σw²` this is
+//!
+//! ```text
+//! u(f̂) = √F · (fs/n) / (π √ρ),   F = (Σ w² t²/(Σ w t²)²) / (12/n³)
+//! ```
+//!
+//! (`F` = 2.3428 for the Hann window at any n ≥ 1000: the window's price over the unwindowed
+//! bound). Monte Carlo (300 white-noise records of 60 000 samples at 100 Hz, line at 23.01 Hz):
+//! the standardised errors `(f̂ − f)/u` have s.d. 1.06 at ρ ≈ 1e4, 1.07 at ρ ≈ 400 and 1.20 at
+//! ρ ≈ 25 (near the detection threshold, where the first-order expansion starts to fail).
 
 use realfft::RealFftPlanner;
 
@@ -153,6 +170,8 @@ pub struct Line {
     pub p_value: f64,
     /// Frequency resolution of the periodogram (Hz): `fs/n`.
     pub resolution: f64,
+    /// Standard uncertainty of `frequency` (Hz; module docs, "Frequency uncertainty").
+    pub frequency_uncertainty: f64,
 }
 
 /// Options of [`detect`].
@@ -319,6 +338,16 @@ pub fn detect(rate: &[f64], t0: f64, options: &DetectOptions) -> Result<Vec<Line
     peaks.truncate(options.max_lines);
     let df = 1.0 / (n as f64 * t0);
     let gain: f64 = w.iter().sum();
+    let window_factor = {
+        let c = (n as f64 - 1.0) / 2.0;
+        let (mut num, mut den) = (0.0, 0.0);
+        for (j, &wj) in w.iter().enumerate() {
+            let t2 = (j as f64 - c) * (j as f64 - c);
+            num += wj * wj * t2;
+            den += wj * t2;
+        }
+        num / (den * den) * (n as f64).powi(3) / 12.0
+    };
     let mut lines: Vec<Line> = peaks
         .iter()
         .map(|&i| {
@@ -327,12 +356,15 @@ pub fn detect(rate: &[f64], t0: f64, options: &DetectOptions) -> Result<Vec<Line
             let (a, b) = ((k - 1.0) * df, ((k + 1.0) * df).min(nyquist));
             let f = golden_max(a, b, |f| dtft_power(&y, &w, f, t0));
             let power = dtft_power(&y, &w, f, t0);
+            // Peak-to-floor ratio at the refined frequency (the bin's floor, `P_i/ratio_i`).
+            let rho = power * ratio[i] / p[i];
             Line {
                 frequency: f,
                 amplitude: 2.0 * power.sqrt() / gain,
                 ratio: ratio[i],
                 p_value: (searched as f64 * log_p(ratio[i]).exp()).min(1.0),
                 resolution: df,
+                frequency_uncertainty: window_factor.sqrt() * df / (pi * rho.sqrt()),
             }
         })
         .collect();
