@@ -8,9 +8,9 @@ types are registered by :mod:`gyrobias.plotting`.
 from __future__ import annotations
 
 import json
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any, Literal, overload
 
 import numpy as np
 from numpy.typing import NDArray
@@ -75,6 +75,39 @@ def _short_label(kind: str, overlapping: bool) -> str:
     return _label(kind, overlapping).split(" (")[0]
 
 
+#: The spectral lines of a result, or how to find them on first use.
+LinesValue = tuple[SpectralLine, ...] | None | Callable[[], tuple[SpectralLine, ...] | None]
+
+
+class _LazyLines:
+    """Data descriptor behind :attr:`AllanResult.lines`: holds the lines, or a search to run on
+    first access (then remembered). The line search costs more than the Allan kernel itself
+    (about 10× on 10⁶ samples), and most results never need it: only the fit's
+    ``lines="auto"``, the report and the user who asks."""
+
+    _slot = "_lines"
+
+    @overload
+    def __get__(self, obj: None, objtype: type | None = None) -> None: ...
+    @overload
+    def __get__(
+        self, obj: object, objtype: type | None = None
+    ) -> tuple[SpectralLine, ...] | None: ...
+    def __get__(
+        self, obj: object | None, objtype: type | None = None
+    ) -> tuple[SpectralLine, ...] | None:
+        if obj is None:
+            return None  # the dataclass default
+        value = obj.__dict__.get(self._slot)
+        if callable(value):
+            value = value()
+            obj.__dict__[self._slot] = value
+        return value
+
+    def __set__(self, obj: object, value: LinesValue) -> None:
+        obj.__dict__[self._slot] = value
+
+
 @dataclass(frozen=True)
 class AllanResult:
     """One axis of an Allan-family analysis.
@@ -119,7 +152,10 @@ class AllanResult:
         Spectral lines (periodic disturbances) found in the rate data at false-alarm level 0.01
         (:func:`gyrobias.noise.detect_lines`); :func:`gyrobias.noise.fit` models them with the
         sinusoidal term "S" by default. ``None`` when the data were not searched (angle input,
-        other deviations, files read in pieces, fewer than 1024 samples).
+        other deviations, files read in pieces, too few samples). The search runs on first
+        access (it costs more than the Allan variance itself), on the central 2¹⁸ samples
+        (44 min at 100 Hz) of longer logs: a line strong enough to bias the Allan fit is far
+        above that segment's detection threshold.
     """
 
     taus: NDArray[np.float64]
@@ -302,6 +338,11 @@ class AllanResult:
         Returns the matplotlib ``Axes``.
         """
         return _generics.plot(self, ax, label=label, fit=fit, **kwargs)
+
+
+# After the dataclass is built: its __init__ keeps the default None, and every assignment
+# (construction, dataclasses.replace) goes through the descriptor, which may hold a search.
+AllanResult.lines = _LazyLines()  # type: ignore[assignment]
 
 
 @dataclass(frozen=True)

@@ -146,23 +146,39 @@ def _analyse(
         for i, r in enumerate(raw)
     )
     if kind == "adev" and data_type == "rate" and readers is None and gaps == "error":
-        # Periodic disturbances bias the Allan fit; noise.fit models the lines found here.
+        # Periodic disturbances bias the Allan fit; noise.fit models the lines found here. The
+        # search runs when the lines are first asked for (AllanResult.lines).
         results = tuple(
-            replace(r, lines=_lines(matrix[:, i], fs, units)) for i, r in enumerate(results)
+            replace(r, lines=_LineSearch(matrix[:, i], fs, units))  # type: ignore[arg-type]
+            for i, r in enumerate(results)
         )
     if arr.ndim == 1:
         return results[0]
     return results
 
 
-def _lines(
-    column: NDArray[np.float64], fs: float, units: str | None
-) -> tuple[SpectralLine, ...] | None:
-    """Spectral lines of one rate column (``None`` below the detector's minimum length)."""
-    if column.shape[0] < MIN_SAMPLES:
-        return None
-    found = detect_lines(np.ascontiguousarray(column, dtype=np.float64), fs, units=units)
-    return found  # type: ignore[return-value]
+#: Longest segment searched for spectral lines (samples; see AllanResult.lines).
+LINE_SEARCH_SAMPLES = 2**18
+
+
+class _LineSearch:
+    """The spectral-line search of one rate column, run when first called: a copy of its central
+    :data:`LINE_SEARCH_SAMPLES` samples (bounded memory, and independent of later changes to the
+    caller's array), searched by :func:`gyrobias.noise.detect_lines`. ``None`` below the
+    detector's minimum length."""
+
+    def __init__(self, column: NDArray[np.float64], fs: float, units: str | None) -> None:
+        n = column.shape[0]
+        start = max(0, (n - LINE_SEARCH_SAMPLES) // 2)
+        self._segment = np.array(column[start : start + LINE_SEARCH_SAMPLES], dtype=np.float64)
+        self._fs = fs
+        self._units = units
+
+    def __call__(self) -> tuple[SpectralLine, ...] | None:
+        if self._segment.shape[0] < MIN_SAMPLES:
+            return None
+        found = detect_lines(self._segment, self._fs, units=self._units)
+        return found  # type: ignore[return-value]
 
 
 def adev_batch(

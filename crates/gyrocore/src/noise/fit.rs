@@ -1184,13 +1184,16 @@ pub(crate) fn transition(z: &[f64]) -> usize {
         .map_or(0, |i| i + 1)
 }
 
-/// A gross rejection (`χ²/ν > 10`): the model misses the curve systematically, not by noise.
-/// A long filter (a 41-tap FIR at 0.3 Nyquist) can leave the first point on the model and the
-/// next ones far above and below it, which [`leading_run`] (built not to cut an unfiltered curve
-/// at a lone low point) does not take; under a gross rejection [`transition`] does, and the
-/// filter is then modelled as after any excluded leading run.
-pub(crate) fn gross(chi2: f64, dof: usize) -> bool {
-    dof > 0 && chi2 > 10.0 * dof as f64
+/// A gross rejection (`χ²/ν > 10`: the model misses the curve systematically, not by noise)
+/// with the first point not above the model (`z₀ ≤ 2`). A long filter (a 41-tap FIR at 0.3
+/// Nyquist) can leave the first point on the model and the next ones far above and below it,
+/// which [`leading_run`] (built not to cut an unfiltered curve at a lone low point) does not
+/// take; under a gross rejection [`transition`] does, and the filter is then modelled as after
+/// any excluded leading run. A first point far *above* the model is not a filter's signature
+/// (unmodelled quantisation noise or a line lifts the shortest τ): the fit stays rejected, and
+/// says so.
+pub(crate) fn gross(chi2: f64, dof: usize, z: &[f64]) -> bool {
+    dof > 0 && chi2 > 10.0 * dof as f64 && z.first().is_some_and(|v| *v <= 2.0)
 }
 
 /// Hausman's test of the first used point once a filter is modelled (module docs, "Sensor
@@ -1397,7 +1400,7 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
                 break;
             }
             let mut lead = leading_run(&z);
-            if lead == 0 && (q != InverseSquare::Quantization || gross(chi2, dof)) {
+            if lead == 0 && (q != InverseSquare::Quantization || gross(chi2, dof, &z)) {
                 lead = transition(&z);
             }
             let first = used[0];

@@ -658,7 +658,7 @@ fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result
             break;
         }
         let mut lead = leading_run(&z);
-        if lead == 0 && (q != InverseSquare::Quantization || super::fit::gross(chi2, dof)) {
+        if lead == 0 && (q != InverseSquare::Quantization || super::fit::gross(chi2, dof, &z)) {
             lead = super::fit::transition(&z);
         }
         let signature = lead > 0;
