@@ -347,8 +347,8 @@ def _sine_fit_reference(rate: np.ndarray) -> tuple[float, float]:
 #: the periodogram's line, held at its frequency: rms error 9.5e-8 Hz with reported
 #: u ≈ 1.2e-7 Hz (z rms 0.77); (23.0, 0) holds 23.0 exactly; (23.069, 0.23) still refines on
 #: the Allan curve (rms 0.0077 Hz, z rms 0.54). N is the same in every case (+0.05 %). Since
-#: the line search runs on the central 2¹⁸ samples (AllanResult.lines), the periodogram's
-#: frequency has u ≈ 6.5e-7 Hz here (1.7e-3 of its bin) instead of 1.2e-7 Hz.
+#: the line search runs on the central eighth of the log (AllanResult.lines), the periodogram's
+#: frequency has a few times the uncertainty of the whole log's (still < 1e-2 of its bin).
 SEED_RUNS = 4
 
 

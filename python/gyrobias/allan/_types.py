@@ -153,9 +153,10 @@ class AllanResult:
         (:func:`gyrobias.noise.detect_lines`); :func:`gyrobias.noise.fit` models them with the
         sinusoidal term "S" by default. ``None`` when the data were not searched (angle input,
         other deviations, files read in pieces, too few samples). The search runs on first
-        access (it costs more than the Allan variance itself), on the central 2¹⁸ samples
-        (44 min at 100 Hz) of longer logs: a line strong enough to bias the Allan fit is far
-        above that segment's detection threshold.
+        access (it costs more than the Allan variance itself), on the central eighth of logs
+        over 2¹⁵ samples (at least 2¹⁵, at most 2¹⁸ samples: 44 min at 100 Hz): a line strong
+        enough to bias the Allan fit is far above that segment's detection threshold
+        (``gyrobias.allan.classic.line_search_length``).
     """
 
     taus: NDArray[np.float64]
