@@ -156,17 +156,18 @@ fn read_off<'py>(
 /// Total model variance and each term's contribution.
 type ModelCurves<'py> = (Bound<'py, PyArray1<f64>>, Vec<Bound<'py, PyArray1<f64>>>);
 
-/// The five-term model: total variance and each term's contribution at `taus`
-/// (`gyrocore::noise::model_curves`).
+/// The five-term model (with a sensor filter's correction when `filter_time` > 0): total
+/// variance and each term's contribution at `taus` (`gyrocore::noise::model_curves`).
 #[pyfunction]
-#[pyo3(signature = (squared, taus))]
+#[pyo3(signature = (squared, taus, filter_time=0.0))]
 #[allow(clippy::needless_pass_by_value)]
 fn model<'py>(
     py: Python<'py>,
     squared: [f64; 5],
     taus: PyReadonlyArray1<'py, f64>,
+    filter_time: f64,
 ) -> PyResult<ModelCurves<'py>> {
-    let (total, parts) = core(noise::model_curves(&squared, &c_order(&taus)))?;
+    let (total, parts) = core(noise::model_curves(&squared, filter_time, &c_order(&taus)))?;
     Ok((
         total.into_pyarray(py),
         parts.into_iter().map(|p| p.into_pyarray(py)).collect(),

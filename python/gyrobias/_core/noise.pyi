@@ -173,6 +173,7 @@ def read_off(
 def model(
     squared: list[float] | tuple[float, float, float, float, float],
     taus: NDArray[np.float64],
+    filter_time: float = ...,
 ) -> tuple[NDArray[np.float64], list[NDArray[np.float64]]]: ...
 
 @type_check_only

@@ -1016,16 +1016,16 @@ class NoiseCoefficients:
         For the read-off, the model is built from the identified coefficients (missing terms
         count as zero). When the fit modelled a sensor filter
         (:attr:`FitDiagnostics.filter_correlation_time`), the total includes its
-        ``−3N²τ_c/τ²`` (it has no asymptote of its own in ``parts``).
+        ``−3N²τ_c/τ²`` (it has no asymptote of its own in ``parts``; below τ = 3τ_c, inside
+        the filter's length where that law has no meaning, the total is 0).
         """
         # τ finite and > 0 (the curves have no value at τ ≤ 0): the core's check
         t = as_float_array("taus", np.atleast_1d(asarray("taus", taus)), ndims=(1,))
         squared = self._squared_base()
-        total, parts = _core.noise.model(squared, t)
-        out = {s: np.sqrt(p) for s, p in zip(_SYMBOLS, parts)}
         tc = None if self.diagnostics is None else self.diagnostics.filter_correlation_time
-        if tc is not None and tc.value is not None:
-            total = total - 3.0 * squared[1] * tc.value / t**2
+        filter_time = 0.0 if tc is None or tc.value is None else float(tc.value)
+        total, parts = _core.noise.model(squared, t, filter_time)
+        out = {s: np.sqrt(p) for s, p in zip(_SYMBOLS, parts)}
         gm = self._gauss_markov_base()
         if gm:
             for g, v in zip(self.gauss_markov, _core.noise.gauss_markov_variance(gm, t)):

@@ -529,29 +529,9 @@ pub(crate) fn solve_design(
     Some((coef, chi2))
 }
 
-/// Golden-section minimum of `f` over `[a, b]` (in `ln T`), 40 iterations.
-fn golden(mut a: f64, mut b: f64, f: &mut dyn FnMut(f64) -> f64) -> (f64, f64) {
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let mut x1 = b - g * (b - a);
-    let mut x2 = a + g * (b - a);
-    let mut f1 = f(x1);
-    let mut f2 = f(x2);
-    for _ in 0..40 {
-        if f1 <= f2 {
-            b = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = b - g * (b - a);
-            f1 = f(x1);
-        } else {
-            a = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = a + g * (b - a);
-            f2 = f(x2);
-        }
-    }
-    if f1 <= f2 { (x1, f1) } else { (x2, f2) }
+/// Golden-section minimum of `f` over `[a, b]` (in `ln T` or Hz), 40 iterations.
+fn golden(a: f64, b: f64, f: &mut dyn FnMut(f64) -> f64) -> (f64, f64) {
+    crate::optimize::golden_section(a, b, 40, 0.0, f)
 }
 
 /// What [`profile_times`] returns: correlation times, line frequencies, coefficients, χ².
@@ -1600,12 +1580,10 @@ pub(crate) fn finish(
                     t,
                     format!(
                         "the net 1/τ² part of the model is negative: the sensor's filter \
-                         (correlation time τ_c = {} s, diagnostics.filter_correlation_time) \
-                         outweighs any quantisation noise in {}..{} s",
-                        sig(
-                            -c[j] / c[Term::AngleRandomWalk.index()].max(f64::MIN_POSITIVE),
-                            3
-                        ),
+                         ({}diagnostics.filter_correlation_time) outweighs any quantisation \
+                         noise in {}..{} s",
+                        filter_correlation_time
+                            .map_or(String::new(), |(tc, _)| format!("τ_c = {} s, ", sig(tc, 3))),
                         taus[0],
                         taus[taus.len() - 1]
                     ),

@@ -110,13 +110,23 @@ pub fn model_variance(c: &[f64; 5], tau: f64) -> f64 {
 /// The model's curves at `taus`: the total [`model_variance`] and each term's contribution
 /// `c_j g_j(τ)`, in [`Term::ALL`] order.
 ///
+/// `filter_time` is a sensor filter's correlation time `τ_c` (s, 0 for none; see
+/// [`super::fit`](mod@super::fit), "Sensor filter"): the total then includes its `−3N²τ_c/τ²`,
+/// which has no curve of its own. That law holds only beyond the filter's length; where it would
+/// take the total below zero (τ < 3τ_c) the total is 0.
+///
 /// Every τ must be finite and > 0 (the terms' `τ^-2 … τ^2` are NaN or infinite at τ ≤ 0), and
-/// the squared coefficients `c` finite and ≥ 0; a τ at which the model variance overflows
-/// float64 is refused too, so the curves never hold NaN or infinity.
-pub fn model_curves(c: &[f64; 5], taus: &[f64]) -> Result<(Vec<f64>, [Vec<f64>; 5])> {
+/// the squared coefficients `c` and `filter_time` finite and ≥ 0; a τ at which the model
+/// variance overflows float64 is refused too, so the curves never hold NaN or infinity.
+pub fn model_curves(
+    c: &[f64; 5],
+    filter_time: f64,
+    taus: &[f64],
+) -> Result<(Vec<f64>, [Vec<f64>; 5])> {
     for (t, &v) in Term::ALL.iter().zip(c) {
         crate::validate::non_negative(["Q²", "N²", "B²", "K²", "R²"][t.index()], v)?;
     }
+    crate::validate::non_negative("filter_time", filter_time)?;
     if let Some((i, bad)) = taus
         .iter()
         .enumerate()
@@ -127,7 +137,11 @@ pub fn model_curves(c: &[f64; 5], taus: &[f64]) -> Result<(Vec<f64>, [Vec<f64>; 
             format!("must be finite and > 0, got taus[{i}] = {bad}"),
         ));
     }
-    let total: Vec<f64> = taus.iter().map(|&tau| model_variance(c, tau)).collect();
+    let filter = 3.0 * c[Term::AngleRandomWalk.index()] * filter_time;
+    let total: Vec<f64> = taus
+        .iter()
+        .map(|&tau| (model_variance(c, tau) - filter / (tau * tau)).max(0.0))
+        .collect();
     if let Some(i) = total.iter().position(|v| !v.is_finite()) {
         return Err(Error::invalid(
             "taus",
@@ -200,7 +214,7 @@ mod tests {
     fn model_curves_sum_to_the_total() {
         let c = [1e-6, 4e-4, 1e-5, 1e-7, 1e-9];
         let taus = [0.01, 0.3, 1.0, 17.0, 1e3];
-        let (total, parts) = model_curves(&c, &taus).unwrap();
+        let (total, parts) = model_curves(&c, 0.0, &taus).unwrap();
         for (i, &tau) in taus.iter().enumerate() {
             assert_eq!(total[i], model_variance(&c, tau));
             let sum: f64 = parts.iter().map(|p| p[i]).sum();
@@ -211,18 +225,37 @@ mod tests {
     }
 
     #[test]
+    fn a_filter_lowers_the_total_only() {
+        // −3N²τ_c/τ² on the total (the filter law), parts unchanged, floored at 0 below 3τ_c.
+        let c = [0.0, 1e-4, 1e-8, 0.0, 0.0];
+        let taus = [0.001, 0.03, 0.5, 10.0];
+        let tc = 0.01;
+        let (plain, parts) = model_curves(&c, 0.0, &taus).unwrap();
+        let (total, with) = model_curves(&c, tc, &taus).unwrap();
+        assert_eq!(parts, with);
+        for (i, &tau) in taus.iter().enumerate() {
+            let law = (plain[i] - 3.0 * c[1] * tc / (tau * tau)).max(0.0);
+            assert!((total[i] - law).abs() <= 1e-15 * plain[i], "{tau}");
+        }
+        assert_eq!(total[0], 0.0);
+        for bad in [-1e-3, f64::NAN, f64::INFINITY] {
+            assert!(model_curves(&c, bad, &taus).is_err());
+        }
+    }
+
+    #[test]
     fn model_curves_refuse_what_has_no_finite_value() {
         let c = [1e-6, 4e-4, 1e-5, 1e-7, 1e-9];
         for taus in [[0.0], [-1.0], [f64::NAN], [f64::INFINITY], [1e300]] {
-            match model_curves(&c, &taus) {
+            match model_curves(&c, 0.0, &taus) {
                 Err(Error::InvalidParameter { name: "taus", .. }) => {}
                 other => panic!("taus = {taus:?}: expected a taus error, got {other:?}"),
             }
         }
         let mut bad = c;
         bad[1] = f64::NAN;
-        assert!(model_curves(&bad, &[1.0]).is_err());
-        let (total, _) = model_curves(&c, &[1e-100, 1e100]).unwrap();
+        assert!(model_curves(&bad, 0.0, &[1.0]).is_err());
+        let (total, _) = model_curves(&c, 0.0, &[1e-100, 1e100]).unwrap();
         assert!(total.iter().all(|v| v.is_finite()));
     }
 

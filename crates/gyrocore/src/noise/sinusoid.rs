@@ -381,32 +381,9 @@ fn per_bin_log_p(t: f64, q: usize, l_count: usize, kappa: f64) -> f64 {
         .sum::<f64>()
 }
 
-/// Golden-section maximum of `f` on `[a, b]` (60 iterations).
-fn golden_max(mut a: f64, mut b: f64, f: impl Fn(f64) -> f64) -> f64 {
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let mut x1 = b - g * (b - a);
-    let mut x2 = a + g * (b - a);
-    let mut f1 = f(x1);
-    let mut f2 = f(x2);
-    for _ in 0..60 {
-        if f1 >= f2 {
-            b = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = b - g * (b - a);
-            f1 = f(x1);
-        } else {
-            a = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = a + g * (b - a);
-            f2 = f(x2);
-        }
-        if (b - a).abs() <= 1e-12 * b.abs() {
-            break;
-        }
-    }
-    if f1 >= f2 { x1 } else { x2 }
+/// Maximum of `f` on `[a, b]` by golden section (60 reductions, stops within 1e-12 relative).
+fn golden_max(a: f64, b: f64, f: impl Fn(f64) -> f64) -> f64 {
+    crate::optimize::golden_section(a, b, 60, 1e-12, &mut |x| -f(x)).0
 }
 
 /// Checks line frequencies and amplitudes: each frequency in (0, fs/2] (a line above Nyquist is
