@@ -23,7 +23,7 @@ import gyrobias
 from gyrobias import codegen, fir
 from gyrobias.kalman import FixedGainKalman, q_omega_from_deg_per_hour
 from gyrobias.predict import FractionalKalmanPredictor
-from tests._c_harness import CC, build, numpy_type, run
+from tests._c_harness import CC, CLANG, build, numpy_type, run
 
 pytestmark = pytest.mark.skipif(CC is None, reason="no system C compiler (cc)")
 
@@ -265,14 +265,22 @@ def test_fir_q31_within_bound(key: str, tmp_path: Path) -> None:
 # --- compiled predictor -----------------------------------------------------------------------
 
 
+PREDICTORS = {
+    "sample": dict(d=0.5, q=1e-4, r=1e-4),
+    "proper": dict(d=0.3, q=1e-4, r=4e-4, mean=(0.2, 0.01)),  # w0 != 0
+}
+
+
+@pytest.mark.parametrize("key", sorted(PREDICTORS))
 @pytest.mark.parametrize("dtype", ["float64", "float32", "q31"])
-def test_predictor_c_matches_python(dtype: str, tmp_path: Path) -> None:
-    pred = FractionalKalmanPredictor(d=0.5, q=1e-4, r=1e-4).compile(40, 15)
+def test_predictor_c_matches_python(dtype: str, key: str, tmp_path: Path) -> None:
+    """float64/float32 C equal ``predict(..., dtype=)`` (the C's summation order) bit for bit;
+    Q31 is within its bound of the float64 forecast."""
+    pred = FractionalKalmanPredictor(**PREDICTORS[key]).compile(40, 15)  # type: ignore[arg-type]
     gen = pred.to_c(tmp_path, name="pred", dtype=dtype)
     exe = build(gen, "predictor", tmp_path)
     rng = np.random.default_rng(3)
     windows = 0.2 + np.cumsum(rng.normal(0.0, 0.01, (30, 40)), axis=1)
-    w = np.abs(pred.weights)
     if dtype == "q31":
         yq = _to_q31(windows)
         out = np.frombuffer(run(exe, yq, tmp_path), dtype=np.int32).reshape(30, 15) / 2.0**31
@@ -282,12 +290,76 @@ def test_predictor_c_matches_python(dtype: str, tmp_path: Path) -> None:
     t = numpy_type(dtype)
     y = windows.astype(t)
     out = np.frombuffer(run(exe, y, tmp_path), dtype=t).reshape(30, 15)
-    ref = pred.predict(y.astype(np.float64)).bias
-    # Rounding of a k-term sum (and, for float32, of the weights): γ_k·Σ|W||y| + w0 rounding.
+    ref = pred.predict(y, dtype=t).bias
+    assert ref.dtype == t
+    assert _same_bits(out, ref)
+    # The fast path (one GEMM, another summation order) differs by rounding only:
+    # γ_k·Σ|W||y| + the w0 rounding, k = 40 terms (float32: also the rounding of W, y).
+    fast = pred.predict(y.astype(np.float64)).bias
     eps = float(np.finfo(t).eps) / 2
-    mag = np.abs(y).astype(np.float64) @ w.T + np.abs(pred.offset)
-    tol = 2 * (41 * eps + (eps if dtype == "float32" else 2.0**-52)) * mag
-    assert np.all(np.abs(out - ref) <= tol)
+    mag = np.abs(y).astype(np.float64) @ np.abs(pred.weights).T + np.abs(pred.offset)
+    assert np.all(np.abs(out - fast) <= 2 * 43 * eps * mag)
+
+
+def test_predict_sequential_is_the_left_to_right_sum() -> None:
+    """Independent reference of ``predict(dtype=)``: the C's loop written in NumPy, one
+    rounding per operation (NumPy float32 scalars: no fused multiply-add)."""
+    pred = FractionalKalmanPredictor(**PREDICTORS["proper"]).compile(12, 5)  # type: ignore[arg-type]
+    y = 0.2 + np.cumsum(np.random.default_rng(8).normal(0.0, 0.01, (4, 12)), axis=1)
+    for t in (np.float64, np.float32):
+        w, w0, yt = pred.weights.astype(t), pred.offset.astype(t), y.astype(t)
+        want = np.empty((4, 5), dtype=t)
+        for r in range(4):
+            for j in range(5):
+                acc = t(0.0)
+                for i in range(12):
+                    acc = t(acc + t(w[j, i] * yt[r, i]))
+                want[r, j] = t(acc + w0[j])
+        got = pred.predict(y, dtype=t)
+        assert _same_bits(got.bias, want)
+        assert got.std.shape == (4, 5)
+    one = pred.predict(y[0], dtype=np.float32)
+    assert _same_bits(one.bias, pred.predict(y, dtype=np.float32).bias[0])
+    with pytest.raises(ValueError, match="dtype"):
+        pred.predict(y, dtype=np.int32)
+    with pytest.raises(ValueError, match="calibration_length"):
+        pred.predict(y[:, :11], dtype=np.float32)
+    bad = y.copy()
+    bad[1, 3] = np.nan
+    with pytest.raises(ValueError, match="batch"):
+        pred.predict(bad, dtype=np.float64)
+    bad[1, 3] = 1e300  # finite in float64, inf in float32
+    with pytest.raises(ValueError, match="batch"):
+        pred.predict(bad, dtype=np.float32)
+
+
+# --- the second compiler -------------------------------------------------------------------------
+
+
+@pytest.mark.skipif(CLANG is None, reason="no clang")
+@pytest.mark.parametrize("dtype", ["float64", "float32", "q31"])
+@pytest.mark.parametrize("kind", ["kalman", "fir", "predictor"])
+def test_clang_weverything_gives_the_same_bits(kind: str, dtype: str, tmp_path: Path) -> None:
+    """Every generated file compiles with clang -Weverything (minus the list in
+    tests/_c_harness.CLANG_STRICT) -Werror, and its outputs equal gcc's byte for byte."""
+    if kind == "kalman":
+        gen = _kf("mems1k").to_c(tmp_path, name="cl_kf", dtype=dtype)
+    elif kind == "fir":
+        gen = fir.kaiser_lowpass(1000.0, 20.0, 60.0, astop_db=60.0).to_c(
+            tmp_path, name="cl_fir", dtype=dtype
+        )
+    else:
+        pred = FractionalKalmanPredictor(**PREDICTORS["proper"]).compile(40, 15)  # type: ignore[arg-type]
+        gen = pred.to_c(tmp_path, name="cl_pred", dtype=dtype)
+    exes = [build(gen, kind, tmp_path, compiler=c) for c in ("cc", "clang")]
+    t = numpy_type(dtype)
+    vectors = _vectors()
+    for label, x in vectors.items():
+        if kind == "predictor":
+            x = 0.2 + x[:1200].reshape(30, 40) * 0.01
+        data = _to_q31(0.9 * x / np.abs(x).max()) if dtype == "q31" else x.astype(t)
+        gcc_out, clang_out = (run(e, data, tmp_path, tag=str(i)) for i, e in enumerate(exes))
+        assert gcc_out == clang_out, (kind, dtype, label)
 
 
 # --- determinism, errors, atomicity ------------------------------------------------------------

@@ -220,6 +220,13 @@ def _mean_spec(mean: Any) -> tuple[str, float, float]:
     raise TypeError(f"mean must be 'sample', 'diffuse', 'none' or a pair (mu0, p0); got {mean!r}")
 
 
+def _is_dtype(dtype: Any, name: str) -> bool:
+    """``dtype`` names the NumPy float type ``name`` (the type, a str or an np.dtype)."""
+    if dtype is getattr(np, name):
+        return True
+    return isinstance(dtype, (str, np.dtype)) and dtype == name
+
+
 class CompiledPredictor:
     """A fractional Kalman predictor compiled to the linear map ``ŷ = W·y + w0``.
 
@@ -262,11 +269,37 @@ class CompiledPredictor:
         """
         return _generics.to_c(self, path, name=name, dtype=dtype, **options)
 
-    def predict(self, batch: Any, *, n_threads: int | None = None) -> Prediction:
-        """Forecast every window of ``batch`` (shape (windows, k) or (k,))."""
+    def predict(self, batch: Any, *, n_threads: int | None = None, dtype: Any = None) -> Prediction:
+        """Forecast every window of ``batch`` (shape (windows, k) or (k,)).
+
+        Parameters
+        ----------
+        batch : array_like, shape (windows, k) or (k,)
+            Calibration windows, oldest sample first.
+        n_threads : int, optional
+            Threads of the matrix product (default: one per core; unused with ``dtype``).
+        dtype : {None, np.float64, np.float32}
+            ``None`` (default): one matrix product ``Y·Wᵀ + w0`` (blocked, multi-threaded; the
+            fast path, float64). ``np.float64`` or ``np.float32``: the evaluation order of the
+            C that :meth:`to_c` writes, in that precision — per forecast ``acc = 0;
+            acc += W[j][i]·y[i]`` for ``i = 0..k−1``, then ``+ w0[j]``, with ``W``, ``w0`` and
+            the windows rounded to the type first — so ``bias`` (of that dtype) equals
+            ``to_c(dtype="float64"/"float32")`` bit for bit. Sequential, one thread; it
+            differs from the default by rounding only (a k-term sum in another order).
+        """
         arr, one = _windows("batch", _asarray_ragged("batch", batch))
-        # A window length other than calibration_length is the core's ShapeMismatch.
-        bias, mean = self._inner.predict(arr, _n_threads(n_threads))
+        threads = _n_threads(n_threads)
+        if dtype is None:
+            # A window length other than calibration_length is the core's ShapeMismatch.
+            bias, mean = self._inner.predict(arr, threads)
+        elif _is_dtype(dtype, "float32"):
+            with np.errstate(over="ignore"):  # beyond float32: inf, refused by the core
+                arr32 = np.ascontiguousarray(arr, dtype=np.float32)
+            bias, mean = self._inner.predict_sequential_f32(arr32)
+        elif _is_dtype(dtype, "float64"):
+            bias, mean = self._inner.predict_sequential(arr)
+        else:
+            raise ValueError(f"dtype must be None, np.float64 or np.float32, got {dtype!r}")
         rows, h = arr.shape[0], self.horizon
         bias = bias.reshape(rows, h)
         std = np.broadcast_to(self._inner.std, (rows, h))

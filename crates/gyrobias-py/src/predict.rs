@@ -151,6 +151,34 @@ impl CompiledPredictor {
         Ok((p.bias.into_pyarray(py), p.mean.into_pyarray(py)))
     }
 
+    /// Each row of a (windows × k) batch in the generated C's order, float64
+    /// (`gyrocore::predict::batch::Compiled::apply_sequential::<f64>`): `(bias, mean)`.
+    #[allow(clippy::needless_pass_by_value)]
+    fn predict_sequential<'py>(
+        &self,
+        py: Python<'py>,
+        batch: PyReadonlyArray2<'py, f64>,
+    ) -> PyResult<ArrayPair<'py>> {
+        let k = batch.shape()[1];
+        let data = c_order(&batch);
+        let (bias, mean) = core(py.detach(|| self.inner.apply_sequential::<f64>(&data, k)))?;
+        Ok((bias.into_pyarray(py), mean.into_pyarray(py)))
+    }
+
+    /// [`predict_sequential`](Self::predict_sequential) in float32
+    /// (`gyrocore::predict::batch::Compiled::apply_sequential::<f32>`).
+    #[allow(clippy::needless_pass_by_value, clippy::type_complexity)]
+    fn predict_sequential_f32<'py>(
+        &self,
+        py: Python<'py>,
+        batch: PyReadonlyArray2<'py, f32>,
+    ) -> PyResult<(Bound<'py, PyArray1<f32>>, Bound<'py, PyArray1<f32>>)> {
+        let k = batch.shape()[1];
+        let data = c_order(&batch);
+        let (bias, mean) = core(py.detach(|| self.inner.apply_sequential::<f32>(&data, k)))?;
+        Ok((bias.into_pyarray(py), mean.into_pyarray(py)))
+    }
+
     #[getter]
     fn calibration_length(&self) -> usize {
         self.inner.calibration_length

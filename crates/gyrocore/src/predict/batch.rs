@@ -19,6 +19,7 @@ use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 use super::schur::{self, Conditional};
 use super::{BatchPrediction, MeanPrior, Model, check_window, mean_posterior};
+use crate::float::Float;
 use crate::{Error, Result, validate};
 
 /// Number of rows of a row-major array of `data.len()` values with `k` columns.
@@ -206,6 +207,70 @@ impl Compiled {
         Ok(())
     }
 
+    /// Predicts every row of a row-major `rows × k` batch in the evaluation order of the C that
+    /// `gyrobias.codegen` generates (`CompiledPredictor.to_c`), in `T` arithmetic: `W`, `w0`,
+    /// `c` and `c0` rounded to `T` first, then for each window and each forecast `j`
+    ///
+    /// ```text
+    /// acc = 0;  acc = acc + W[j][i]·y[i]  for i = 0, 1, …, k−1;  ŷ[j] = acc + w0[j]
+    /// ```
+    ///
+    /// one rounding per `×` and per `+`, never a fused multiply-add (Rust does not contract), so
+    /// the generated float64/float32 C gives these bits exactly. The mean state is the same sum
+    /// with `c`, `c0`. Sequential (no GEMM blocking, no threads): the reference for the C, not
+    /// the fast path ([`apply_rows`](Self::apply_rows)), from which it differs by rounding.
+    /// Returns `(bias (rows·h, row-major), mean (rows))`.
+    pub fn apply_sequential<T: Float>(
+        &self,
+        data: &[T],
+        n_columns: usize,
+    ) -> Result<(Vec<T>, Vec<T>)> {
+        let k = self.calibration_length;
+        let h = self.horizon;
+        if n_columns != k {
+            return Err(Error::ShapeMismatch {
+                name: "batch",
+                reason: format!(
+                    "batch rows have {n_columns} samples, the predictor was compiled for \
+                     calibration_length = {k}"
+                ),
+            });
+        }
+        if data.is_empty() || data.len() % k != 0 {
+            return Err(Error::ShapeMismatch {
+                name: "batch",
+                reason: format!("{} values do not form rows of {k} samples", data.len()),
+            });
+        }
+        if let Some(index) = data.iter().position(|v| !v.is_finite()) {
+            return Err(Error::NonFinite {
+                name: "batch",
+                index,
+            });
+        }
+        let rows = data.len() / k;
+        let w: Vec<T> = self.weights.iter().map(|&v| T::from_f64(v)).collect();
+        let w0: Vec<T> = self.offset.iter().map(|&v| T::from_f64(v)).collect();
+        let c: Vec<T> = self.mean_weights.iter().map(|&v| T::from_f64(v)).collect();
+        let c0 = T::from_f64(self.mean_offset);
+        let dot = |row: &[T], y: &[T]| {
+            let mut acc = T::ZERO;
+            for (&a, &b) in row.iter().zip(y) {
+                acc += a * b;
+            }
+            acc
+        };
+        let mut bias = vec![T::ZERO; validate::product("batch", rows, h)?];
+        let mut mean = Vec::with_capacity(rows);
+        for (y, out) in data.chunks_exact(k).zip(bias.chunks_exact_mut(h)) {
+            for ((o, row), &off) in out.iter_mut().zip(w.chunks_exact(k)).zip(&w0) {
+                *o = dot(row, y) + off;
+            }
+            mean.push(dot(&c, y) + c0);
+        }
+        Ok((bias, mean))
+    }
+
     /// Predicts every row of a row-major `rows × k` batch (`n_threads = 0`: all threads).
     pub fn apply(&self, data: &[f64], n_threads: usize) -> Result<BatchPrediction> {
         self.apply_rows(data, self.calibration_length, n_threads)
@@ -242,5 +307,78 @@ impl Compiled {
             mean,
             mean_std: self.mean_std,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn compiled(mean: MeanPrior) -> Compiled {
+        let model = Model::new(0.5, 1e-4, 1e-4, mean).unwrap();
+        Compiled::new(&model, 12, 5, 1).unwrap()
+    }
+
+    fn window(rows: usize) -> Vec<f64> {
+        (0..rows * 12)
+            .map(|i| 0.2 + 0.01 * ((i * 7919 % 97) as f64 - 48.0))
+            .collect()
+    }
+
+    #[test]
+    fn sequential_is_the_left_to_right_sum_and_close_to_the_gemm() {
+        for mean in [MeanPrior::Sample, MeanPrior::Proper { mu0: 0.3, p0: 2.0 }] {
+            let c = compiled(mean);
+            let y = window(3);
+            let (bias, m) = c.apply_sequential::<f64>(&y, 12).unwrap();
+            let gemm = c.apply(&y, 1).unwrap();
+            for (r, yr) in y.chunks(12).enumerate() {
+                for j in 0..5 {
+                    let mut acc = 0.0_f64;
+                    for i in 0..12 {
+                        acc += c.weights[j * 12 + i] * yr[i];
+                    }
+                    let want = acc + c.offset[j];
+                    assert_eq!(bias[r * 5 + j].to_bits(), want.to_bits());
+                    // the GEMM sums in another order: equal to a few ulps of Σ|W||y|
+                    assert!((gemm.bias[r * 5 + j] - want).abs() <= 1e-14);
+                }
+                assert!((m[r] - gemm.mean[r]).abs() <= 1e-14);
+            }
+            // float32: the same sum with every operand and operation in f32
+            let y32: Vec<f32> = y.iter().map(|&v| v as f32).collect();
+            let (b32, _) = c.apply_sequential::<f32>(&y32, 12).unwrap();
+            let mut acc = 0.0_f32;
+            for i in 0..12 {
+                acc += (c.weights[i] as f32) * y32[i];
+            }
+            assert_eq!(b32[0].to_bits(), (acc + c.offset[0] as f32).to_bits());
+        }
+    }
+
+    #[test]
+    fn sequential_checks_its_batch() {
+        let c = compiled(MeanPrior::Sample);
+        let mut y = window(2);
+        assert!(matches!(
+            c.apply_sequential::<f64>(&y, 11),
+            Err(Error::ShapeMismatch { name: "batch", .. })
+        ));
+        assert!(matches!(
+            c.apply_sequential::<f64>(&y[..13], 12),
+            Err(Error::ShapeMismatch { name: "batch", .. })
+        ));
+        assert!(matches!(
+            c.apply_sequential::<f64>(&[], 12),
+            Err(Error::ShapeMismatch { name: "batch", .. })
+        ));
+        y[17] = f64::NAN;
+        assert_eq!(
+            c.apply_sequential::<f64>(&y, 12),
+            Err(Error::NonFinite {
+                name: "batch",
+                index: 17
+            })
+        );
     }
 }
