@@ -110,11 +110,14 @@ int main(int argc, char **argv) {{
 """
 
 
-def build(gen: Any, kind: str, workdir: Path, compiler: str = "cc") -> Path:
+def build(
+    gen: Any, kind: str, workdir: Path, compiler: str = "cc", flags: list[str] | None = None
+) -> Path:
     """Compile ``gen`` (a GeneratedC) with :data:`STRICT` (``compiler="clang"``:
-    :data:`CLANG_STRICT`) and link a harness; the executable."""
+    :data:`CLANG_STRICT`; or ``flags``) and link a harness; the executable."""
     cc = CLANG if compiler == "clang" else CC
-    flags = CLANG_STRICT if compiler == "clang" else STRICT
+    if flags is None:
+        flags = CLANG_STRICT if compiler == "clang" else STRICT
     assert cc is not None
     t = _CTYPE[gen.dtype][0]
     name = gen.name

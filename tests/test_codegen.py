@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from pathlib import Path
 
@@ -26,6 +27,8 @@ from gyrobias.predict import FractionalKalmanPredictor
 from tests._c_harness import CC, CLANG, build, numpy_type, run
 
 pytestmark = pytest.mark.skipif(CC is None, reason="no system C compiler (cc)")
+#: CI sets it (.ci/run): there clang and the Cortex-M tools must be present, not skipped.
+REQUIRE = os.environ.get("GYROBIAS_REQUIRE_CORTEX_M") == "1"
 
 KALMANS = {
     "mems1k": dict(fs=1000.0, arw=0.005, rrw=1e-4, bandwidth=20.0),
@@ -336,7 +339,7 @@ def test_predict_sequential_is_the_left_to_right_sum() -> None:
 # --- the second compiler -------------------------------------------------------------------------
 
 
-@pytest.mark.skipif(CLANG is None, reason="no clang")
+@pytest.mark.skipif(CLANG is None and not REQUIRE, reason="no clang")
 @pytest.mark.parametrize("dtype", ["float64", "float32", "q31"])
 @pytest.mark.parametrize("kind", ["kalman", "fir", "predictor"])
 def test_clang_weverything_gives_the_same_bits(kind: str, dtype: str, tmp_path: Path) -> None:
@@ -360,6 +363,41 @@ def test_clang_weverything_gives_the_same_bits(kind: str, dtype: str, tmp_path: 
         data = _to_q31(0.9 * x / np.abs(x).max()) if dtype == "q31" else x.astype(t)
         gcc_out, clang_out = (run(e, data, tmp_path, tag=str(i)) for i, e in enumerate(exes))
         assert gcc_out == clang_out, (kind, dtype, label)
+
+
+def _has_fma() -> bool:
+    try:
+        with open("/proc/cpuinfo") as fh:
+            return " fma " in fh.read().replace("\n", " ")
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(
+    (CLANG is None and not REQUIRE) or not _has_fma(), reason="needs clang and an x86 FMA unit"
+)
+def test_clang_fp_contract_pragma_keeps_the_bits_on_an_fma_target(tmp_path: Path) -> None:
+    """Clang contracts a*b + c into a fused multiply-add by default (-ffp-contract=on) when the
+    target has one (-mfma). The generated source's #pragma STDC FP_CONTRACT OFF keeps the
+    float32 Kalman filter bit-exact without any flag; the same source without the pragma is
+    not (so the pragma, not luck, is what keeps the bits)."""
+    kf = _kf("mems1k")
+    gen = kf.to_c(tmp_path, name="fma_kf", dtype="float32")
+    flags = ["-std=c99", "-O2", "-mfma", "-Werror"]
+    z = _vectors()["walk"].astype(np.float32)
+    ref = kf.filter(z, dtype=np.float32).rate
+    rate, _, _ = _kalman_c(build(gen, "kalman", tmp_path, "clang", flags), z, np.float32, tmp_path)
+    assert _same_bits(rate, ref)
+    bare = tmp_path / "bare"
+    bare.mkdir()
+    (bare / "fma_kf.h").write_bytes(gen.header.read_bytes())
+    text = gen.source.read_text()
+    assert "#pragma STDC FP_CONTRACT OFF" in text
+    (bare / "fma_kf.c").write_text(text.replace("#pragma STDC FP_CONTRACT OFF", ""))
+    gen_bare = dataclasses.replace(gen, header=bare / "fma_kf.h", source=bare / "fma_kf.c")
+    exe = build(gen_bare, "kalman", bare, "clang", flags)
+    rate_bare, _, _ = _kalman_c(exe, z, np.float32, bare)
+    assert not _same_bits(rate_bare, ref)
 
 
 # --- determinism, errors, atomicity ------------------------------------------------------------

@@ -82,9 +82,8 @@ def emit(
     else:
         t = "float" if dtype == "float32" else "double"
         zero = "0.0f" if dtype == "float32" else "0.0"
-        note = FP_NOTE.format(
-            ref="sequential sum (CompiledPredictor.predict uses a GEMM: equal to rounding)"
-        )
+        np_type = "np.float32" if dtype == "float32" else "np.float64"
+        note = FP_NOTE.format(ref=f"CompiledPredictor.predict(windows, dtype={np_type})")
         w_lits = [float_literal(float(v), dtype) for v in w.ravel()]
         o_lits = [float_literal(float(v), dtype) for v in w0]
         lines += ["Sum order: acc = 0; acc += W[j][i] * y[i] for i = 0..k-1; yhat = acc + w0[j]."]
