@@ -336,6 +336,32 @@ def test_predict_sequential_is_the_left_to_right_sum() -> None:
         pred.predict(bad, dtype=np.float32)
 
 
+@settings(max_examples=20, deadline=None)
+@given(
+    d=st.floats(0.05, 0.95),
+    rows=st.integers(1, 5),
+    seed=st.integers(0, 2**32 - 1),
+    f32=st.booleans(),
+)
+def test_predict_sequential_rows_are_independent_and_close_to_the_gemm(
+    d: float, rows: int, seed: int, f32: bool
+) -> None:
+    """Property: the C-order forecast of a batch is the forecasts of its rows (bit for bit:
+    no blocking across windows), and within the k-term summation bound of the GEMM path."""
+    pred = FractionalKalmanPredictor(d=d, q=1e-4, r=1e-4).compile(16, 6)
+    y = 0.1 + np.cumsum(np.random.default_rng(seed).normal(0.0, 0.01, (rows, 16)), axis=1)
+    t = np.float32 if f32 else np.float64
+    yt = y.astype(t)
+    whole = pred.predict(yt, dtype=t).bias
+    for r in range(rows):
+        assert _same_bits(pred.predict(yt[r], dtype=t).bias, whole[r])
+    fast = pred.predict(yt.astype(np.float64)).bias
+    eps = float(np.finfo(t).eps) / 2
+    mag = np.abs(yt).astype(np.float64) @ np.abs(pred.weights).T + np.abs(pred.offset)
+    # γ_{k+1} for both sums (k = 16), plus, in float32, the rounding of W and w0 (≤ eps each)
+    assert np.all(np.abs(whole - fast) <= 2 * 19 * eps * mag)
+
+
 # --- the second compiler -------------------------------------------------------------------------
 
 
