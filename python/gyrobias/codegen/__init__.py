@@ -5,9 +5,12 @@ dependency-free C99 header/source pair (state struct, ``init``, per-sample ``ste
 ``process``; no dynamic allocation, no recursion, no global mutable state) in float64, float32
 or Q31 fixed point:
 
-- float64 C equals the float64 Python/Rust path bit for bit (same operations, same order);
-- float32 C equals ``FixedGainKalman.filter(z, dtype=np.float32)`` and
-  ``fir.stream(taps, x, dtype=np.float32)`` bit for bit;
+- float64 C equals the float64 Python/Rust path bit for bit (same operations, same order;
+  for the predictor ``CompiledPredictor.predict(windows, dtype=np.float64)``);
+- float32 C equals ``FixedGainKalman.filter(z, dtype=np.float32)``,
+  ``fir.stream(taps, x, dtype=np.float32)`` and
+  ``CompiledPredictor.predict(windows, dtype=np.float32)`` bit for bit, on the host and on a
+  Cortex-M4F (``tests/test_codegen_target.py``);
 - Q31 C stays within an analytic bound of float64 (designed in the Rust core,
   ``gyrocore::codegen``: shifts chosen from the design, saturating arithmetic, stated rounding).
 
