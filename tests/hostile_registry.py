@@ -259,7 +259,7 @@ REGISTRY: dict[str, str] = {
     "path:path_out std:array? title:text dpi:count",
     # --- predict ----------------------------------------------------------------------------------
     "predict.CompiledPredictor.__init__": "inner:field predictor:field",
-    "predict.CompiledPredictor.predict": "batch:array n_threads:count?",
+    "predict.CompiledPredictor.predict": "batch:array n_threads:count? dtype:option?",
     "predict.CompiledPredictor.to_c": "path:path_out name:text dtype:option options:forwarded",
     "predict.Evaluation.__init__": "calibration:field horizon:field sections:field methods:field",
     "predict.Evaluation.ratio": "method:key reference:key statistic:option resamples:count "
