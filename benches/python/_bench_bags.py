@@ -178,8 +178,8 @@ def bag_rows(
         _, _, data = messages(kind == "ros1", n)
         assert np.array_equal(log.data, data), f"{label}: values differ"
         assert raw_iteration(path) == n
-        ours = best_of(lambda: gyrobias.io.load(path), repeats)
-        base = best_of(lambda: raw_iteration(path), repeats)
+        ours = best_of(lambda p=path: gyrobias.io.load(p), repeats)
+        base = best_of(lambda p=path: raw_iteration(p), repeats)
         peak = peak_rss_mb(f"log = gyrobias.io.load({str(path)!r})") - base_mb if memory else None
         rows.append((label, base, ours, base / ours, peak))
     return rows

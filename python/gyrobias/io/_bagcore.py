@@ -94,15 +94,20 @@ def _fields(header: bytes) -> dict[bytes, bytes]:
     return out
 
 
-def _record(fh: Any) -> tuple[dict[bytes, bytes], bytes]:
+def _record(fh: Any, read: bool = True) -> tuple[dict[bytes, bytes], bytes]:
+    """The next record's header fields and data (``read=False``: the data is skipped)."""
     head = fh.read(4)
     if len(head) != 4:
         raise _Unsupported("truncated record")
-    header = fh.read(struct.unpack("<I", head)[0])
+    n = struct.unpack("<I", head)[0]
+    header = fh.read(n)
     size = fh.read(4)
-    if len(size) != 4:
+    if len(header) != n or len(size) != 4:
         raise _Unsupported("truncated record")
     n = struct.unpack("<I", size)[0]
+    if not read:
+        fh.seek(n, os.SEEK_CUR)
+        return _fields(header), b""
     data = fh.read(n)
     if len(data) != n:
         raise _Unsupported("truncated record")
@@ -150,7 +155,7 @@ def read_ros1(
             if index_pos == 0:
                 return None  # unindexed (an interrupted recording): rosbags says so
             fh.seek(index_pos)
-            conns: dict[int, tuple[str, str, str]] = {}
+            conns: dict[int, tuple[str, str, str, str]] = {}
             for _ in range(conn_count):
                 h, d = _record(fh)
                 if h.get(b"op") != b"\x07":
@@ -160,6 +165,7 @@ def read_ros1(
                     h[b"topic"].decode(),
                     _ros1_type(info[b"type"].decode()),
                     info.get(b"md5sum", b"").decode(),
+                    info.get(b"message_definition", b"").decode(),
                 )
             chunks: list[tuple[int, dict[int, int]]] = []
             for _ in range(chunk_count):
@@ -169,9 +175,10 @@ def read_ros1(
                 counts = dict(struct.iter_unpack("<II", d))
                 chunks.append((struct.unpack("<Q", h[b"chunk_pos"])[0], counts))
         conn, name, count = _ros1_topic(conns, chunks, topic)
+        _ros1_definitions(conns)
         data = allocate(count)
         stamps = allocate_stamps(count)
-        jobs = [_ros1_job(p, pos, counts, conn) for pos, counts in chunks if counts.get(conn)]
+        jobs = [_ros1_job(p, pos, counts, conn) for pos, counts in chunks]
         n = _walk(jobs, _core.bags.ros1_chunk, conn, receive, count, data, stamps, progress)
         if n != count:
             return None  # the index and the chunks disagree: rosbags decides
@@ -182,14 +189,45 @@ def read_ros1(
         return None
 
 
+def _ros1_definitions(conns: dict[int, tuple[str, str, str, str]]) -> None:
+    """The checks rosbags' ``AnyReader`` makes when it opens a bag: every connection's message
+    definition parses, the definitions agree with each other and with their md5sums; and the
+    Imu layout is the standard one (what the core decodes)."""
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+    typs: dict[str, Any] = {}
+    digests: dict[str, str] = {}
+    for _, typ, md5, msgdef in conns.values():
+        typs.update(get_types_from_msg(msgdef, typ))
+        if md5:
+            digests[typ] = md5
+    store = get_typestore(Stores.EMPTY)
+    store.register(typs)
+    for typ, md5 in digests.items():
+        if store.generate_msgdef(typ)[1] != md5:
+            raise _Unsupported("md5sum mismatch")
+    ref = get_typestore(Stores.ROS1_NOETIC)
+    for t in _FIELDS:
+        if store.fielddefs.get(t) != ref.fielddefs[t]:
+            raise _Unsupported("not the standard Imu layout")
+
+
+_FIELDS = (
+    "std_msgs/msg/Header",
+    "geometry_msgs/msg/Vector3",
+    "geometry_msgs/msg/Quaternion",
+    IMU_TYPE,
+)
+
+
 def _ros1_topic(
-    conns: dict[int, tuple[str, str, str]],
+    conns: dict[int, tuple[str, str, str, str]],
     chunks: list[tuple[int, dict[int, int]]],
     topic: str | None,
 ) -> tuple[int, str, int]:
     """The topic the reference reader would choose, if it is one the core reads."""
     types: dict[str, set[str]] = {}
-    for t, typ, _ in conns.values():
+    for t, typ, _, _ in conns.values():
         types.setdefault(t, set()).add(typ)
     if topic is None:
         imu = [t for t, ts in types.items() if ts == {IMU_TYPE}]
@@ -198,7 +236,7 @@ def _ros1_topic(
         topic = imu[0]
     if types.get(topic) != {IMU_TYPE}:
         raise _Unsupported("not an IMU topic")
-    ids = [c for c, (t, _, _) in conns.items() if t == topic]
+    ids = [c for c, (t, _, _, _) in conns.items() if t == topic]
     if len(ids) != 1 or conns[ids[0]][2] != ROS1_IMU_MD5:
         raise _Unsupported("several connections or another definition")
     count = sum(counts.get(ids[0], 0) for _, counts in chunks)
@@ -214,16 +252,21 @@ def _ros1_job(p: Path, pos: int, counts: dict[int, int], conn: int) -> Job:
         index = None
         with open(p, "rb") as fh:
             fh.seek(pos)
-            h, data = _record(fh)
+            h, data = _record(fh, read=conn in counts)
             for _ in counts:  # one index data record per connection follows the chunk
                 hi, di = _record(fh)
                 if hi.get(b"op") != b"\x04" or hi.get(b"ver") != b"\x01\x00\x00\x00":
                     raise _Unsupported("not index data")
                 if struct.unpack("<I", hi[b"conn"])[0] == conn:
                     index = di
-        if h.get(b"op") != b"\x05" or index is None or len(index) != 12 * counts[conn]:
-            raise _Unsupported("not a chunk and its index")
-        raw = _ros1_decompressor(h.get(b"compression", b""))(data)
+        if h.get(b"op") != b"\x05":
+            raise _Unsupported("not a chunk")
+        decompress = _ros1_decompressor(h.get(b"compression", b""))
+        if conn not in counts:
+            return ()  # checked like rosbags' open does, nothing to decode
+        if index is None or len(index) != 12 * counts[conn]:
+            raise _Unsupported("no index data")
+        raw = decompress(data)
         if len(raw) != struct.unpack("<I", h[b"size"])[0]:
             raise _Unsupported("chunk size")
         return raw, index
@@ -245,6 +288,8 @@ def _walk(
     n = 0
     last = -(2**63)
     for parts in _pipeline(jobs):
+        if not parts:
+            continue
         rows, last, ordered = decode(*parts, ident, receive, last, data, stamps, n)
         if not ordered:
             raise _Unsupported("receive times out of order")
