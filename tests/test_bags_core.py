@@ -265,7 +265,7 @@ def test_fallback_to_rosbags(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) ->
 
 def _custom_imu_bag(path: Path, stamps: np.ndarray, data: np.ndarray) -> Path:
     """A ROS1 bag whose sensor_msgs/Imu definition has an extra field (another md5sum)."""
-    from rosbags.typesys import Stores, get_typestore, get_types_from_msg
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
     ts = get_typestore(Stores.EMPTY)
     deps = ("std_msgs/msg/Header", "geometry_msgs/msg/Vector3", "geometry_msgs/msg/Quaternion")

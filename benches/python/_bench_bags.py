@@ -8,7 +8,9 @@ acceleration), so writing the bags takes seconds instead of minutes.
 
 The baseline is rosbags' ``AnyReader`` opened on the bag and iterating the topic's raw messages
 without deserializing them (the least any rosbags-based reader does); the target is
-``gyrobias.io.load`` ≥ 2× faster, both measured in the same run, best of ``repeats``.
+``gyrobias.io.load`` ≥ 2× faster, both measured in the same run (``bench_io.py --only bag``).
+Run alone, this script measures the peak memory of loading a large bag (default 4.3 M messages,
+a 3-hour 400 Hz recording): ``python benches/python/_bench_bags.py [N]``.
 """
 
 from __future__ import annotations
@@ -19,9 +21,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from _timing import best_of
-
-import gyrobias
 
 IMU = "sensor_msgs/msg/Imu"
 T0 = 1_700_000_000_000_000_000
@@ -166,43 +165,44 @@ def peak_rss_mb(statement: str) -> float:
     return int(out.stdout.split()[-1]) / 1024.0
 
 
-def bag_rows(
-    directory: Path, n: int = 300_000, repeats: int = 3, memory: bool = True
-) -> list[tuple[str, float, float, float, float | None]]:
-    """``(format, baseline s, gyrobias s, ratio, peak RSS above the imports MB)`` per bag format."""
-    rows = []
-    base_mb = peak_rss_mb("pass") if memory else 0.0
+def memory_rows(
+    directory: Path, n: int, formats: tuple[str, ...]
+) -> list[tuple[str, float, float]]:
+    """``(format, peak RSS above the imports MB, result MB)`` of loading an ``n``-message bag
+    in a fresh process (``VmHWM``); the bag is deleted afterwards."""
+    out = []
+    base_mb = peak_rss_mb("pass")
     for label, kind, compression in FORMATS:
+        if label not in formats:
+            continue
         path = write_bag(directory, kind, compression, n)
-        log = gyrobias.io.load(path)
-        _, _, data = messages(kind == "ros1", n)
-        assert np.array_equal(log.data, data), f"{label}: values differ"
-        assert raw_iteration(path) == n
-        ours = best_of(lambda p=path: gyrobias.io.load(p), repeats)
-        base = best_of(lambda p=path: raw_iteration(p), repeats)
-        peak = peak_rss_mb(f"log = gyrobias.io.load({str(path)!r})") - base_mb if memory else None
-        rows.append((label, base, ours, base / ours, peak))
-    return rows
-
-
-def print_rows(rows: list[tuple[str, float, float, float, float | None]], n: int) -> None:
-    """The bag table: baseline, gyrobias, ratio (target ≥ 2×) and peak memory."""
-    out_mb = n * 7 * 8 / 1e6  # six float64 channels + the float64 time column
-    print(f"Bags: {n} sensor_msgs/Imu messages (result: {out_mb:.0f} MB of data + time)")
-    print(f"  {'format':24s} {'rosbags raw':>11s} {'gyrobias':>9s} {'ratio':>6s} {'peak RSS':>9s}")
-    for label, base, ours, ratio, peak in rows:
-        mem = "" if peak is None else f"{peak:6.0f} MB"
-        print(f"  {label:24s} {base:9.3f} s {ours:7.3f} s {ratio:5.1f}x {mem:>9s}")
-    print("  (target: gyrobias.io.load >= 2x rosbags' raw iteration; peak RSS above the imports)")
+        peak = peak_rss_mb(f"log = gyrobias.io.load({str(path)!r})") - base_mb
+        out.append((label, peak, n * 7 * 8 / 1e6))
+        if path.is_dir():
+            for f in path.iterdir():
+                f.unlink()
+            path.rmdir()
+        else:
+            path.unlink()
+    return out
 
 
 if __name__ == "__main__":
     import argparse
     import tempfile
 
-    ap = argparse.ArgumentParser(description="bag rows of bench_io.py")
-    ap.add_argument("--messages", type=int, default=300_000)
-    ap.add_argument("--repeats", type=int, default=3)
+    ap = argparse.ArgumentParser(
+        description="peak memory of loading an N-message ROS1 bag and MCAP (zstd) file "
+        "(the timed rows are bench_io.py's bag section)"
+    )
+    ap.add_argument("messages", type=int, nargs="?", default=4_300_000)
+    ap.add_argument("--dir", type=Path, help="directory for the bags (default: a temporary one)")
     args = ap.parse_args()
-    with tempfile.TemporaryDirectory() as tmp:
-        print_rows(bag_rows(Path(tmp), args.messages, args.repeats), args.messages)
+    with tempfile.TemporaryDirectory(dir=args.dir) as tmp:
+        for label, peak, result in memory_rows(
+            Path(tmp), args.messages, ("ROS1 .bag", "MCAP, zstd chunks")
+        ):
+            print(
+                f"{label}, {args.messages} messages: peak RSS {peak:.0f} MB above the imports "
+                f"(result {result:.0f} MB: data + time)"
+            )
