@@ -36,7 +36,16 @@ fn ros1_chunk(
     let d = c_order_mut("data", &mut data)?;
     let s = c_order_mut("stamps", &mut stamps)?;
     let scan = core(py.detach(|| {
-        bags::ros1_chunk(chunk, index, conn, stamp_kind(receive), previous, d, s, start)
+        bags::ros1_chunk(
+            chunk,
+            index,
+            conn,
+            stamp_kind(receive),
+            previous,
+            d,
+            s,
+            start,
+        )
     }))?;
     Ok((scan.rows, scan.last_receive, scan.ordered))
 }

@@ -358,7 +358,10 @@ pub fn ros1_chunk(
             })?;
             let e = entry * 12;
             let expected = bytes_at(index, e, 12, "index").map_err(|_| {
-                corrupt("index", format!("lists fewer messages than the chunk (offset {at})"))
+                corrupt(
+                    "index",
+                    format!("lists fewer messages than the chunk (offset {at})"),
+                )
             })?;
             let sec = u32_at(expected, 0, true, "index")?;
             let nsec = u32_at(expected, 4, true, "index")?;
@@ -550,7 +553,9 @@ mod tests {
 
     #[test]
     fn decodes_every_frame_length_and_byte_order() {
-        for frame in ["", "a", "ab", "imu", "imu0", "imu_l", "imu_li", "imu_lin", "imu_link"] {
+        for frame in [
+            "", "a", "ab", "imu", "imu0", "imu_l", "imu_li", "imu_lin", "imu_link",
+        ] {
             let r = decode(&ros1_msg(frame, 17, 999_999_999, V), Encoding::Ros1).unwrap();
             assert_eq!(r.values, V);
             assert_eq!(r.header_ns, 17 * NS + 999_999_999);
@@ -621,29 +626,82 @@ mod tests {
         }
         let mut data = vec![0.0; 4 * 6];
         let mut stamps = vec![0; 4];
-        let scan =
-            ros1_chunk(&chunk, &index, 3, Stamp::Header, i64::MIN, &mut data, &mut stamps, 1).unwrap();
+        let scan = ros1_chunk(
+            &chunk,
+            &index,
+            3,
+            Stamp::Header,
+            i64::MIN,
+            &mut data,
+            &mut stamps,
+            1,
+        )
+        .unwrap();
         assert_eq!(scan.rows, 3);
         assert!(!scan.ordered);
         assert_eq!(scan.last_receive, 97 * NS);
         assert_eq!(&stamps[1..], &[10 * NS, 12 * NS, 13 * NS]);
         assert_eq!(&data[6..12], &V);
-        let scan =
-            ros1_chunk(&chunk, &index, 3, Stamp::Receive, i64::MIN, &mut data, &mut stamps, 1).unwrap();
+        let scan = ros1_chunk(
+            &chunk,
+            &index,
+            3,
+            Stamp::Receive,
+            i64::MIN,
+            &mut data,
+            &mut stamps,
+            1,
+        )
+        .unwrap();
         assert_eq!(&stamps[1..], &[100 * NS, 98 * NS, 97 * NS]);
         assert_eq!(scan.rows, 3);
         // too few rows, every truncation and bit flip: errors or values, never a panic
-        assert!(ros1_chunk(&chunk, &index, 3, Stamp::Header, 0, &mut data, &mut stamps, 2).is_err());
+        assert!(
+            ros1_chunk(
+                &chunk,
+                &index,
+                3,
+                Stamp::Header,
+                0,
+                &mut data,
+                &mut stamps,
+                2
+            )
+            .is_err()
+        );
         // an index that disagrees in time, offset or count
         for (at, bit) in [(0, 1u8), (8, 1), (20, 4)] {
             let mut bad = index.clone();
             bad[at] ^= bit;
-            assert!(ros1_chunk(&chunk, &bad, 3, Stamp::Header, 0, &mut data, &mut stamps, 0).is_err());
+            assert!(
+                ros1_chunk(&chunk, &bad, 3, Stamp::Header, 0, &mut data, &mut stamps, 0).is_err()
+            );
         }
         let short = &index[..24];
-        assert!(ros1_chunk(&chunk, short, 3, Stamp::Header, 0, &mut data, &mut stamps, 0).is_err());
+        assert!(
+            ros1_chunk(
+                &chunk,
+                short,
+                3,
+                Stamp::Header,
+                0,
+                &mut data,
+                &mut stamps,
+                0
+            )
+            .is_err()
+        );
         for cut in 0..chunk.len() {
-            let _ = ros1_chunk(&chunk[..cut], &index, 3, Stamp::Header, 0, &mut data, &mut stamps, 0);
+            let _ = ros1_chunk(
+                &chunk[..cut],
+                &index,
+                3,
+                Stamp::Header,
+                0,
+                &mut data,
+                &mut stamps,
+                0,
+            );
         }
         for bit in 0..chunk.len() * 8 {
             let mut c = chunk.clone();

@@ -5,10 +5,11 @@ Read with the pure-Python `rosbags` library (no ROS install). Messages of type
 rad/s and the linear acceleration in m/s² (REP 103/145), with ``header.stamp`` or the bag's
 receive time as int64 nanoseconds.
 
-Messages are read in batches of :data:`BATCH` into a buffer of bounded size. A batch whose
+The core's reader (:mod:`gyrobias.io._bagcore`) is tried first; a bag it leaves is read here
+with rosbags: messages in batches of :data:`BATCH` into a buffer of bounded size. A batch whose
 messages all have the standard layout and the same length (one ``frame_id``) is decoded at
 fixed byte offsets with NumPy; anything else goes through rosbags' deserializer, which is the
-reference the fast path is tested against.
+reference both fast paths are tested against.
 """
 
 from __future__ import annotations
