@@ -190,6 +190,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
             "gyrobias._version",
             "gyrobias.io._store",
             "gyrobias.io._bag",
+            "gyrobias.io._bagcore",
         ),
     ),
     (

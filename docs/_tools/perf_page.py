@@ -70,6 +70,16 @@ SELECTED: list[tuple[str, list[str], str, str]] = [
         "Bias prediction: generalized Schur against the literal Kalman filter",
         "The O(n·k) predictor against [BP]'s growing-state filter and dense linear algebra.",
     ),
+    (
+        "bench_io.py",
+        ["--only", "bag"],
+        "Reading bags against rosbags",
+        "`gyrobias.io.load` of 300,000 `sensor_msgs/Imu` messages in every bag format (ROS1 "
+        "plain/lz4/bz2 chunks, ROS2 sqlite3, MCAP plain/zstd/lz4 chunks) against rosbags "
+        "opening the same bag and iterating the topic's raw messages without deserializing "
+        "them, best of 3 each; peak memory of a fresh process loading the bag, above its "
+        "imports, next to the size of the result.",
+    ),
 ]
 
 

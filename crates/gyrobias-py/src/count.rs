@@ -183,4 +183,6 @@ extractors!(size -> usize:
     noverlap, nperseg, padlen, per_decade, resamples, rows, step, window,
 );
 extractors!(unsigned -> u64: samples, seed);
+extractors!(unsigned -> u64: channel, conn);
+extractors!(size -> usize: start);
 extractors!(optional_size -> Option<usize>: levels, m, row_width);

@@ -19,12 +19,14 @@
 //! | [`stats`] | chi-square quantiles and the special functions behind them | — |
 //! | [`fleet`] | robust z-scores of a unit within its fleet, weighted χ² homogeneity test and Birge ratio | Rousseeuw & Croux (1993), Birge (1932) |
 //! | [`timestamps`] | sampling analysis of a log's timestamps: rate, jitter, gaps, repeated and out-of-order stamps, gap filling | — |
+//! | [`bags`] | bulk decoding of `sensor_msgs/Imu` from ROS1 bag chunks, MCAP chunks and CDR messages | REP 103, ROS bag format 2.0, MCAP spec, OMG CDR |
 //! | [`simd`] | run-time choice of the kernels' vector instruction set (`GYROBIAS_SIMD=scalar` forces the baseline) | — |
 //!
 //! Units: time in seconds; rates and angles in the caller's unit (the core is unit-agnostic).
 #![forbid(unsafe_code)]
 
 pub mod allan;
+pub mod bags;
 pub mod codegen;
 pub mod error;
 pub mod fir;

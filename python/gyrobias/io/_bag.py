@@ -5,10 +5,11 @@ Read with the pure-Python `rosbags` library (no ROS install). Messages of type
 rad/s and the linear acceleration in m/s² (REP 103/145), with ``header.stamp`` or the bag's
 receive time as int64 nanoseconds.
 
-Messages are read in batches of :data:`BATCH` into a buffer of bounded size. A batch whose
+The core's reader (:mod:`gyrobias.io._bagcore`) is tried first; a bag it leaves is read here
+with rosbags: messages in batches of :data:`BATCH` into a buffer of bounded size. A batch whose
 messages all have the standard layout and the same length (one ``frame_id``) is decoded at
 fixed byte offsets with NumPy; anything else goes through rosbags' deserializer, which is the
-reference the fast path is tested against.
+reference both fast paths are tested against.
 """
 
 from __future__ import annotations
@@ -19,6 +20,8 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+
+from gyrobias.io import _bagcore
 
 __all__ = ["BAG_SUFFIXES", "CHANNELS", "IMU_TYPE", "UNITS", "is_bag", "read_bag", "topics"]
 
@@ -216,20 +219,35 @@ def read_bag(
     *,
     fast: bool = True,
     allocate_stamps: Callable[[int], NDArray[np.int64]] | None = None,
+    core: bool = True,
 ) -> tuple[NDArray[np.float64], NDArray[np.int64], str, str, str]:
     """Read one IMU topic: (n × 6 data, int64 ns stamps, time-column name, topic, format).
 
     ``allocate(n)`` returns the ``(n, 6)`` float64 output array (in memory or memory-mapped),
     ``allocate_stamps(n)`` the ``(n,)`` int64 stamps (default: in memory).
     ``stamp`` is ``"header"`` (``header.stamp``) or ``"receive"`` (the bag's record time).
-    ``fast=False`` forces rosbags' deserializer for every message (the tests' reference).
+    ``fast=False`` forces rosbags' deserializer for every message (the tests' reference);
+    ``core=False`` reads the messages with rosbags (decoding them in batches with NumPy)
+    instead of with the core's reader (:mod:`gyrobias.io._bagcore`), which is tried first and
+    leaves to rosbags every bag it does not read (other layouts, damage, ...).
     """
+    new_stamps = allocate_stamps or (lambda k: np.empty(k, dtype=np.int64))
+    t_name = "header.stamp" if stamp == "header" else "receive time"
+    if fast and core and p.is_file() and p.suffix.lower() == ".bag":
+        got1 = _bagcore.read_ros1(p, topic, stamp == "receive", progress, allocate, new_stamps)
+        if got1 is not None:
+            return got1[0], got1[1], t_name, got1[2], "ROS1 bag"
     reader = _open(p)
     try:
         name, connections, count = _choose_topic(p, reader, topic)
         ros1 = not reader.is2
         fast = fast and _standard_layout(reader, ros1)
-        new_stamps = allocate_stamps or (lambda k: np.empty(k, dtype=np.int64))
+        if fast and core and not ros1:
+            got2 = _bagcore.read_ros2(
+                reader, name, count, stamp == "receive", progress, allocate, new_stamps
+            )
+            if got2 is not None:
+                return got2[0], got2[1], t_name, name, _format(p, reader)
         data = allocate(count)
         stamps = new_stamps(count)
         n = 0
@@ -276,7 +294,6 @@ def read_bag(
             raise BagError(
                 f"{p.name}: topic {name} has {n} readable message(s); a noise analysis needs at least 2"
             )
-        t_name = "header.stamp" if stamp == "header" else "receive time"
         fmt = _format(p, reader)
         return data[:n], stamps[:n], t_name, name, fmt
     finally:

@@ -1,0 +1,775 @@
+//! Bulk decoding of `sensor_msgs/Imu` messages from the bytes of ROS bags and MCAP files.
+//!
+//! The message layouts are fixed (REP 103 / `sensor_msgs/Imu`): a header (stamp and a
+//! `frame_id` string), the orientation quaternion and its covariance, the angular velocity and
+//! its covariance, the linear acceleration and its covariance, all float64. Two serializations:
+//!
+//! * **ROS1** (little endian, unaligned): `seq u32, sec u32, nsec u32, len u32, frame_id[len]`,
+//!   then 37 float64 (4 + 9 + 3 + 9 + 3 + 9): 296 bytes after the string.
+//! * **CDR** (ROS2): a 4-byte encapsulation header (`0x00 0x01` little endian, `0x00 0x00` big
+//!   endian, two option bytes), then `sec i32, nanosec u32, len u32, frame_id[len]` (`len`
+//!   counts the terminating NUL), the float64s aligned to 8 bytes counted from the end of the
+//!   encapsulation header.
+//!
+//! A message is accepted only if its length is exactly the layout's (a different length means a
+//! different message definition). The containers walked here are the already decompressed
+//! *chunks*: a ROS1 bag chunk (records `u32 header_len, header fields, u32 data_len, data`; the
+//! message records have `op = 0x02`, fields `conn` and `time`) and the records of an MCAP chunk
+//! (`u8 opcode, u64 length, body`; Message records have opcode `0x05`: `channel_id u16,
+//! sequence u32, log_time u64, publish_time u64, data`). Every read is bounds-checked: corrupt
+//! or truncated bytes give [`Error::InvalidParameter`] (naming the chunk or message and the
+//! byte offset), never a panic.
+//!
+//! Output: rows of six float64 (`gyro_x..z` in rad/s, `accel_x..z` in m/s²) written from row
+//! `start` of a preallocated `(n, 6)` array, with either the header stamp (`sec·10⁹ + nsec`) or
+//! the container's receive time (ROS1 record `time`, MCAP `log_time`) as int64 nanoseconds.
+
+use crate::error::{Error, Result};
+
+/// Channels per message: angular velocity x, y, z and linear acceleration x, y, z.
+pub const CHANNELS: usize = 6;
+/// Bytes of the 37 float64 of an Imu after the header.
+const FLOATS: usize = 37 * 8;
+/// Offset of the angular velocity after the header (orientation 4 + covariance 9 float64).
+const GYRO: usize = 13 * 8;
+/// Offset of the linear acceleration after the header (+ angular velocity 3 + covariance 9).
+const ACCEL: usize = 25 * 8;
+const NS: i64 = 1_000_000_000;
+
+/// The serialization of the messages.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Encoding {
+    /// ROS1 (`rosbag` v2.0 files).
+    Ros1,
+    /// OMG CDR with its encapsulation header (ROS2: sqlite3 and MCAP storage).
+    Cdr,
+}
+
+/// Which time becomes a row's stamp.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stamp {
+    /// The message's `header.stamp`.
+    Header,
+    /// The time the recorder received the message (ROS1 record time, MCAP `log_time`).
+    Receive,
+}
+
+/// One decoded message.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Imu {
+    /// Angular velocity x, y, z (rad/s), linear acceleration x, y, z (m/s²).
+    pub values: [f64; CHANNELS],
+    /// `header.stamp` as nanoseconds (`sec·10⁹ + nanosec`).
+    pub header_ns: i64,
+}
+
+/// What a chunk walk wrote.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ChunkScan {
+    /// Rows written (from `start`).
+    pub rows: usize,
+    /// Receive time of the last message of the topic seen (`previous` if none).
+    pub last_receive: i64,
+    /// Whether every receive time was at least the one before it (the first compared with
+    /// `previous`): the readers return messages in receive-time order, so a walk in file
+    /// order gives their rows only when this holds.
+    pub ordered: bool,
+}
+
+fn corrupt(name: &'static str, reason: String) -> Error {
+    Error::InvalidParameter { name, reason }
+}
+
+fn bytes_at<'a>(buf: &'a [u8], at: usize, len: usize, name: &'static str) -> Result<&'a [u8]> {
+    at.checked_add(len)
+        .and_then(|end| buf.get(at..end))
+        .ok_or_else(|| {
+            corrupt(
+                name,
+                format!(
+                    "truncated: {len} bytes needed at offset {at}, {} available",
+                    buf.len()
+                ),
+            )
+        })
+}
+
+fn u16_le(buf: &[u8], at: usize, name: &'static str) -> Result<u16> {
+    let b = bytes_at(buf, at, 2, name)?;
+    Ok(u16::from_le_bytes([b[0], b[1]]))
+}
+
+fn u32_at(buf: &[u8], at: usize, little: bool, name: &'static str) -> Result<u32> {
+    let b = bytes_at(buf, at, 4, name)?;
+    let a = [b[0], b[1], b[2], b[3]];
+    Ok(if little {
+        u32::from_le_bytes(a)
+    } else {
+        u32::from_be_bytes(a)
+    })
+}
+
+fn u64_le(buf: &[u8], at: usize, name: &'static str) -> Result<u64> {
+    let b = bytes_at(buf, at, 8, name)?;
+    let mut a = [0u8; 8];
+    a.copy_from_slice(b);
+    Ok(u64::from_le_bytes(a))
+}
+
+fn f64_at(buf: &[u8], at: usize, little: bool) -> f64 {
+    // Callers have checked the message length, so the 8 bytes are there.
+    let mut a = [0u8; 8];
+    if let Some(b) = buf.get(at..at + 8) {
+        a.copy_from_slice(b);
+    }
+    if little {
+        f64::from_le_bytes(a)
+    } else {
+        f64::from_be_bytes(a)
+    }
+}
+
+fn usize_of(v: u64, name: &'static str) -> Result<usize> {
+    usize::try_from(v).map_err(|_| corrupt(name, format!("length {v} exceeds the address space")))
+}
+
+/// Decodes one serialized `sensor_msgs/Imu`.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] (`message`) when the bytes are not a standard Imu in this
+/// encoding: too short, an unknown CDR encapsulation, or a length other than the layout's.
+pub fn decode(msg: &[u8], encoding: Encoding) -> Result<Imu> {
+    const NAME: &str = "message";
+    let (little, base, header_ns) = match encoding {
+        Encoding::Ros1 => {
+            let sec = u32_at(msg, 4, true, NAME)?;
+            let nsec = u32_at(msg, 8, true, NAME)?;
+            (true, 4usize, i64::from(sec) * NS + i64::from(nsec))
+        }
+        Encoding::Cdr => {
+            let head = bytes_at(msg, 0, 4, NAME)?;
+            if head[0] != 0 || head[1] > 1 {
+                return Err(corrupt(
+                    NAME,
+                    format!(
+                        "CDR encapsulation {:#04x}{:02x} is not plain CDR",
+                        head[0], head[1]
+                    ),
+                ));
+            }
+            let little = head[1] == 1;
+            // sec is int32 in builtin_interfaces/Time: reinterpret the bits as signed.
+            let sec = i64::from(i32::from_ne_bytes(
+                u32_at(msg, 4, little, NAME)?.to_ne_bytes(),
+            ));
+            let nsec = u32_at(msg, 8, little, NAME)?;
+            (little, 4usize, sec * NS + i64::from(nsec))
+        }
+    };
+    // The frame_id length follows the stamp in both encodings (after seq in ROS1).
+    let len_at = base + 8;
+    let len = u32_at(msg, len_at, little, NAME)? as usize;
+    let mut floats = (len_at + 4)
+        .checked_add(len)
+        .ok_or_else(|| corrupt(NAME, format!("frame_id length {len} is impossible")))?;
+    if encoding == Encoding::Cdr {
+        floats = base + (floats - base).div_ceil(8) * 8;
+    }
+    if floats.checked_add(FLOATS) != Some(msg.len()) {
+        return Err(corrupt(
+            NAME,
+            format!(
+                "{} bytes, not the {} of a sensor_msgs/Imu with a {len}-byte frame_id",
+                msg.len(),
+                floats.saturating_add(FLOATS)
+            ),
+        ));
+    }
+    let g = floats + GYRO;
+    let a = floats + ACCEL;
+    Ok(Imu {
+        values: [
+            f64_at(msg, g, little),
+            f64_at(msg, g + 8, little),
+            f64_at(msg, g + 16, little),
+            f64_at(msg, a, little),
+            f64_at(msg, a + 8, little),
+            f64_at(msg, a + 16, little),
+        ],
+        header_ns,
+    })
+}
+
+/// The output arrays: `data` is `(n, 6)` row-major, `stamps` has `n` entries.
+fn check_out(data: &[f64], stamps: &[i64], start: usize) -> Result<usize> {
+    let n = stamps.len();
+    if data.len() != n.saturating_mul(CHANNELS) {
+        return Err(Error::ShapeMismatch {
+            name: "data",
+            reason: format!(
+                "{} values for {n} stamps, {} expected",
+                data.len(),
+                n.saturating_mul(CHANNELS)
+            ),
+        });
+    }
+    if start > n {
+        return Err(Error::InvalidParameter {
+            name: "start",
+            reason: format!("must be at most the {n} output rows, got {start}"),
+        });
+    }
+    Ok(n)
+}
+
+struct Writer<'a> {
+    data: &'a mut [f64],
+    stamps: &'a mut [i64],
+    row: usize,
+    stamp: Stamp,
+    last: i64,
+    ordered: bool,
+}
+
+impl Writer<'_> {
+    fn push(&mut self, msg: &[u8], encoding: Encoding, receive: i64) -> Result<()> {
+        if self.row >= self.stamps.len() {
+            return Err(corrupt(
+                "data",
+                format!(
+                    "more messages than the {} output rows (the bag's index undercounts)",
+                    self.stamps.len()
+                ),
+            ));
+        }
+        let imu = decode(msg, encoding)?;
+        let at = self.row * CHANNELS;
+        self.data[at..at + CHANNELS].copy_from_slice(&imu.values);
+        self.stamps[self.row] = match self.stamp {
+            Stamp::Header => imu.header_ns,
+            Stamp::Receive => receive,
+        };
+        self.ordered &= receive >= self.last;
+        self.last = receive;
+        self.row += 1;
+        Ok(())
+    }
+}
+
+/// The fields of a ROS1 record header that the walk needs.
+struct Ros1Header {
+    op: Option<u8>,
+    conn: Option<u32>,
+    time: Option<i64>,
+}
+
+fn ros1_header(h: &[u8], at: usize) -> Result<Ros1Header> {
+    const NAME: &str = "chunk";
+    let mut out = Ros1Header {
+        op: None,
+        conn: None,
+        time: None,
+    };
+    let mut pos = 0usize;
+    while pos < h.len() {
+        let len = u32_at(h, pos, true, NAME)? as usize;
+        let field = bytes_at(h, pos + 4, len, NAME)
+            .map_err(|_| corrupt(NAME, format!("record header field overruns at offset {at}")))?;
+        pos += 4 + len;
+        let Some(eq) = field.iter().position(|&b| b == b'=') else {
+            return Err(corrupt(
+                NAME,
+                format!("record header field without '=' at offset {at}"),
+            ));
+        };
+        let (name, value) = (&field[..eq], &field[eq + 1..]);
+        match name {
+            b"op" if value.len() == 1 => out.op = Some(value[0]),
+            b"conn" if value.len() == 4 => out.conn = Some(u32_at(value, 0, true, NAME)?),
+            b"time" if value.len() == 8 => {
+                let sec = u32_at(value, 0, true, NAME)?;
+                let nsec = u32_at(value, 4, true, NAME)?;
+                out.time = Some(i64::from(sec) * NS + i64::from(nsec));
+            }
+            _ => {}
+        }
+    }
+    Ok(out)
+}
+
+/// Decodes the Imu messages of connection `conn` in a decompressed ROS1 bag chunk into rows
+/// `start..` of `data` (`(n, 6)` row-major) and `stamps` (`n`), in the chunk's record order.
+///
+/// `index` is the data of the bag's index data record of this connection for this chunk
+/// (`sec u32, nsec u32, offset u32` per message): each message must sit at its entry's offset
+/// with its entry's time, as the index-driven readers require. `previous` is the receive time
+/// of the topic's last message before this chunk (for [`ChunkScan::ordered`]; `i64::MIN` for
+/// the first chunk).
+///
+/// # Errors
+/// [`Error::InvalidParameter`] for a truncated or malformed record, a message that disagrees
+/// with `index` (time, offset or count), a message that is not a standard Imu, or more
+/// messages than output rows; [`Error::ShapeMismatch`] when `data` does not have 6 values per
+/// stamp.
+#[allow(clippy::too_many_arguments)]
+pub fn ros1_chunk(
+    chunk: &[u8],
+    index: &[u8],
+    conn: u64,
+    stamp: Stamp,
+    previous: i64,
+    data: &mut [f64],
+    stamps: &mut [i64],
+    start: usize,
+) -> Result<ChunkScan> {
+    const NAME: &str = "chunk";
+    check_out(data, stamps, start)?;
+    if index.len() % 12 != 0 {
+        return Err(corrupt(
+            "index",
+            format!("{} bytes, not 12 per message", index.len()),
+        ));
+    }
+    let mut w = Writer {
+        data,
+        stamps,
+        row: start,
+        stamp,
+        last: previous,
+        ordered: true,
+    };
+    let mut entry = 0usize;
+    let mut pos = 0usize;
+    while pos < chunk.len() {
+        let at = pos;
+        let hlen = u32_at(chunk, pos, true, NAME)? as usize;
+        let header = bytes_at(chunk, pos + 4, hlen, NAME)?;
+        pos += 4 + hlen;
+        let dlen = u32_at(chunk, pos, true, NAME)? as usize;
+        let body = bytes_at(chunk, pos + 4, dlen, NAME)?;
+        pos += 4 + dlen;
+        let h = ros1_header(header, at)?;
+        if h.op == Some(0x02) && h.conn.map(u64::from) == Some(conn) {
+            let time = h.time.ok_or_else(|| {
+                corrupt(
+                    NAME,
+                    format!("message record without a time at offset {at}"),
+                )
+            })?;
+            let e = entry * 12;
+            let expected = bytes_at(index, e, 12, "index").map_err(|_| {
+                corrupt(
+                    "index",
+                    format!("lists fewer messages than the chunk (offset {at})"),
+                )
+            })?;
+            let sec = u32_at(expected, 0, true, "index")?;
+            let nsec = u32_at(expected, 4, true, "index")?;
+            let offset = u32_at(expected, 8, true, "index")? as usize;
+            if offset != at || i64::from(sec) * NS + i64::from(nsec) != time {
+                return Err(corrupt(
+                    "index",
+                    format!("entry {entry} disagrees with the message record at offset {at}"),
+                ));
+            }
+            entry += 1;
+            w.push(body, Encoding::Ros1, time)?;
+        }
+    }
+    if entry * 12 != index.len() {
+        return Err(corrupt(
+            "index",
+            format!("lists {} messages, the chunk has {entry}", index.len() / 12),
+        ));
+    }
+    Ok(ChunkScan {
+        rows: w.row - start,
+        last_receive: w.last,
+        ordered: w.ordered,
+    })
+}
+
+/// Decodes the Imu messages of channel `channel` in the decompressed records of an MCAP chunk
+/// (CDR) into rows `start..` of `data` and `stamps`, in record order; the receive time is the
+/// Message record's `log_time`. Arguments and result as [`ros1_chunk`].
+///
+/// # Errors
+/// As [`ros1_chunk`].
+pub fn mcap_chunk(
+    records: &[u8],
+    channel: u64,
+    stamp: Stamp,
+    previous: i64,
+    data: &mut [f64],
+    stamps: &mut [i64],
+    start: usize,
+) -> Result<ChunkScan> {
+    const NAME: &str = "chunk";
+    check_out(data, stamps, start)?;
+    let mut w = Writer {
+        data,
+        stamps,
+        row: start,
+        stamp,
+        last: previous,
+        ordered: true,
+    };
+    let mut pos = 0usize;
+    while pos < records.len() {
+        let at = pos;
+        let op = bytes_at(records, pos, 1, NAME)?[0];
+        let len = usize_of(u64_le(records, pos + 1, NAME)?, NAME)?;
+        let body = bytes_at(records, pos + 9, len, NAME)?;
+        pos += 9 + len;
+        if op == 0x05 {
+            if body.len() < 22 {
+                return Err(corrupt(
+                    NAME,
+                    format!(
+                        "message record of {} bytes at offset {at} (22 at least)",
+                        body.len()
+                    ),
+                ));
+            }
+            if u64::from(u16_le(body, 0, NAME)?) == channel {
+                let log_time = i64::from_le_bytes(u64_le(body, 6, NAME)?.to_le_bytes());
+                w.push(&body[22..], Encoding::Cdr, log_time)?;
+            }
+        }
+    }
+    Ok(ChunkScan {
+        rows: w.row - start,
+        last_receive: w.last,
+        ordered: w.ordered,
+    })
+}
+
+/// Decodes CDR Imu messages stored back to back in `buf` (`lengths[i]` bytes each, e.g. the
+/// `data` blobs of a ROS2 sqlite3 bag) into rows `start..` of `data`; their header stamps go to
+/// `stamps` when `header_stamps` is true (else `stamps` is left alone). Returns the rows written
+/// (`lengths.len()`).
+///
+/// # Errors
+/// [`Error::InvalidParameter`] when the lengths do not add up to `buf`, a message is not a
+/// standard Imu, or there are more messages than output rows; [`Error::ShapeMismatch`] as
+/// [`ros1_chunk`].
+pub fn cdr_messages(
+    buf: &[u8],
+    lengths: &[i64],
+    header_stamps: bool,
+    data: &mut [f64],
+    stamps: &mut [i64],
+    start: usize,
+) -> Result<usize> {
+    let n = check_out(data, stamps, start)?;
+    if lengths.len() > n - start {
+        return Err(Error::InvalidParameter {
+            name: "lengths",
+            reason: format!(
+                "{} messages for {} free output rows",
+                lengths.len(),
+                n - start
+            ),
+        });
+    }
+    let mut pos = 0usize;
+    for (k, &len) in lengths.iter().enumerate() {
+        let len = usize::try_from(len).map_err(|_| Error::InvalidParameter {
+            name: "lengths",
+            reason: format!("must be non-negative, got {len} at index {k}"),
+        })?;
+        let msg = bytes_at(buf, pos, len, "buf")?;
+        pos += len;
+        let imu = decode(msg, Encoding::Cdr)?;
+        let row = start + k;
+        data[row * CHANNELS..(row + 1) * CHANNELS].copy_from_slice(&imu.values);
+        if header_stamps {
+            stamps[row] = imu.header_ns;
+        }
+    }
+    if pos != buf.len() {
+        return Err(Error::InvalidParameter {
+            name: "lengths",
+            reason: format!("add up to {pos} bytes, buf has {}", buf.len()),
+        });
+    }
+    Ok(lengths.len())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A ROS1 Imu with the given frame id, stamp and values (angular velocity, acceleration).
+    fn ros1_msg(frame: &str, sec: u32, nsec: u32, v: [f64; 6]) -> Vec<u8> {
+        let mut m = Vec::new();
+        m.extend_from_slice(&7u32.to_le_bytes()); // seq
+        m.extend_from_slice(&sec.to_le_bytes());
+        m.extend_from_slice(&nsec.to_le_bytes());
+        m.extend_from_slice(&u32::try_from(frame.len()).unwrap().to_le_bytes());
+        m.extend_from_slice(frame.as_bytes());
+        floats(&mut m, v, true);
+        m
+    }
+
+    fn floats(m: &mut Vec<u8>, v: [f64; 6], little: bool) {
+        let mut all = vec![0.0, 0.0, 0.0, 1.0];
+        all.extend([0.5; 9]);
+        all.extend(&v[..3]);
+        all.extend([0.25; 9]);
+        all.extend(&v[3..]);
+        all.extend([0.125; 9]);
+        for x in all {
+            m.extend_from_slice(&if little {
+                x.to_le_bytes()
+            } else {
+                x.to_be_bytes()
+            });
+        }
+    }
+
+    fn cdr_msg(frame: &str, sec: i32, nsec: u32, v: [f64; 6], little: bool) -> Vec<u8> {
+        let mut m = vec![0u8, u8::from(little), 0, 0];
+        let put = |m: &mut Vec<u8>, x: u32| {
+            m.extend_from_slice(&if little {
+                x.to_le_bytes()
+            } else {
+                x.to_be_bytes()
+            });
+        };
+        put(&mut m, u32::from_ne_bytes(sec.to_ne_bytes()));
+        put(&mut m, nsec);
+        put(&mut m, u32::try_from(frame.len() + 1).unwrap());
+        m.extend_from_slice(frame.as_bytes());
+        m.push(0);
+        while (m.len() - 4) % 8 != 0 {
+            m.push(0);
+        }
+        floats(&mut m, v, little);
+        m
+    }
+
+    const V: [f64; 6] = [1.5, -2.25, 3.0e-3, 9.81, -0.5, 1e300];
+
+    #[test]
+    fn decodes_every_frame_length_and_byte_order() {
+        for frame in [
+            "", "a", "ab", "imu", "imu0", "imu_l", "imu_li", "imu_lin", "imu_link",
+        ] {
+            let r = decode(&ros1_msg(frame, 17, 999_999_999, V), Encoding::Ros1).unwrap();
+            assert_eq!(r.values, V);
+            assert_eq!(r.header_ns, 17 * NS + 999_999_999);
+            for little in [true, false] {
+                let c = decode(&cdr_msg(frame, -3, 5, V, little), Encoding::Cdr).unwrap();
+                assert_eq!(c.values, V);
+                assert_eq!(c.header_ns, -3 * NS + 5);
+            }
+        }
+    }
+
+    #[test]
+    fn other_lengths_and_encapsulations_are_refused() {
+        let mut m = ros1_msg("imu", 1, 2, V);
+        m.push(0);
+        assert!(decode(&m, Encoding::Ros1).is_err());
+        let mut c = cdr_msg("imu", 1, 2, V, true);
+        c[1] = 3; // PL_CDR
+        assert!(decode(&c, Encoding::Cdr).is_err());
+        let ok = cdr_msg("imu", 1, 2, V, true);
+        for cut in 0..ok.len() {
+            assert!(decode(&ok[..cut], Encoding::Cdr).is_err());
+        }
+        // a frame_id length near u32::MAX neither overflows nor panics
+        let mut big = ros1_msg("imu", 1, 2, V);
+        big[12..16].copy_from_slice(&u32::MAX.to_le_bytes());
+        assert!(decode(&big, Encoding::Ros1).is_err());
+    }
+
+    fn ros1_record(fields: &[(&str, &[u8])], data: &[u8]) -> Vec<u8> {
+        let mut h = Vec::new();
+        for (name, value) in fields {
+            let len = u32::try_from(name.len() + 1 + value.len()).unwrap();
+            h.extend_from_slice(&len.to_le_bytes());
+            h.extend_from_slice(name.as_bytes());
+            h.push(b'=');
+            h.extend_from_slice(value);
+        }
+        let mut r = u32::try_from(h.len()).unwrap().to_le_bytes().to_vec();
+        r.extend(h);
+        r.extend_from_slice(&u32::try_from(data.len()).unwrap().to_le_bytes());
+        r.extend_from_slice(data);
+        r
+    }
+
+    fn time(sec: u32, nsec: u32) -> Vec<u8> {
+        let mut t = sec.to_le_bytes().to_vec();
+        t.extend_from_slice(&nsec.to_le_bytes());
+        t
+    }
+
+    #[test]
+    fn ros1_chunk_takes_its_connection_in_record_order() {
+        let mut chunk = ros1_record(&[("op", &[7]), ("conn", &3u32.to_le_bytes())], b"x=y");
+        let mut index = Vec::new();
+        for (k, conn) in [3u32, 4, 3, 3].into_iter().enumerate() {
+            let k32 = u32::try_from(k).unwrap();
+            let msg = ros1_msg("imu", 10 + k32, 0, V);
+            let t = time(100 - k32, 0); // receive times decrease: not ordered
+            if conn == 3 {
+                index.extend_from_slice(&t);
+                index.extend_from_slice(&u32::try_from(chunk.len()).unwrap().to_le_bytes());
+            }
+            chunk.extend(ros1_record(
+                &[("op", &[2]), ("conn", &conn.to_le_bytes()), ("time", &t)],
+                &msg,
+            ));
+        }
+        let mut data = vec![0.0; 4 * 6];
+        let mut stamps = vec![0; 4];
+        let scan = ros1_chunk(
+            &chunk,
+            &index,
+            3,
+            Stamp::Header,
+            i64::MIN,
+            &mut data,
+            &mut stamps,
+            1,
+        )
+        .unwrap();
+        assert_eq!(scan.rows, 3);
+        assert!(!scan.ordered);
+        assert_eq!(scan.last_receive, 97 * NS);
+        assert_eq!(&stamps[1..], &[10 * NS, 12 * NS, 13 * NS]);
+        assert_eq!(&data[6..12], &V);
+        let scan = ros1_chunk(
+            &chunk,
+            &index,
+            3,
+            Stamp::Receive,
+            i64::MIN,
+            &mut data,
+            &mut stamps,
+            1,
+        )
+        .unwrap();
+        assert_eq!(&stamps[1..], &[100 * NS, 98 * NS, 97 * NS]);
+        assert_eq!(scan.rows, 3);
+        // too few rows, every truncation and bit flip: errors or values, never a panic
+        assert!(
+            ros1_chunk(
+                &chunk,
+                &index,
+                3,
+                Stamp::Header,
+                0,
+                &mut data,
+                &mut stamps,
+                2
+            )
+            .is_err()
+        );
+        // an index that disagrees in time, offset or count
+        for (at, bit) in [(0, 1u8), (8, 1), (20, 4)] {
+            let mut bad = index.clone();
+            bad[at] ^= bit;
+            assert!(
+                ros1_chunk(&chunk, &bad, 3, Stamp::Header, 0, &mut data, &mut stamps, 0).is_err()
+            );
+        }
+        let short = &index[..24];
+        assert!(
+            ros1_chunk(
+                &chunk,
+                short,
+                3,
+                Stamp::Header,
+                0,
+                &mut data,
+                &mut stamps,
+                0
+            )
+            .is_err()
+        );
+        for cut in 0..chunk.len() {
+            let _ = ros1_chunk(
+                &chunk[..cut],
+                &index,
+                3,
+                Stamp::Header,
+                0,
+                &mut data,
+                &mut stamps,
+                0,
+            );
+        }
+        for bit in 0..chunk.len() * 8 {
+            let mut c = chunk.clone();
+            c[bit / 8] ^= 1 << (bit % 8);
+            let _ = ros1_chunk(&c, &index, 3, Stamp::Header, 0, &mut data, &mut stamps, 0);
+        }
+    }
+
+    fn mcap_message(channel: u16, log_time: u64, data: &[u8]) -> Vec<u8> {
+        let mut r = vec![0x05];
+        r.extend_from_slice(&(22 + data.len() as u64).to_le_bytes());
+        r.extend_from_slice(&channel.to_le_bytes());
+        r.extend_from_slice(&9u32.to_le_bytes());
+        r.extend_from_slice(&log_time.to_le_bytes());
+        r.extend_from_slice(&(log_time + 1).to_le_bytes());
+        r.extend_from_slice(data);
+        r
+    }
+
+    #[test]
+    fn mcap_chunk_takes_its_channel() {
+        let mut recs = vec![0x04];
+        recs.extend_from_slice(&3u64.to_le_bytes());
+        recs.extend_from_slice(&[1, 2, 3]); // a channel record: skipped
+        for (k, ch) in [1u16, 2, 1].into_iter().enumerate() {
+            let k32 = i32::try_from(k).unwrap();
+            recs.extend(mcap_message(
+                ch,
+                50 + k as u64,
+                &cdr_msg("imu", k32, 1, V, true),
+            ));
+        }
+        let mut data = vec![0.0; 2 * 6];
+        let mut stamps = vec![0; 2];
+        let scan = mcap_chunk(&recs, 1, Stamp::Receive, 50, &mut data, &mut stamps, 0).unwrap();
+        assert_eq!(scan.rows, 2);
+        assert!(scan.ordered);
+        assert_eq!(stamps, vec![50, 52]);
+        mcap_chunk(&recs, 1, Stamp::Header, 51, &mut data, &mut stamps, 0).unwrap();
+        assert_eq!(stamps, vec![1, 2 * NS + 1]);
+        assert_eq!(data[..6], V);
+        for cut in 0..recs.len() {
+            let _ = mcap_chunk(&recs[..cut], 1, Stamp::Header, 0, &mut data, &mut stamps, 0);
+        }
+        for bit in 0..recs.len() * 8 {
+            let mut c = recs.clone();
+            c[bit / 8] ^= 1 << (bit % 8);
+            let _ = mcap_chunk(&c, 1, Stamp::Header, 0, &mut data, &mut stamps, 0);
+        }
+    }
+
+    #[test]
+    fn cdr_messages_back_to_back() {
+        let a = cdr_msg("", 1, 2, V, true);
+        let b = cdr_msg("imu_link", 3, 4, V, false);
+        let buf = [a.clone(), b.clone()].concat();
+        let lengths = [a.len() as i64, b.len() as i64];
+        let mut data = vec![0.0; 3 * 6];
+        let mut stamps = vec![-1; 3];
+        assert_eq!(
+            cdr_messages(&buf, &lengths, true, &mut data, &mut stamps, 1).unwrap(),
+            2
+        );
+        assert_eq!(stamps, vec![-1, NS + 2, 3 * NS + 4]);
+        assert_eq!(data[12..], V);
+        assert!(cdr_messages(&buf, &lengths, true, &mut data, &mut stamps, 2).is_err());
+        assert!(cdr_messages(&buf[1..], &lengths, true, &mut data, &mut stamps, 0).is_err());
+        assert!(cdr_messages(&buf, &[-1, 5], true, &mut data, &mut stamps, 0).is_err());
+        assert!(cdr_messages(&buf, &lengths, true, &mut data[1..], &mut stamps, 0).is_err());
+    }
+}

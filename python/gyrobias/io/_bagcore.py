@@ -1,0 +1,458 @@
+"""The core's bag reader: ``sensor_msgs/Imu`` decoded in bulk from the serialized bytes.
+
+The containers are walked here (ROS1 bag index and chunk records, MCAP top-level records, the
+sqlite3 ``messages`` table), their chunks decompressed by the same libraries rosbags uses
+(``lz4.frame``, ``bz2``, ``zstd``; in worker threads, which release the GIL), and every
+decompressed chunk handed whole to ``gyrocore::bags``, which decodes the topic's messages at
+their fixed offsets straight into the output arrays. Only one chunk (per worker) is in memory
+at a time.
+
+Every function returns ``None`` when it does not apply or meets anything unexpected: another
+message layout, several connections on the topic, receive times out of order (the readers
+return messages in receive-time order; a file-order walk then differs), a count that disagrees
+with the bag's index, or any corrupt byte. The caller then reads the bag with rosbags, which
+gives the same values and raises today's error for a damaged bag.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+import struct
+import zlib
+from collections import deque
+from collections.abc import Callable, Iterable, Iterator
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gyrobias import _core
+
+if TYPE_CHECKING:
+    from concurrent.futures import Future
+
+__all__ = ["ROS1_IMU_MD5", "read_ros1", "read_ros2"]
+
+IMU_TYPE = "sensor_msgs/msg/Imu"
+#: md5sum of the ROS1 ``sensor_msgs/Imu`` definition: the layout the core decodes.
+ROS1_IMU_MD5 = "6a62c6daae103f4ff57a132d6f95cec2"
+#: sqlite rows fetched per batch (bounds the blob buffer to a few tens of MB).
+BATCH = 65_536
+#: Chunks decompressed ahead of the decoder, per worker thread.
+AHEAD = 2
+
+Result = tuple[NDArray[np.float64], NDArray[np.int64], int]
+Allocate = Callable[[int], NDArray[Any]]
+#: Reads and decompresses one chunk: the bytes arguments of the core's decoder.
+Job = Callable[[], tuple[bytes, ...]]
+
+
+class _Unsupported(Exception):
+    """The bag is not for the core's reader: read it with rosbags."""
+
+
+def _workers() -> int:
+    return max(1, min(4, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1))
+
+
+def _pipeline(jobs: Iterable[Job]) -> Iterator[tuple[bytes, ...]]:
+    """Results of ``jobs`` in order, computed by worker threads a few jobs ahead."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    workers = _workers()
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        pending: deque[Future[tuple[bytes, ...]]] = deque()
+        try:
+            for job in jobs:
+                pending.append(pool.submit(job))
+                if len(pending) > AHEAD * workers:
+                    yield pending.popleft().result()
+            while pending:
+                yield pending.popleft().result()
+        finally:
+            for f in pending:
+                f.cancel()
+
+
+# --------------------------------------------------------------------------- ROS1
+
+
+def _fields(header: bytes) -> dict[bytes, bytes]:
+    """A ROS1 record header: ``u32 len, name=value`` fields."""
+    out = {}
+    pos = 0
+    while pos < len(header):
+        (n,) = struct.unpack_from("<I", header, pos)
+        field = header[pos + 4 : pos + 4 + n]
+        if len(field) != n or b"=" not in field:
+            raise _Unsupported("bad record header")
+        name, _, value = field.partition(b"=")
+        out[name] = value
+        pos += 4 + n
+    return out
+
+
+def _record(fh: Any, read: bool = True) -> tuple[dict[bytes, bytes], bytes]:
+    """The next record's header fields and data (``read=False``: the data is skipped)."""
+    head = fh.read(4)
+    if len(head) != 4:
+        raise _Unsupported("truncated record")
+    n = struct.unpack("<I", head)[0]
+    header = fh.read(n)
+    size = fh.read(4)
+    if len(header) != n or len(size) != 4:
+        raise _Unsupported("truncated record")
+    n = struct.unpack("<I", size)[0]
+    if not read:
+        fh.seek(n, os.SEEK_CUR)
+        return _fields(header), b""
+    data = fh.read(n)
+    if len(data) != n:
+        raise _Unsupported("truncated record")
+    return _fields(header), data
+
+
+def _ros1_type(name: str) -> str:
+    pkg, _, msg = name.partition("/")
+    return f"{pkg}/msg/{msg}" if "/" not in msg and pkg and msg else name
+
+
+def _ros1_decompressor(kind: bytes) -> Callable[[bytes], bytes]:
+    if kind == b"none":
+        return lambda b: b
+    if kind == b"bz2":
+        import bz2
+
+        return bz2.decompress
+    if kind == b"lz4":
+        from lz4.frame import decompress  # type: ignore[import-untyped]  # a rosbags dependency
+
+        return decompress  # type: ignore[no-any-return]
+    raise _Unsupported(f"chunk compression {kind!r}")
+
+
+def read_ros1(
+    p: Path,
+    topic: str | None,
+    receive: bool,
+    progress: Callable[[float], None] | None,
+    allocate: Allocate,
+    allocate_stamps: Allocate,
+) -> tuple[NDArray[np.float64], NDArray[np.int64], str] | None:
+    """A ROS1 ``.bag``: ``(data, stamps, topic)``, or ``None`` for rosbags to read it."""
+    try:
+        with open(p, "rb") as fh:
+            if fh.read(13) != b"#ROSBAG V2.0\n":
+                return None
+            head, _ = _record(fh)
+            if head.get(b"op") != b"\x03":
+                return None
+            (index_pos,) = struct.unpack("<Q", head[b"index_pos"])
+            (conn_count,) = struct.unpack("<I", head[b"conn_count"])
+            (chunk_count,) = struct.unpack("<I", head[b"chunk_count"])
+            if index_pos == 0:
+                return None  # unindexed (an interrupted recording): rosbags says so
+            fh.seek(index_pos)
+            conns: dict[int, tuple[str, str, str, str]] = {}
+            for _ in range(conn_count):
+                h, d = _record(fh)
+                if h.get(b"op") != b"\x07":
+                    return None
+                info = _fields(d)
+                conns[struct.unpack("<I", h[b"conn"])[0]] = (
+                    h[b"topic"].decode(),
+                    _ros1_type(info[b"type"].decode()),
+                    info.get(b"md5sum", b"").decode(),
+                    info.get(b"message_definition", b"").decode(),
+                )
+            chunks: list[tuple[int, dict[int, int]]] = []
+            for _ in range(chunk_count):
+                h, d = _record(fh)
+                if h.get(b"op") != b"\x06" or len(d) % 8:
+                    return None
+                counts = dict(struct.iter_unpack("<II", d))
+                chunks.append((struct.unpack("<Q", h[b"chunk_pos"])[0], counts))
+        conn, name, count = _ros1_topic(conns, chunks, topic)
+        _ros1_definitions(conns)
+        data = allocate(count)
+        stamps = allocate_stamps(count)
+        jobs = [_ros1_job(p, pos, counts, conn) for pos, counts in chunks]
+        n = _walk(jobs, _core.bags.ros1_chunk, conn, receive, count, data, stamps, progress)
+        if n != count:
+            return None  # the index and the chunks disagree: rosbags decides
+        return data, stamps, name
+    except MemoryError:
+        raise
+    except Exception:  # noqa: BLE001 - anything unexpected: the reference reader decides
+        return None
+
+
+def _ros1_definitions(conns: dict[int, tuple[str, str, str, str]]) -> None:
+    """The checks rosbags' ``AnyReader`` makes when it opens a bag: every connection's message
+    definition parses, the definitions agree with each other and with their md5sums; and the
+    Imu layout is the standard one (what the core decodes)."""
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+    typs: dict[str, Any] = {}
+    digests: dict[str, str] = {}
+    for _, typ, md5, msgdef in conns.values():
+        typs.update(get_types_from_msg(msgdef, typ))
+        if md5:
+            digests[typ] = md5
+    store = get_typestore(Stores.EMPTY)
+    store.register(typs)
+    for typ, md5 in digests.items():
+        if store.generate_msgdef(typ)[1] != md5:
+            raise _Unsupported("md5sum mismatch")
+    ref = get_typestore(Stores.ROS1_NOETIC)
+    for t in _FIELDS:
+        if store.fielddefs.get(t) != ref.fielddefs[t]:
+            raise _Unsupported("not the standard Imu layout")
+
+
+_FIELDS = (
+    "std_msgs/msg/Header",
+    "geometry_msgs/msg/Vector3",
+    "geometry_msgs/msg/Quaternion",
+    IMU_TYPE,
+)
+
+
+def _ros1_topic(
+    conns: dict[int, tuple[str, str, str, str]],
+    chunks: list[tuple[int, dict[int, int]]],
+    topic: str | None,
+) -> tuple[int, str, int]:
+    """The topic the reference reader would choose, if it is one the core reads."""
+    types: dict[str, set[str]] = {}
+    for t, typ, _, _ in conns.values():
+        types.setdefault(t, set()).add(typ)
+    if topic is None:
+        imu = [t for t, ts in types.items() if ts == {IMU_TYPE}]
+        if len(imu) != 1:
+            raise _Unsupported("no unique IMU topic")
+        topic = imu[0]
+    if types.get(topic) != {IMU_TYPE}:
+        raise _Unsupported("not an IMU topic")
+    ids = [c for c, (t, _, _, _) in conns.items() if t == topic]
+    if len(ids) != 1 or conns[ids[0]][2] != ROS1_IMU_MD5:
+        raise _Unsupported("several connections or another definition")
+    count = sum(counts.get(ids[0], 0) for _, counts in chunks)
+    if count < 2:
+        raise _Unsupported("fewer than 2 messages")
+    return ids[0], topic, count
+
+
+def _ros1_job(p: Path, pos: int, counts: dict[int, int], conn: int) -> Job:
+    """Read and decompress the chunk at ``pos`` and read its index data for ``conn``."""
+
+    def job() -> tuple[bytes, ...]:
+        index = None
+        with open(p, "rb") as fh:
+            fh.seek(pos)
+            h, data = _record(fh, read=conn in counts)
+            for _ in counts:  # one index data record per connection follows the chunk
+                hi, di = _record(fh)
+                if hi.get(b"op") != b"\x04" or hi.get(b"ver") != b"\x01\x00\x00\x00":
+                    raise _Unsupported("not index data")
+                if struct.unpack("<I", hi[b"conn"])[0] == conn:
+                    index = di
+        if h.get(b"op") != b"\x05":
+            raise _Unsupported("not a chunk")
+        decompress = _ros1_decompressor(h.get(b"compression", b""))
+        if conn not in counts:
+            return ()  # checked like rosbags' open does, nothing to decode
+        if index is None or len(index) != 12 * counts[conn]:
+            raise _Unsupported("no index data")
+        raw = decompress(data)
+        if len(raw) != struct.unpack("<I", h[b"size"])[0]:
+            raise _Unsupported("chunk size")
+        return raw, index
+
+    return job
+
+
+def _walk(
+    jobs: Iterable[Job],
+    decode: Callable[..., tuple[int, int, bool]],
+    ident: int,
+    receive: bool,
+    count: int,
+    data: NDArray[np.float64],
+    stamps: NDArray[np.int64],
+    progress: Callable[[float], None] | None,
+) -> int:
+    """Decode every chunk's messages of ``ident`` in order; the rows written."""
+    n = 0
+    last = -(2**63)
+    for parts in _pipeline(jobs):
+        if not parts:
+            continue
+        rows, last, ordered = decode(*parts, ident, receive, last, data, stamps, n)
+        if not ordered:
+            raise _Unsupported("receive times out of order")
+        n += rows
+        if progress is not None:
+            progress(min(n / count, 1.0))
+    return n
+
+
+# --------------------------------------------------------------------------- ROS2
+
+
+def read_ros2(
+    reader: Any,
+    name: str,
+    count: int,
+    receive: bool,
+    progress: Callable[[float], None] | None,
+    allocate: Allocate,
+    allocate_stamps: Allocate,
+) -> tuple[NDArray[np.float64], NDArray[np.int64]] | None:
+    """A ROS2 bag or MCAP file opened by rosbags (``reader``), topic ``name`` chosen from its
+    listing: ``(data, stamps)``, or ``None`` for rosbags to read it."""
+    try:
+        (inner,) = reader.readers
+        storage = inner.storage
+        storages = getattr(storage, "storages", [storage])
+        meta = getattr(storage, "metadata", None)
+        if len(storages) != 1 or getattr(meta, "compression_mode", None) not in (None, "", "none"):
+            return None  # split or compressed bags: rosbags
+        (store,) = storages
+        ids = [c.id for c in store.connections if c.topic == name]
+        if len(ids) != 1:
+            return None
+        kind = type(store).__name__
+        path = Path(store.path)
+        data = allocate(count)
+        stamps = allocate_stamps(count)
+        if kind == "McapReader":
+            n = _walk(
+                _mcap_jobs(path, ids[0]),
+                _core.bags.mcap_chunk,
+                ids[0],
+                receive,
+                count,
+                data,
+                stamps,
+                progress,
+            )
+            if n != count:
+                return None
+        elif kind == "Sqlite3Reader":
+            n = _sqlite(path, ids[0], receive, data, stamps, count, progress)
+        else:
+            return None
+        return data[:n], stamps[:n]
+    except MemoryError:
+        raise
+    except Exception:  # noqa: BLE001 - anything unexpected: the reference reader decides
+        return None
+
+
+def _zstd() -> Callable[[bytes], bytes]:
+    try:
+        from compression import zstd  # type: ignore[import-not-found, unused-ignore]
+    except ImportError:
+        from backports import zstd  # type: ignore[import-not-found, no-redef, unused-ignore]
+    return zstd.decompress  # type: ignore[no-any-return]
+
+
+def _mcap_decompressor(kind: str) -> Callable[[bytes], bytes]:
+    if kind == "":
+        return lambda b: b
+    if kind == "zstd":
+        return _zstd()
+    if kind == "lz4":
+        from lz4.frame import decompress
+
+        return decompress  # type: ignore[no-any-return]
+    raise _Unsupported(f"chunk compression {kind!r}")
+
+
+_CHUNK = struct.Struct("<QQQI")
+
+
+def _mcap_jobs(path: Path, channel: int) -> Iterator[Job]:
+    """The MCAP data section's chunks, read in file order, as decompression jobs."""
+    with open(path, "rb") as fh:
+        if fh.read(8) != b"\x89MCAP0\r\n":
+            raise _Unsupported("not MCAP")
+        while True:
+            head = fh.read(9)
+            if len(head) != 9:
+                raise _Unsupported("truncated")
+            op = head[0]
+            (length,) = struct.unpack_from("<Q", head, 1)
+            if op in (0x0F, 0x02):  # DataEnd, Footer: the data section is over
+                return
+            if op == 0x05:  # a message outside chunks
+                if struct.unpack("<H", fh.read(2))[0] == channel:
+                    raise _Unsupported("unchunked messages")
+                fh.seek(length - 2, os.SEEK_CUR)
+                continue
+            if op != 0x06:
+                fh.seek(length, os.SEEK_CUR)
+                continue
+            body = fh.read(length)
+            if len(body) != length:
+                raise _Unsupported("truncated chunk")
+            yield _mcap_job(body)
+
+
+def _mcap_job(body: bytes) -> Job:
+    def job() -> tuple[bytes, ...]:
+        _, _, size, crc = _CHUNK.unpack_from(body, 0)
+        (clen,) = struct.unpack_from("<I", body, 28)
+        kind = body[32 : 32 + clen].decode()
+        (rlen,) = struct.unpack_from("<Q", body, 32 + clen)
+        start = 40 + clen
+        if start + rlen > len(body):
+            raise _Unsupported("chunk records overrun")
+        raw = _mcap_decompressor(kind)(body[start : start + rlen])
+        if len(raw) != size or (crc and zlib.crc32(raw) != crc):
+            raise _Unsupported("chunk size or checksum")
+        return (raw,)
+
+    return job
+
+
+def _sqlite(
+    path: Path,
+    topic_id: int,
+    receive: bool,
+    data: NDArray[np.float64],
+    stamps: NDArray[np.int64],
+    count: int,
+    progress: Callable[[float], None] | None,
+) -> int:
+    """The topic's ``data`` blobs, in rosbags' order (its query, through the same apsw)."""
+    import apsw  # a rosbags dependency: its sqlite3 storage reads with it
+
+    con = apsw.Connection(str(path), flags=apsw.SQLITE_OPEN_READONLY)
+    try:
+        cur = con.execute(
+            "SELECT topics.id,messages.timestamp,messages.data FROM messages JOIN topics "
+            "ON messages.topic_id=topics.id WHERE topics.id IN (?) ORDER BY timestamp",
+            (topic_id,),
+        )
+        n = 0
+        while True:
+            rows = list(itertools.islice(cur, BATCH))
+            if not rows:
+                return n
+            m = len(rows)
+            if n + m > len(stamps):
+                raise _Unsupported("more rows than counted")
+            blobs = [r[2] for r in rows]
+            lengths = np.fromiter(map(len, blobs), np.int64, m)
+            _core.bags.cdr_messages(b"".join(blobs), lengths, not receive, data, stamps, n)
+            if receive:
+                stamps[n : n + m] = np.fromiter((r[1] for r in rows), np.int64, m)
+            n += m
+            if progress is not None:
+                progress(min(n / count, 1.0))
+    finally:
+        con.close()
