@@ -1,9 +1,13 @@
-"""The loader's value types: :class:`GyroLog` (the samples, names, units, rate and time) and
-:class:`SamplingReport` (what the timestamps say about the sampling). No reading code here."""
+"""The loader's value types: :class:`GyroLog` (the samples, names, units, rate and time),
+:class:`SamplingReport` (what the timestamps say about the sampling) and the time selection
+(:func:`parse_time_bound`, :class:`TimeBound`, :class:`Selection`, :meth:`GyroLog.select`).
+No reading code here."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import math
+import re
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -178,6 +182,9 @@ class GyroLog:
         formats; ``None`` where unknown).
     topic : str or None
         The bag topic read.
+    selection : Selection or None
+        The part of the log read that this log holds, after :meth:`select` (``None``: the
+        whole log).
     """
 
     data: NDArray[np.float64]
@@ -190,6 +197,7 @@ class GyroLog:
     sampling: SamplingReport
     units: tuple[str | None, ...] = ()
     topic: str | None = None
+    selection: Selection | None = None
 
     def __post_init__(self) -> None:
         if not self.units:
@@ -222,3 +230,335 @@ class GyroLog:
             return self.data[:, self.columns.index(name)]
         except ValueError:
             raise KeyError(f"no channel {name!r}; channels are {', '.join(self.columns)}") from None
+
+    def select(self, start: str | float | None = None, stop: str | float | None = None) -> GyroLog:
+        """The samples in the half-open span ``[start, stop)`` of the log, as a new log.
+
+        Parameters
+        ----------
+        start, stop : float, int, str or None
+            Bounds, each read by :func:`parse_time_bound`: seconds from the log's start (time 0
+            is the first sample; from :attr:`time` when the log has timestamps, else
+            ``index / fs``), a string with a unit (``"1200s"``, ``"90min"``, ``"0.5h"``) or a
+            sample index with the suffix ``n`` (``"250000n"``). ``None``: the log's start / end.
+            A sample belongs to the selection when its time ``t`` satisfies
+            ``start <= t < stop`` (its index ``i``: ``start <= i < stop``); times within
+            10⁻⁶ of a sample interval of a sample's time count as that time.
+
+        Returns
+        -------
+        GyroLog
+            The same log over the selected samples. Its :attr:`data` (and :attr:`time`) are
+            views of this log's arrays, never copies (a memory-mapped log stays mapped).
+            :attr:`time` keeps its values: seconds from the start of the log *as read*, not
+            re-based to the selection, so ``time_start + time`` stays the absolute time of each
+            sample. :attr:`selection` records the span (in the log as read, also for a
+            selection of a selection) for outputs such as "τ computed on 0.5–2.3 h of 2.8 h".
+            :attr:`sampling` still describes the whole log as read (its row indices too).
+
+        Raises
+        ------
+        TypeError
+            A bound is not a number, a string or ``None``.
+        ValueError
+            A bound is negative, not finite, unreadable, at or beyond the end of the log
+            (``start``) or beyond it (``stop``), ``start >= stop``, the span holds no sample,
+            or a bound is in seconds and the log has neither timestamps nor a sample rate.
+            The message names the argument.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from pathlib import Path
+        >>> from gyrobias.io import GyroLog, SamplingReport
+        >>> log = GyroLog(np.zeros((100_800, 1)), ("gx",), 10.0, None, None, None,
+        ...               Path("x.csv"), SamplingReport(100_800, 10.0, "user"))  # 2.8 h at 10 Hz
+        >>> part = log.select(start="0.5h", stop=8280.0)
+        >>> part.data.shape, np.shares_memory(part.data, log.data)
+        ((64800, 1), True)
+        >>> print(part.selection)
+        0.5–2.3 h of 2.8 h (samples 18000–82800 of 100800)
+        >>> part.select(stop="1000n").selection.stop_index
+        19000
+        """
+        first = parse_time_bound(start, name="start")
+        last = parse_time_bound(stop, name="stop")
+        n = self.n_samples
+        if n == 0:
+            raise ValueError("start: the log has no samples to select from")
+        time = self.time
+        fs = self.fs
+        period = 1.0 / fs if fs is not None and fs > 0 and math.isfinite(1.0 / fs) else None
+        t0 = float(time[0]) if time is not None else 0.0
+        # length of the log in seconds: to the end of the last sample's interval
+        if time is not None:
+            span = float(time[-1]) - t0 + (period if period is not None else 0.0)
+        elif period is not None:
+            span = n * period
+        else:
+            span = None
+        tol = 1e-6 * period if period is not None else 0.0
+
+        def offset(i: int) -> float | None:
+            """Seconds from this log's first sample to sample ``i`` (``n``: the end)."""
+            if i >= n:
+                return span
+            if time is not None:
+                return float(time[i]) - t0
+            return i * period if period is not None else None
+
+        def index(bound: TimeBound, name: str) -> int:
+            if bound.index is not None:
+                return bound.index
+            seconds = bound.seconds
+            assert seconds is not None
+            if span is None:
+                raise ValueError(
+                    f"{name}={bound} is in seconds, and the log has neither timestamps nor a "
+                    f"sample rate: give fs, or a sample index such as '{n // 2}n'"
+                )
+            if time is not None:
+                return int(np.searchsorted(time, t0 + seconds - tol, side="left"))
+            assert period is not None
+            k = seconds / period
+            nearest = round(k)
+            return int(nearest if abs(k - nearest) <= 1e-6 else math.ceil(k))
+
+        def describe_end() -> str:
+            return f"{n} samples" + (f", {_format_seconds(span)}" if span is not None else "")
+
+        i0 = 0
+        if first is not None:
+            too_late = (
+                first.index >= n
+                if first.index is not None
+                else span is not None and first.seconds is not None and first.seconds >= span - tol
+            )
+            if too_late:
+                raise ValueError(
+                    f"start={first} is at or beyond the end of the log ({describe_end()})"
+                )
+            i0 = index(first, "start")
+        i1 = n
+        if last is not None:
+            too_far = (
+                last.index > n
+                if last.index is not None
+                else span is not None and last.seconds is not None and last.seconds > span + tol
+            )
+            if too_far:
+                raise ValueError(f"stop={last} is beyond the end of the log ({describe_end()})")
+            i1 = min(index(last, "stop"), n)
+        if first is not None and last is not None and first.comparable(last) and first >= last:
+            raise ValueError(f"start={first} must be before stop={last}")
+        if i0 >= i1:
+            raise ValueError(f"start={first} and stop={last} select no sample of the log")
+        i0 = min(i0, n)
+
+        before = self.selection
+        base_index = before.start_index if before is not None else 0
+        base_s = before.start_s if before is not None else 0.0
+        start_s, stop_s = offset(i0), offset(i1)
+        selection = Selection(
+            start_s=None if start_s is None or base_s is None else base_s + start_s,
+            stop_s=None if stop_s is None or base_s is None else base_s + stop_s,
+            start_index=base_index + i0,
+            stop_index=base_index + i1,
+            total_s=before.total_s if before is not None else span,
+            total_samples=before.total_samples if before is not None else n,
+        )
+        return replace(
+            self,
+            data=self.data[i0:i1],
+            time=None if time is None else time[i0:i1],
+            selection=selection,
+        )
+
+
+_BOUND = re.compile(
+    r"^\s*(?P<number>[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(?P<unit>n|s|min|h)?\s*$"
+)
+_SECONDS_PER = {None: 1.0, "s": 1.0, "min": 60.0, "h": 3600.0}
+
+
+@dataclass(frozen=True)
+class TimeBound:
+    """One bound of a time selection, as :func:`parse_time_bound` read it.
+
+    Exactly one of the attributes is set.
+
+    Attributes
+    ----------
+    seconds : float or None
+        Seconds from the log's start (time 0 is the first sample).
+    index : int or None
+        A 0-based sample index.
+    """
+
+    seconds: float | None = None
+    index: int | None = None
+
+    def comparable(self, other: TimeBound) -> bool:
+        """``True`` when both bounds are in the same kind (seconds, or sample index)."""
+        return (self.index is None) == (other.index is None)
+
+    def __ge__(self, other: TimeBound) -> bool:
+        if self.index is not None and other.index is not None:
+            return self.index >= other.index
+        if self.seconds is not None and other.seconds is not None:
+            return self.seconds >= other.seconds
+        return NotImplemented
+
+    def __str__(self) -> str:
+        return f"{self.index}n" if self.index is not None else f"{self.seconds:g}s"
+
+
+def parse_time_bound(value: str | float | None, *, name: str = "start") -> TimeBound | None:
+    """Read one bound of a time selection (``--start`` / ``--stop``, :meth:`GyroLog.select`).
+
+    Grammar: a real number is seconds from the log's start (time 0 is the first sample); a
+    string is a number with an optional unit — none or ``s`` (seconds), ``min``, ``h`` — or a
+    non-negative integer with the suffix ``n``, a 0-based sample index (``"250000n"``).
+
+    Parameters
+    ----------
+    value : float, int, str or None
+        The bound (``None``: no bound, returned as ``None``).
+    name : str
+        The argument's name, for messages.
+
+    Returns
+    -------
+    TimeBound or None
+
+    Raises
+    ------
+    TypeError
+        ``value`` is not a real number, a string or ``None`` (a bool is refused).
+    ValueError
+        Unreadable text, a negative or non-finite value, a fractional sample index; the
+        message names ``name``.
+
+    Examples
+    --------
+    >>> from gyrobias.io import parse_time_bound
+    >>> parse_time_bound("0.5h"), parse_time_bound("90min"), parse_time_bound(12)
+    (TimeBound(seconds=1800.0, index=None), TimeBound(seconds=5400.0, index=None), \
+TimeBound(seconds=12.0, index=None))
+    >>> parse_time_bound("250000n")
+    TimeBound(seconds=None, index=250000)
+    """
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (str, int, float, np.integer, np.floating)):
+        raise TypeError(
+            f"{name} must be seconds (a number), a string such as '0.5h' or '250000n', or None; "
+            f"got {type(value).__name__}"
+        )
+    if isinstance(value, str):
+        match = _BOUND.match(value)
+        if match is None:
+            raise ValueError(
+                f"{name}={value!r} is not a time: seconds ('1200', '1200s'), minutes ('90min'), "
+                "hours ('0.5h') or a sample index ('250000n')"
+            )
+        number, unit = match.group("number"), match.group("unit")
+        if unit == "n":
+            if not re.fullmatch(r"\+?\d+", number):
+                raise ValueError(
+                    f"{name}={value!r}: a sample index is a non-negative integer before 'n'"
+                )
+            return TimeBound(index=int(number))
+        seconds = float(number) * _SECONDS_PER[unit]
+    else:
+        seconds = float(value)
+    if not math.isfinite(seconds):
+        raise ValueError(f"{name}={value!r} must be finite")
+    if seconds < 0:
+        raise ValueError(f"{name}={value!r} must be >= 0 (seconds from the log's start)")
+    return TimeBound(seconds=seconds + 0.0)
+
+
+def _format_seconds(seconds: float | None, unit: str | None = None) -> str:
+    """``seconds`` in ``unit`` (default: s below 2 min, min below 2 h, else h), 4 digits."""
+    if seconds is None:
+        return "?"
+    unit = unit or _duration_unit(seconds)
+    return f"{seconds / _SECONDS_PER[unit]:.4g} {unit}"
+
+
+def _duration_unit(seconds: float) -> str:
+    return "s" if seconds < 120 else "min" if seconds < 7200 else "h"
+
+
+@dataclass(frozen=True)
+class Selection:
+    """The span of a log that :meth:`GyroLog.select` kept, in the log as read.
+
+    Attributes
+    ----------
+    start_s, stop_s : float or None
+        Seconds from the start of the log as read to the first selected sample, and to the end
+        of the span (the first sample after it, or the end of the log); ``None`` without
+        timestamps and sample rate.
+    start_index, stop_index : int
+        The selected samples are rows ``start_index … stop_index - 1`` of the log as read.
+    total_s : float or None
+        Length of the log as read, s (to the end of its last sample's interval).
+    total_samples : int
+        Number of samples of the log as read.
+    """
+
+    start_s: float | None
+    stop_s: float | None
+    start_index: int
+    stop_index: int
+    total_s: float | None
+    total_samples: int
+
+    @property
+    def n_samples(self) -> int:
+        """Number of selected samples."""
+        return self.stop_index - self.start_index
+
+    @property
+    def duration_s(self) -> float | None:
+        """Length of the span, s."""
+        if self.start_s is None or self.stop_s is None:
+            return None
+        return self.stop_s - self.start_s
+
+    @property
+    def whole(self) -> bool:
+        """``True`` when every sample of the log is selected."""
+        return self.start_index == 0 and self.stop_index == self.total_samples
+
+    def describe(self) -> str:
+        """``"0.5–2.3 h of 2.8 h"`` (in one unit, that of the whole log), or sample indices."""
+        if self.start_s is None or self.stop_s is None or self.total_s is None:
+            return f"samples {self.start_index}–{self.stop_index} of {self.total_samples}"
+        unit = _duration_unit(self.total_s)
+        scale = _SECONDS_PER[unit]
+        return (
+            f"{self.start_s / scale:.4g}–{self.stop_s / scale:.4g} {unit} of "
+            f"{self.total_s / scale:.4g} {unit}"
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (seconds, 0-based sample indices)."""
+        return {
+            "start_s": self.start_s,
+            "stop_s": self.stop_s,
+            "start_index": self.start_index,
+            "stop_index": self.stop_index,
+            "n_samples": self.n_samples,
+            "total_s": self.total_s,
+            "total_samples": self.total_samples,
+            "text": self.describe(),
+        }
+
+    def __str__(self) -> str:
+        text = self.describe()
+        if text.startswith("samples"):
+            return text
+        return f"{text} (samples {self.start_index}–{self.stop_index} of {self.total_samples})"
