@@ -35,6 +35,7 @@ SUBCOMMANDS: list[str] = [
     "gyrobias.cli.thermal",
     "gyrobias.cli.fleet",
     "gyrobias.cli.report",
+    "gyrobias.cli.explore",
 ]
 
 #: Modules with ``register_experiment(exp_subparsers)`` for the ``gyrobias experiment`` group

@@ -1,0 +1,945 @@
+"""The explorer's user interface (Panel on Bokeh): widgets bound to :class:`Session` objects.
+
+Every number on screen comes from the session (:mod:`gyrobias.explore.state`), which calls the
+public API; this module only draws. Plots are Bokeh figures built once, whose data sources are
+replaced on each change (a redraw sends only the new points). The rate of a long log is drawn
+from a min/max envelope of the visible time span (:func:`gyrobias.cleaning.minmax_envelope`),
+recomputed on the server after each pan or zoom.
+"""
+
+from __future__ import annotations
+
+import html
+import io as _stdio
+import math
+import traceback
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+import panel as pn
+from bokeh.events import RangesUpdate, SelectionGeometry
+from bokeh.models import (
+    BoxAnnotation,
+    BoxSelectTool,
+    ColumnDataSource,
+    HoverTool,
+    Span,
+    Whisker,
+)
+from bokeh.palettes import Category10_10
+from bokeh.plotting import figure
+
+from gyrobias.explore.state import DEVIATIONS, FORMATS, METHODS, TERMS, Session, export_filename
+
+__all__ = ["ExploreApp", "ENVELOPE_BINS"]
+
+#: Bins of the rate envelope across the visible span (two points each: min and max).
+ENVELOPE_BINS = 1200
+#: At most this many outlier markers are drawn (the count is always exact).
+MAX_OUTLIER_MARKERS = 5000
+_COLORS = Category10_10
+_DEVIATION_LABELS = {
+    "adev": "ADEV (overlapping Allan)",
+    "mdev": "MDEV (modified Allan)",
+    "hdev": "HDEV (overlapping Hadamard)",
+    "totdev": "TOTDEV (total)",
+    "theo1": "Théo1",
+    "wvar": "wavelet variance (classical, as ADEV-equivalent √(2ν²))",
+    "wvar-robust": "wavelet variance (robust, as ADEV-equivalent √(2ν²))",
+}
+_CSS = """
+.gb-pre { font-family: monospace; font-size: 12px; white-space: pre; overflow-x: auto; }
+.gb-steps li { margin: 2px 0; }
+"""
+
+
+def _envelope(data: Any, lo: int, hi: int, bins: int) -> tuple[Any, Any, Any]:
+    """(bin centre index, min, max) per bin of rows ``lo:hi`` of a 1-D channel."""
+    from gyrobias import cleaning
+
+    env = cleaning.minmax_envelope(data[lo:hi], bins)
+    return np.asarray(env.index) + lo, np.asarray(env.low), np.asarray(env.high)
+
+
+class _View:
+    """A tab: ``panel`` is shown; ``refresh()`` redraws it from the session."""
+
+    title = ""
+
+    def __init__(self, app: ExploreApp) -> None:
+        self.app = app
+        self.panel: Any = pn.Column()
+
+    def refresh(self) -> None:  # pragma: no cover - every view overrides it
+        raise NotImplementedError
+
+
+def _message(text: str, kind: str = "warning") -> Any:
+    return pn.pane.Alert(html.escape(text), alert_type=kind, sizing_mode="stretch_width")
+
+
+def _pre(text: str, cls: str) -> Any:
+    return pn.pane.HTML(
+        f'<pre class="gb-pre {cls}">{html.escape(text)}</pre>',
+        sizing_mode="stretch_width",
+        stylesheets=[_CSS],
+    )
+
+
+class _LogView(_View):
+    title = "Log"
+
+    def __init__(self, app: ExploreApp) -> None:
+        super().__init__(app)
+        self.figures: list[Any] = []
+        self.sources: list[list[ColumnDataSource]] = []
+        self.shade: list[BoxAnnotation] = []
+        self.info = pn.pane.HTML(sizing_mode="stretch_width", stylesheets=[_CSS])
+        self.built_for: Session | None = None
+
+    def _build(self, session: Session) -> None:
+        log = session.log
+        assert log is not None
+        self.figures, self.sources, self.shade = [], [], []
+        x_range = None
+        fs = session.fs
+        for unit, cols in session.unit_groups():
+            fig = figure(
+                height=240,
+                sizing_mode="stretch_width",
+                x_axis_label="time from the start of the log (s)",
+                y_axis_label=f"rate [{unit}]" if unit else "rate",
+                tools="xpan,xwheel_zoom,reset,save",
+                active_scroll="xwheel_zoom",
+                output_backend="webgl",
+            )
+            if x_range is None:
+                x_range = fig.x_range
+            else:
+                fig.x_range = x_range
+            box = BoxSelectTool(dimensions="width", persistent=False)
+            fig.add_tools(box)
+            fig.toolbar.active_drag = box
+            srcs = []
+            for c in cols:
+                src = ColumnDataSource({"t": [], "lo": [], "hi": []})
+                color = _COLORS[c % len(_COLORS)]
+                fig.varea("t", "lo", "hi", source=src, fill_color=color, fill_alpha=0.45)
+                fig.line(
+                    "t", "hi", source=src, color=color, line_width=0.6, legend_label=log.columns[c]
+                )
+                fig.line("t", "lo", source=src, color=color, line_width=0.6)
+                srcs.append(src)
+            fig.legend.location = "top_left"
+            fig.legend.click_policy = "hide"
+            shade = BoxAnnotation(fill_color="#2a7ab0", fill_alpha=0.12, left=0, right=0)
+            fig.add_layout(shade)
+            fig.on_event(SelectionGeometry, self._on_select)
+            fig.on_event(RangesUpdate, self._on_range)
+            self.figures.append(fig)
+            self.sources.append(srcs)
+            self.shade.append(shade)
+        self.groups = session.unit_groups()
+        self.fs = fs
+        self.built_for = session
+        self.panel[:] = [
+            pn.pane.Markdown(
+                "Drag on a plot to select the part to analyse (or type it at the left); "
+                "scroll to zoom. The rate is drawn as its minimum and maximum per pixel."
+            ),
+            *[pn.pane.Bokeh(f, sizing_mode="stretch_width") for f in self.figures],
+            self.info,
+        ]
+        self._draw(0, log.n_samples)
+
+    def _time(self, session: Session, rows: Any) -> Any:
+        log = session.log
+        assert log is not None
+        if log.time is not None:
+            return np.asarray(log.time)[np.minimum(rows, log.n_samples - 1)]
+        return rows / session.fs
+
+    def _draw(self, lo: int, hi: int) -> None:
+        session = self.built_for
+        assert session is not None and session.log is not None
+        data = session.log.data
+        lo, hi = max(0, lo), min(session.log.n_samples, hi)
+        if hi - lo < 2:
+            return
+        for (unit, cols), srcs in zip(self.groups, self.sources):
+            for c, src in zip(cols, srcs):
+                idx, mn, mx = _envelope(data[:, c], lo, hi, ENVELOPE_BINS)
+                src.data = {"t": self._time(session, idx), "lo": mn, "hi": mx}
+
+    def _on_range(self, event: Any) -> None:
+        session = self.built_for
+        if session is None or event.x0 is None or event.x1 is None:
+            return
+        fs = session.fs
+        lo = int(math.floor(float(event.x0) * fs)) - 1
+        hi = int(math.ceil(float(event.x1) * fs)) + 2
+        try:
+            self._draw(lo, hi)
+        except Exception as exc:  # a redraw never kills the page
+            self.app.show_error(exc)
+
+    def _on_select(self, event: Any) -> None:
+        if not event.final:
+            return
+        g = event.geometry
+        x0, x1 = float(g.get("x0", 0.0)), float(g.get("x1", 0.0))
+        start = max(0.0, min(x0, x1))
+        stop = max(x0, x1)
+        self.app.apply(start=round(start, 6), stop=round(stop, 6))
+
+    def refresh(self) -> None:
+        session = self.app.session
+        if session.log is None:
+            self.panel[:] = [_message("An Allan result was given: there is no log to show.")]
+            self.built_for = None
+            return
+        if self.built_for is not session:
+            self._build(session)
+        s = session.settings
+        for shade in self.shade:
+            if s.start is None and s.stop is None:
+                shade.visible = False
+            else:
+                shade.visible = True
+                shade.left = s.start or 0.0
+                shade.right = s.stop if s.stop is not None else session.duration
+        self.info.object = self.app.sampling_html(session)
+
+
+class _CleanView(_View):
+    title = "Clean"
+
+    def __init__(self, app: ExploreApp) -> None:
+        super().__init__(app)
+        self.fig = figure(
+            height=300,
+            sizing_mode="stretch_width",
+            x_axis_label="time from the start of the log (s)",
+            y_axis_label="rate",
+            tools="xpan,xwheel_zoom,reset,save",
+            output_backend="webgl",
+        )
+        self.before = ColumnDataSource({"t": [], "lo": [], "hi": []})
+        self.after = ColumnDataSource({"t": [], "lo": [], "hi": []})
+        self.flagged = ColumnDataSource({"t": [], "y": []})
+        self.fig.varea(
+            "t", "lo", "hi", source=self.before, fill_color="#bbbbbb", legend_label="selection"
+        )
+        self.fig.varea(
+            "t", "lo", "hi", source=self.after, fill_color="#1f77b4", fill_alpha=0.6,
+            legend_label="after the cleaning steps",
+        )
+        self.fig.scatter(
+            "t", "y", source=self.flagged, marker="x", color="#d62728", size=7,
+            legend_label="outliers removed",
+        )
+        self.channel = pn.widgets.Select(name="channel", options=[], width=200)
+        self.channel.param.watch(lambda *_: self.refresh(), "value")
+        self.table = pn.pane.HTML(sizing_mode="stretch_width", stylesheets=[_CSS])
+        self.panel[:] = [
+            self.channel,
+            pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
+            self.table,
+        ]
+
+    def refresh(self) -> None:
+        session = self.app.session
+        if session.log is None:
+            self.panel[:] = [_message("An Allan result was given: there is nothing to clean.")]
+            return
+        cols = list(session.columns)
+        if list(self.channel.options) != cols:
+            self.channel.options = cols
+            self.channel.value = cols[0]
+        c = cols.index(self.channel.value) if self.channel.value in cols else 0
+        part = session.selection()
+        cleaned = session.cleaned()
+        n = part.n_samples
+        t_all = part.time if part.time is not None else None
+        offset = part.selection.start_index if part.selection is not None else 0
+
+        def times(rows: Any) -> Any:
+            rows = np.minimum(np.asarray(rows), n - 1)
+            if t_all is not None:
+                return np.asarray(t_all)[rows]
+            return (rows + offset) / session.fs
+
+        idx, mn, mx = _envelope(part.data[:, c], 0, n, ENVELOPE_BINS)
+        self.before.data = {"t": times(idx), "lo": mn, "hi": mx}
+        after = cleaned.data[:, c]
+        if np.isnan(after).any():  # the envelope of the kept samples
+            after = np.where(np.isnan(after), np.nanmedian(after), after)
+        idx, mn, mx = _envelope(after, 0, n, ENVELOPE_BINS)
+        self.after.data = {"t": times(idx), "lo": mn, "hi": mx}
+        if cleaned.outlier_mask is not None:
+            rows = np.flatnonzero(np.asarray(cleaned.outlier_mask)[:, c])[:MAX_OUTLIER_MARKERS]
+            self.flagged.data = {"t": times(rows), "y": np.asarray(part.data[rows, c])}
+        else:
+            self.flagged.data = {"t": [], "y": []}
+        self.fig.yaxis.axis_label = f"{cols[c]} [{session.log.units[c] or 'data unit'}]"
+        s = session.settings
+        rows_html = []
+        for k, name in enumerate(cols):
+            trend = cleaned.trend[k] if cleaned.trend else ()
+            rows_html.append(
+                f"<tr><td>{html.escape(name)}</td><td class='gb-outliers'>{cleaned.outliers[k]}</td>"
+                f"<td>{', '.join(f'{v:.6g}' for v in trend) or '—'}</td></tr>"
+            )
+        self.table.object = (
+            f"<p>{n} samples selected; outliers: "
+            f"{'off' if s.outliers is None else f'beyond {s.outliers:g} σ'}; drift: "
+            f"{s.detrend or 'kept'}.</p><table><tr><th>channel</th><th>outliers removed</th>"
+            f"<th>drift polynomial (gyrobias.cleaning.detrend coefficients)</th></tr>"
+            + "".join(rows_html)
+            + "</table>"
+        )
+
+
+def _dev_arrays(r: Any) -> tuple[Any, Any, Any, Any]:
+    """(τ, deviation, low, high) of an Allan result or a wavelet variance (as √(2ν²))."""
+    if hasattr(r, "scales"):
+        tau = np.asarray(r.scales) / 2.0
+        dev = np.sqrt(2.0 * np.asarray(r.variance))
+        return tau, dev, np.sqrt(2.0 * np.asarray(r.ci_low)), np.sqrt(2.0 * np.asarray(r.ci_high))
+    dev = np.asarray(r.adev)
+    lo = None if r.ci_low is None else np.asarray(r.ci_low)
+    hi = None if r.ci_high is None else np.asarray(r.ci_high)
+    return np.asarray(r.taus), dev, lo, hi
+
+
+def _loglog(title: str, height: int = 380) -> Any:
+    fig = figure(
+        height=height,
+        sizing_mode="stretch_width",
+        x_axis_type="log",
+        y_axis_type="log",
+        x_axis_label="τ (s)",
+        y_axis_label="deviation",
+        title=title,
+        tools="pan,wheel_zoom,box_zoom,reset,save",
+    )
+    fig.add_tools(HoverTool(tooltips=[("τ", "@tau{0.000e}"), ("σ", "@dev{0.000e}")]))
+    return fig
+
+
+class _StabilityView(_View):
+    title = "Stability"
+
+    def __init__(self, app: ExploreApp) -> None:
+        super().__init__(app)
+        self.kind = pn.widgets.Select(
+            name="statistic", options={v: k for k, v in _DEVIATION_LABELS.items()}, width=380
+        )
+        self.kind.param.watch(self._on_kind, "value")
+        self.layout = pn.widgets.RadioButtonGroup(
+            name="axes", options=["overlaid", "apart"], value="overlaid"
+        )
+        self.layout.param.watch(lambda *_: self.refresh(), "value")
+        self.plots = pn.Column(sizing_mode="stretch_width")
+        self.panel[:] = [pn.Row(self.kind, self.layout), self.plots]
+
+    def _on_kind(self, event: Any) -> None:
+        if not self.app.syncing:
+            self.app.apply(deviation=event.new)
+
+    def refresh(self) -> None:
+        session = self.app.session
+        s = session.settings
+        self.app.syncing = True
+        try:
+            self.kind.value = s.deviation
+        finally:
+            self.app.syncing = False
+        results = session.stability()
+        label = _DEVIATION_LABELS[s.deviation]
+        figs = []
+        if self.layout.value == "overlaid":
+            by_unit: dict[Any, Any] = {}
+            for k, r in enumerate(results):
+                fig = by_unit.get(r.unit)
+                if fig is None:
+                    fig = by_unit[r.unit] = _loglog(f"{label} [{r.unit or 'data unit'}]")
+                _draw_dev(fig, r, _COLORS[k % len(_COLORS)], str(r.axis))
+            figs = list(by_unit.values())
+        else:
+            for k, r in enumerate(results):
+                fig = _loglog(f"{label}: {r.axis} [{r.unit or 'data unit'}]", height=300)
+                _draw_dev(fig, r, _COLORS[k % len(_COLORS)], str(r.axis))
+                figs.append(fig)
+        self.plots[:] = [pn.pane.Bokeh(f, sizing_mode="stretch_width") for f in figs]
+
+
+def _draw_dev(fig: Any, r: Any, color: str, name: str) -> None:
+    tau, dev, lo, hi = _dev_arrays(r)
+    ok = np.isfinite(dev) & (dev > 0)
+    src = ColumnDataSource({"tau": tau[ok], "dev": dev[ok]})
+    fig.line("tau", "dev", source=src, color=color, legend_label=name)
+    fig.scatter("tau", "dev", source=src, color=color, size=4, legend_label=name)
+    if lo is not None and hi is not None:
+        band = ColumnDataSource({"tau": tau[ok], "lo": lo[ok], "hi": hi[ok]})
+        fig.add_layout(Whisker(source=band, base="tau", lower="lo", upper="hi", line_color=color))
+    fig.legend.location = "bottom_left"
+    fig.legend.click_policy = "hide"
+
+
+class _FitView(_View):
+    title = "Fit"
+
+    def __init__(self, app: ExploreApp) -> None:
+        super().__init__(app)
+        self.channel = pn.widgets.Select(name="channel", options=[], width=200)
+        self.channel.param.watch(lambda *_: self.refresh(), "value")
+        self.plot = pn.Column(sizing_mode="stretch_width")
+        self.summary = pn.pane.HTML(sizing_mode="stretch_width", stylesheets=[_CSS])
+        self.diagnostics = pn.pane.HTML(sizing_mode="stretch_width", stylesheets=[_CSS])
+        self.lines = pn.widgets.CheckBoxGroup(name="detected lines", options=[], inline=False)
+        self.lines.param.watch(self._on_lines, "value")
+        self.conservative = pn.pane.HTML(sizing_mode="stretch_width", stylesheets=[_CSS])
+        self.panel[:] = [
+            pn.pane.Markdown(
+                "Drag across the plot to set the τ range of the fit (or type it at the left)."
+            ),
+            self.channel,
+            self.plot,
+            pn.Row(
+                pn.Column("### Coefficients", self.summary, sizing_mode="stretch_width"),
+                pn.Column(
+                    "### Diagnostics", self.diagnostics, "### Spectral lines", self.lines,
+                    width=420,
+                ),
+            ),
+            "### Conservative set (overbounds the curve at 95 %)",
+            self.conservative,
+        ]
+        self._detected: list[float] = []
+
+    def _on_lines(self, event: Any) -> None:
+        if self.app.syncing:
+            return
+        chosen = tuple(float(f) for f in event.new)
+        if set(chosen) == set(self._detected):
+            self.app.apply(lines="auto")
+        elif not chosen:
+            self.app.apply(lines="none")
+        else:
+            self.app.apply(lines=tuple(sorted(chosen)))
+
+    def refresh(self) -> None:
+        session = self.app.session
+        s = session.settings
+        fits = session.coefficients()
+        cols = list(session.columns)
+        if list(self.channel.options) != cols:
+            self.channel.options = cols
+            self.channel.value = cols[0]
+        k = cols.index(self.channel.value) if self.channel.value in cols else 0
+        c = fits[k]
+        self.summary.object = (
+            f'<pre class="gb-pre gb-summary">'
+            + html.escape("\n\n".join(f.to("ieee").summary() for f in fits))
+            + "</pre>"
+        )
+        # the plot: measured curve with intervals, total model, each term's asymptote
+        r = c.allan
+        fig = _loglog(f"{s.method} fit, channel {cols[k]} [{c.data_unit or 'data unit'}]")
+        if r is not None:
+            _draw_dev(fig, r, "#333333", "measured")
+            tau = np.asarray(r.taus)
+            grid = np.geomspace(tau[0], tau[-1], 200)
+            total, parts = c.model(grid)
+            ok = total > 0
+            fig.line(grid[ok], total[ok], color="#d62728", line_width=2, legend_label="model")
+            for j, (sym, v) in enumerate(parts.items()):
+                okp = np.isfinite(v) & (v > 0)
+                if okp.any() and np.max(v[okp]) > 0:
+                    fig.line(
+                        grid[okp], v[okp], color=_COLORS[(j + 1) % len(_COLORS)],
+                        line_dash="dashed", legend_label=sym,
+                    )
+        d = c.diagnostics
+        if d is not None:
+            lo, hi = d.tau_range
+            fig.add_layout(BoxAnnotation(left=lo, right=hi, fill_color="#2ca02c", fill_alpha=0.07))
+            for a, b, _why in d.excluded:
+                fig.add_layout(
+                    BoxAnnotation(left=a, right=b, fill_color="#7f7f7f", fill_alpha=0.15)
+                )
+        if s.tau_range is not None:
+            for t in s.tau_range:
+                fig.add_layout(Span(location=t, dimension="height", line_dash="dotted"))
+        box = BoxSelectTool(dimensions="width", persistent=False)
+        fig.add_tools(box)
+        fig.toolbar.active_drag = box
+        fig.on_event(SelectionGeometry, self._on_select)
+        fig.legend.location = "bottom_left"
+        self.plot[:] = [pn.pane.Bokeh(fig, sizing_mode="stretch_width")]
+        self.diagnostics.object = _diagnostics_html(c)
+        # lines: detected ones (joint/GMWM with lines="auto" or chosen ones)
+        detected = sorted({float(line.frequency) for f in fits for line in _lines_of(f)})
+        self._detected = detected
+        chosen = (
+            detected if s.lines == "auto" else ([] if s.lines == "none" else list(s.lines))
+        )
+        self.app.syncing = True
+        try:
+            options = sorted(set(detected) | set(chosen))
+            self.lines.options = {f"{f:.6g} Hz": f for f in options}
+            self.lines.value = [f for f in chosen if f in options]
+        finally:
+            self.app.syncing = False
+        if s.method == "gmwm":
+            self.conservative.object = "<p>The conservative set is built from an Allan fit (joint or IEEE).</p>"
+        else:
+            try:
+                cons = session.conservative()
+                self.conservative.object = (
+                    '<pre class="gb-pre gb-conservative">'
+                    + html.escape("\n\n".join(_conservative_text(x) for x in cons))
+                    + "</pre>"
+                )
+            except ValueError as exc:
+                self.conservative.object = f"<p>{html.escape(str(exc))}</p>"
+
+    def _on_select(self, event: Any) -> None:
+        if not event.final:
+            return
+        g = event.geometry
+        x0, x1 = float(g.get("x0", 0.0)), float(g.get("x1", 0.0))
+        lo, hi = sorted((x0, x1))
+        if lo > 0 and hi > lo:
+            self.app.apply(tau_range=(float(f"{lo:.4g}"), float(f"{hi:.4g}")))
+
+
+def _lines_of(c: Any) -> Sequence[Any]:
+    d = c.diagnostics
+    return () if d is None else tuple(d.lines)
+
+
+def _conservative_text(x: Any) -> str:
+    c = x.coefficients.to("ieee")
+    head = f"axis {c.axis}: margin {x.margin:.3g}" if hasattr(x, "margin") else f"axis {c.axis}"
+    rows = [head]
+    for t in c.terms:
+        if t.value is not None:
+            infl = x.inflation.get(t.symbol)
+            rows.append(
+                f"  {t.symbol} {t.value:.4g} {t.unit or ''}"
+                + (f"  (×{infl:.3g} the best fit)" if infl is not None else "")
+            )
+    return "\n".join(rows)
+
+
+def _diagnostics_html(c: Any) -> str:
+    d = c.diagnostics
+    if d is None:
+        return "<p>No diagnostics.</p>"
+    nu = d.dof
+    red = d.chi2 / nu if nu else float("nan")
+    parts = [
+        f"<p class='gb-diag'>χ²/ν = {d.chi2:.4g}/{nu} = {red:.3g}, p = {d.p_value:.3g} "
+        f"({'passed' if d.passed else 'REJECTED'}); τ used {d.tau_range[0]:.4g}–{d.tau_range[1]:.4g} s</p>"
+    ]
+    if d.excluded:
+        parts.append(
+            "<p>Excluded τ:</p><ul>"
+            + "".join(
+                f"<li>{a:.4g}–{b:.4g} s: {html.escape(why)}</li>" for a, b, why in d.excluded
+            )
+            + "</ul>"
+        )
+    bounds = [t for t in c.to("ieee").terms if t.bounded]
+    if bounds:
+        parts.append(
+            "<p>Upper bounds (terms the log does not show):</p><ul>"
+            + "".join(
+                f"<li>{t.symbol} ≤ {t.upper_bound:.4g} {html.escape(t.unit or '')} "
+                f"({100 * (t.bound_confidence or 0):.3g} %)</li>"
+                for t in bounds
+            )
+            + "</ul>"
+        )
+    if d.warnings:
+        parts.append(
+            "<ul>" + "".join(f"<li>{html.escape(w)}</li>" for w in d.warnings) + "</ul>"
+        )
+    return "".join(parts)
+
+
+class _CompareView(_View):
+    title = "Compare"
+
+    def __init__(self, app: ExploreApp) -> None:
+        super().__init__(app)
+        self.choice = pn.widgets.MultiChoice(name="curves", options=[], sizing_mode="stretch_width")
+        self.choice.param.watch(lambda *_: self.refresh(), "value")
+        self.plots = pn.Column(sizing_mode="stretch_width")
+        self.panel[:] = [
+            pn.pane.Markdown(
+                "ADEV of every log and channel loaded, each with its own part and cleaning steps."
+            ),
+            self.choice,
+            self.plots,
+        ]
+
+    def refresh(self) -> None:
+        keys = [
+            f"{i}: {s.source.label} · {col}"
+            for i, s in enumerate(self.app.sessions)
+            for col in s.columns
+        ]
+        if list(self.choice.options) != keys:
+            self.choice.options = keys
+            self.choice.value = keys[: min(len(keys), 12)]
+        by_unit: dict[Any, Any] = {}
+        for k, key in enumerate(self.choice.value):
+            i = int(key.split(":", 1)[0])
+            col = key.rsplit(" · ", 1)[1]
+            session = self.app.sessions[i]
+            try:
+                r = session.allan()[list(session.columns).index(col)]
+            except Exception as exc:  # one failing log does not hide the others
+                self.app.show_error(exc, f"{session.source.label}: ")
+                continue
+            fig = by_unit.get(r.unit)
+            if fig is None:
+                fig = by_unit[r.unit] = _loglog(f"ADEV [{r.unit or 'data unit'}]")
+            _draw_dev(fig, r, _COLORS[k % len(_COLORS)], key.split(": ", 1)[1])
+        self.plots[:] = [pn.pane.Bokeh(f, sizing_mode="stretch_width") for f in by_unit.values()]
+
+
+class _ExportView(_View):
+    title = "Export"
+
+    def __init__(self, app: ExploreApp) -> None:
+        super().__init__(app)
+        self.buttons = [
+            pn.widgets.FileDownload(
+                callback=self._exporter(fmt),
+                filename=export_filename(fmt),
+                label=f"{fmt} ({export_filename(fmt)})",
+                button_type="primary",
+                name=f"download-{fmt}",
+                css_classes=[f"gb-download-{fmt}"],
+            )
+            for fmt in FORMATS
+        ]
+        self.report = pn.widgets.FileDownload(
+            callback=self._report,
+            filename="report.html",
+            label="HTML report (report.html)",
+            css_classes=["gb-download-report"],
+        )
+        self.code_download = pn.widgets.FileDownload(
+            callback=lambda: _stdio.BytesIO(self.app.session.python_code().encode()),
+            filename="reproduce.py",
+            label="Python code (reproduce.py)",
+            css_classes=["gb-download-code"],
+        )
+        self.code = pn.pane.HTML(sizing_mode="stretch_width", stylesheets=[_CSS])
+        self.cli = pn.pane.HTML(sizing_mode="stretch_width", stylesheets=[_CSS])
+        self.panel[:] = [
+            "### Estimator files (gyrobias.exports.export of the fit on screen)",
+            pn.FlexBox(*self.buttons),
+            pn.Row(self.report, self.code_download),
+            "### Python code that reproduces what is on screen",
+            self.code,
+            "### The same with the command line",
+            self.cli,
+        ]
+
+    def _exporter(self, fmt: str) -> Callable[[], Any]:
+        def make() -> Any:
+            try:
+                return _stdio.BytesIO(self.app.session.export(fmt).encode("utf-8"))
+            except Exception as exc:
+                self.app.show_error(exc, f"{fmt}: ")
+                return None
+
+        return make
+
+    def _report(self) -> Any:
+        try:
+            return _stdio.BytesIO(self.app.session.report_html().encode("utf-8"))
+        except Exception as exc:
+            self.app.show_error(exc, "report: ")
+            return None
+
+    def refresh(self) -> None:
+        session = self.app.session
+        self.code.object = f'<pre class="gb-pre gb-code">{html.escape(session.python_code())}</pre>'
+        try:
+            cmd = session.cli_command()
+        except ValueError as exc:
+            cmd = f"# {exc}"
+        self.cli.object = f'<pre class="gb-pre gb-cli">{html.escape(cmd)}</pre>'
+
+
+class ExploreApp:
+    """The explorer: a Panel layout over one or more :class:`Session` objects.
+
+    Parameters
+    ----------
+    sessions : sequence of Session
+        The logs (the first one is shown first).
+    errors : sequence of str
+        Messages about inputs that could not be read (shown at the top).
+    """
+
+    def __init__(self, sessions: Sequence[Session], errors: Sequence[str] = ()) -> None:
+        self.sessions = list(sessions)
+        self.syncing = False
+        self.alerts = pn.Column(sizing_mode="stretch_width", css_classes=["gb-alerts"])
+        #: Inputs that could not be read: shown for the whole visit.
+        self.load_errors = pn.Column(
+            *[_message(e, "danger") for e in errors],
+            sizing_mode="stretch_width",
+            css_classes=["gb-load-errors"],
+        )
+        self.busy = pn.indicators.LoadingSpinner(value=False, size=24, name="")
+        if not self.sessions:
+            if not errors:
+                self.load_errors.append(_message("No log given.", "danger"))
+            self.layout = pn.Column(
+                "# gyrobias explore",
+                "No log could be read; run gyrobias explore again with a readable log.",
+                self.load_errors,
+                sizing_mode="stretch_width",
+            )
+            return
+        self.active = 0
+        self._build_controls()
+        self.views: list[_View] = [
+            _LogView(self),
+            _CleanView(self),
+            _StabilityView(self),
+            _FitView(self),
+            _CompareView(self),
+            _ExportView(self),
+        ]
+        self.tabs = pn.Tabs(
+            *[(v.title, v.panel) for v in self.views], dynamic=False, sizing_mode="stretch_width"
+        )
+        self.tabs.param.watch(lambda *_: self.refresh(), "active")
+        self.layout = pn.Row(
+            self.controls,
+            pn.Column(self.load_errors, self.alerts, self.tabs, sizing_mode="stretch_width"),
+            sizing_mode="stretch_width",
+        )
+        self.sync_widgets()
+        self.refresh()
+
+    # -- controls -----------------------------------------------------------------------------
+
+    def _build_controls(self) -> None:
+        w = pn.widgets
+        self.source = w.Select(
+            name="log", options={s.source.label or f"log {i}": i for i, s in enumerate(self.sessions)}
+        )
+        self.source.param.watch(self._on_source, "value")
+        self.start = w.FloatInput(name="start (s)", value=None, start=0.0, width=135, css_classes=["gb-start"])
+        self.stop = w.FloatInput(name="stop (s)", value=None, start=0.0, width=135, css_classes=["gb-stop"])
+        self.whole = w.Button(name="whole log", css_classes=["gb-whole"])
+        self.outliers_on = w.Checkbox(name="remove outliers", css_classes=["gb-outliers-on"])
+        self.sigma = w.FloatInput(name="threshold (σ)", value=5.0, start=0.5, step=0.5)
+        self.detrend = w.RadioButtonGroup(
+            name="drift", options=["none", "linear", "quadratic"], value="none",
+            css_classes=["gb-detrend"],
+        )
+        self.method = w.Select(name="estimator", options=list(METHODS), css_classes=["gb-method"])
+        self.terms = w.CheckButtonGroup(
+            name="terms", options=list(TERMS), value=[], css_classes=["gb-terms"]
+        )
+        self.tau_lo = w.FloatInput(name="τ min (s)", value=None, width=135, css_classes=["gb-tau-min"])
+        self.tau_hi = w.FloatInput(name="τ max (s)", value=None, width=135, css_classes=["gb-tau-max"])
+        self.tau_auto = w.Button(name="automatic τ range", css_classes=["gb-tau-auto"])
+        self.lines = w.Select(name="spectral lines", options=["auto", "none"], value="auto")
+        self.undo = w.Button(name="undo", button_type="warning", css_classes=["gb-undo"])
+        self.steps = pn.pane.HTML(stylesheets=[_CSS], css_classes=["gb-steps"])
+        for widget in (self.start, self.stop):
+            widget.param.watch(self._on_part, "value")
+        self.whole.on_click(lambda *_: self.apply(start=None, stop=None))
+        self.outliers_on.param.watch(self._on_outliers, "value")
+        self.sigma.param.watch(self._on_outliers, "value")
+        self.detrend.param.watch(
+            lambda e: self._guarded(detrend=None if e.new == "none" else e.new), "value"
+        )
+        self.method.param.watch(lambda e: self._guarded(method=e.new), "value")
+        self.terms.param.watch(
+            lambda e: self._guarded(terms=tuple(t for t in TERMS if t in e.new)), "value"
+        )
+        for widget in (self.tau_lo, self.tau_hi):
+            widget.param.watch(self._on_tau, "value")
+        self.tau_auto.on_click(lambda *_: self.apply(tau_range=None))
+        self.lines.param.watch(self._on_lines_select, "value")
+        self.undo.on_click(self._on_undo)
+        self.controls = pn.Column(
+            pn.Row("## gyrobias explore", self.busy),
+            self.source,
+            "#### Part",
+            pn.Row(self.start, self.stop),
+            self.whole,
+            "#### Outliers",
+            self.outliers_on,
+            self.sigma,
+            "#### Drift",
+            self.detrend,
+            "#### Fit",
+            self.method,
+            self.terms,
+            pn.Row(self.tau_lo, self.tau_hi),
+            self.tau_auto,
+            self.lines,
+            "#### Steps",
+            self.steps,
+            self.undo,
+            width=320,
+        )
+
+    @property
+    def session(self) -> Session:
+        return self.sessions[self.active]
+
+    def _guarded(self, **changes: Any) -> None:
+        if not self.syncing:
+            self.apply(**changes)
+
+    def _on_source(self, event: Any) -> None:
+        if self.syncing:
+            return
+        self.active = int(event.new)
+        self.sync_widgets()
+        self.refresh()
+
+    def _on_part(self, _: Any) -> None:
+        if self.syncing:
+            return
+        start, stop = self.start.value, self.stop.value
+        self.apply(start=None if start is None else float(start), stop=None if stop is None else float(stop))
+
+    def _on_outliers(self, _: Any) -> None:
+        if self.syncing:
+            return
+        self.apply(outliers=float(self.sigma.value) if self.outliers_on.value else None)
+
+    def _on_tau(self, _: Any) -> None:
+        if self.syncing:
+            return
+        lo, hi = self.tau_lo.value, self.tau_hi.value
+        if lo is None or hi is None:
+            return  # waiting for the other end
+        self.apply(tau_range=(float(lo), float(hi)))
+
+    def _on_lines_select(self, event: Any) -> None:
+        if not self.syncing and event.new in ("auto", "none"):
+            self.apply(lines=event.new)
+
+    def _on_undo(self, _: Any) -> None:
+        self.session.undo()
+        self.sync_widgets()
+        self.refresh()
+
+    def sync_widgets(self) -> None:
+        """Show the current settings in the controls (after undo or a drag)."""
+        s = self.session.settings
+        self.syncing = True
+        try:
+            self.source.value = self.active
+            self.start.value = s.start
+            self.stop.value = s.stop
+            self.outliers_on.value = s.outliers is not None
+            if s.outliers is not None:
+                self.sigma.value = s.outliers
+            self.detrend.value = s.detrend or "none"
+            self.method.value = s.method
+            self.terms.value = list(s.terms)
+            self.tau_lo.value = None if s.tau_range is None else s.tau_range[0]
+            self.tau_hi.value = None if s.tau_range is None else s.tau_range[1]
+            options = ["auto", "none"]
+            value = s.lines if isinstance(s.lines, str) else ",".join(f"{f:g}" for f in s.lines)
+            if value not in options:
+                options.append(value)
+            self.lines.options = options
+            self.lines.value = value
+            self.undo.disabled = not self.session.can_undo
+            self.steps.object = (
+                "<ol class='gb-steps'>"
+                + "".join(f"<li>{html.escape(t)}</li>" for t in s.steps())
+                + "</ol>"
+            )
+        finally:
+            self.syncing = False
+
+    # -- changes -------------------------------------------------------------------------------
+
+    def apply(self, **changes: Any) -> None:
+        """Change the settings (one undoable step) and redraw; a refused change is a message."""
+        try:
+            self.session.update(**changes)
+        except (ValueError, TypeError) as exc:
+            self.show_error(exc)
+            self.sync_widgets()
+            return
+        self.sync_widgets()
+        self.refresh()
+
+    def show_error(self, exc: BaseException, prefix: str = "") -> None:
+        """A message at the top of the page (never a traceback in the browser)."""
+        if not isinstance(exc, (ValueError, TypeError, OSError, ImportError, MemoryError)):
+            traceback.print_exception(exc)  # on the server's terminal, for bug reports
+        self.alerts[:] = [_message(f"{prefix}{exc}", "danger")]
+
+    def refresh(self) -> None:
+        """Redraw the visible tab (busy indicator on meanwhile)."""
+        if not self.sessions:
+            return
+        self.busy.value = True
+        self.alerts.clear()
+        view = self.views[self.tabs.active]
+        try:
+            view.refresh()
+        except Exception as exc:  # a message, never a dead page
+            self.show_error(exc, f"{view.title}: ")
+        finally:
+            self.busy.value = False
+
+    def sampling_html(self, session: Session) -> str:
+        """The sampling report of the log (rate, jitter, gaps, repairs)."""
+        log = session.log
+        assert log is not None
+        r = log.sampling
+        rows = [
+            ("file", f"{session.source.label} ({r.source_format or 'array'})"),
+            ("samples × channels", f"{log.n_samples} × {len(log.columns)}"),
+            ("sample rate", f"{session.fs:.9g} Hz ({r.fs_source or 'given'})"),
+            ("duration", f"{session.duration:.6g} s"),
+            ("jitter", "—" if r.jitter is None else f"{100 * r.jitter:.3g} %"),
+            ("gaps", f"{r.n_gaps} ({r.missing_samples} samples missing)"),
+            ("repeated stamps", str(r.n_duplicates)),
+            ("repairs", "; ".join(r.repairs) or "none"),
+            ("units", ", ".join(str(u) for u in log.units)),
+        ]
+        if log.topic:
+            rows.insert(1, ("topic", log.topic))
+        body = "".join(
+            f"<tr><th style='text-align:left'>{html.escape(k)}</th><td>{html.escape(v)}</td></tr>"
+            for k, v in rows
+        )
+        warn = "".join(f"<li>{html.escape(w)}</li>" for w in log.warnings)
+        return (
+            f"<h4>Sampling report</h4><table class='gb-sampling'>{body}</table>"
+            + (f"<ul>{warn}</ul>" if warn else "")
+        )
+
+    def servable(self) -> Any:
+        """The layout, marked servable (``panel serve``)."""
+        return self.layout.servable(title="gyrobias explore")
+
+    def _repr_mimebundle_(self, include: Any = None, exclude: Any = None) -> Any:
+        """Inline display in Jupyter (the layout's, resources inlined: no CDN)."""
+        return self.layout._repr_mimebundle_(include, exclude)
