@@ -239,7 +239,7 @@ class _CleanView(_View):
             "t", "y", source=self.flagged, marker="x", color="#d62728", size=7,
             legend_label="outliers removed",
         )
-        self.channel = pn.widgets.Select(name="channel", options=[], width=200)
+        self.channel = pn.widgets.Select(label="channel", options=[], width=200)
         self.channel.param.watch(lambda *_: self.refresh(), "value")
         self.table = pn.pane.HTML(sizing_mode="stretch_width", stylesheets=[_CSS])
         self.panel[:] = [
@@ -273,8 +273,11 @@ class _CleanView(_View):
         idx, mn, mx = _envelope(part.data[:, c], 0, n, ENVELOPE_BINS)
         self.before.data = {"t": times(idx), "lo": mn, "hi": mx}
         after = cleaned.data[:, c]
-        if np.isnan(after).any():  # the envelope of the kept samples
-            after = np.where(np.isnan(after), np.nanmedian(after), after)
+        gaps = np.isnan(after)
+        if gaps.all():
+            raise ValueError(f"{cols[c]}: every sample of the selection was removed")
+        if gaps.any():  # the envelope of the kept samples (a gap drawn at their median)
+            after = np.where(gaps, np.median(after[~gaps]), after)
         idx, mn, mx = _envelope(after, 0, n, ENVELOPE_BINS)
         self.after.data = {"t": times(idx), "lo": mn, "hi": mx}
         if cleaned.outlier_mask is not None:
@@ -334,11 +337,11 @@ class _StabilityView(_View):
     def __init__(self, app: ExploreApp) -> None:
         super().__init__(app)
         self.kind = pn.widgets.Select(
-            name="statistic", options={v: k for k, v in _DEVIATION_LABELS.items()}, width=380
+            label="statistic", options={v: k for k, v in _DEVIATION_LABELS.items()}, width=380
         )
         self.kind.param.watch(self._on_kind, "value")
         self.layout = pn.widgets.RadioButtonGroup(
-            name="axes", options=["overlaid", "apart"], value="overlaid"
+            label="axes", options=["overlaid", "apart"], value="overlaid"
         )
         self.layout.param.watch(lambda *_: self.refresh(), "value")
         self.plots = pn.Column(sizing_mode="stretch_width")
@@ -393,12 +396,12 @@ class _FitView(_View):
 
     def __init__(self, app: ExploreApp) -> None:
         super().__init__(app)
-        self.channel = pn.widgets.Select(name="channel", options=[], width=200)
+        self.channel = pn.widgets.Select(label="channel", options=[], width=200)
         self.channel.param.watch(lambda *_: self.refresh(), "value")
         self.plot = pn.Column(sizing_mode="stretch_width")
         self.summary = pn.pane.HTML(sizing_mode="stretch_width", stylesheets=[_CSS])
         self.diagnostics = pn.pane.HTML(sizing_mode="stretch_width", stylesheets=[_CSS])
-        self.lines = pn.widgets.CheckBoxGroup(name="detected lines", options=[], inline=False)
+        self.lines = pn.widgets.CheckBoxGroup(label="detected lines", options=[], inline=False)
         self.lines.param.watch(self._on_lines, "value")
         self.conservative = pn.pane.HTML(sizing_mode="stretch_width", stylesheets=[_CSS])
         self.panel[:] = [
@@ -576,7 +579,7 @@ class _CompareView(_View):
 
     def __init__(self, app: ExploreApp) -> None:
         super().__init__(app)
-        self.choice = pn.widgets.MultiChoice(name="curves", options=[], sizing_mode="stretch_width")
+        self.choice = pn.widgets.MultiChoice(label="curves", options=[], sizing_mode="stretch_width")
         self.choice.param.watch(lambda *_: self.refresh(), "value")
         self.plots = pn.Column(sizing_mode="stretch_width")
         self.panel[:] = [
@@ -623,8 +626,7 @@ class _ExportView(_View):
                 callback=self._exporter(fmt),
                 filename=export_filename(fmt),
                 label=f"{fmt} ({export_filename(fmt)})",
-                button_type="primary",
-                name=f"download-{fmt}",
+                color="primary",
                 css_classes=[f"gb-download-{fmt}"],
             )
             for fmt in FORMATS
@@ -701,7 +703,7 @@ class ExploreApp:
             sizing_mode="stretch_width",
             css_classes=["gb-load-errors"],
         )
-        self.busy = pn.indicators.LoadingSpinner(value=False, size=24, name="")
+        self.busy = pn.indicators.LoadingSpinner(value=False, size=24)
         if not self.sessions:
             if not errors:
                 self.load_errors.append(_message("No log given.", "danger"))
@@ -739,27 +741,29 @@ class ExploreApp:
     def _build_controls(self) -> None:
         w = pn.widgets
         self.source = w.Select(
-            name="log", options={s.source.label or f"log {i}": i for i, s in enumerate(self.sessions)}
+            label="log",
+            options={s.source.label or f"log {i}": i for i, s in enumerate(self.sessions)},
+            css_classes=["gb-source"],
         )
         self.source.param.watch(self._on_source, "value")
-        self.start = w.FloatInput(name="start (s)", value=None, start=0.0, width=135, css_classes=["gb-start"])
-        self.stop = w.FloatInput(name="stop (s)", value=None, start=0.0, width=135, css_classes=["gb-stop"])
-        self.whole = w.Button(name="whole log", css_classes=["gb-whole"])
-        self.outliers_on = w.Checkbox(name="remove outliers", css_classes=["gb-outliers-on"])
-        self.sigma = w.FloatInput(name="threshold (σ)", value=5.0, start=0.5, step=0.5)
+        self.start = w.FloatInput(label="start (s)", value=None, start=0.0, width=135, css_classes=["gb-start"])
+        self.stop = w.FloatInput(label="stop (s)", value=None, start=0.0, width=135, css_classes=["gb-stop"])
+        self.whole = w.Button(label="whole log", css_classes=["gb-whole"])
+        self.outliers_on = w.Checkbox(label="remove outliers", css_classes=["gb-outliers-on"])
+        self.sigma = w.FloatInput(label="threshold (σ)", value=5.0, start=0.5, step=0.5)
         self.detrend = w.RadioButtonGroup(
-            name="drift", options=["none", "linear", "quadratic"], value="none",
+            label="drift", options=["none", "linear", "quadratic"], value="none",
             css_classes=["gb-detrend"],
         )
-        self.method = w.Select(name="estimator", options=list(METHODS), css_classes=["gb-method"])
+        self.method = w.Select(label="estimator", options=list(METHODS), css_classes=["gb-method"])
         self.terms = w.CheckButtonGroup(
-            name="terms", options=list(TERMS), value=[], css_classes=["gb-terms"]
+            label="terms", options=list(TERMS), value=[], css_classes=["gb-terms"]
         )
-        self.tau_lo = w.FloatInput(name="τ min (s)", value=None, width=135, css_classes=["gb-tau-min"])
-        self.tau_hi = w.FloatInput(name="τ max (s)", value=None, width=135, css_classes=["gb-tau-max"])
-        self.tau_auto = w.Button(name="automatic τ range", css_classes=["gb-tau-auto"])
-        self.lines = w.Select(name="spectral lines", options=["auto", "none"], value="auto")
-        self.undo = w.Button(name="undo", button_type="warning", css_classes=["gb-undo"])
+        self.tau_lo = w.FloatInput(label="τ min (s)", value=None, width=135, css_classes=["gb-tau-min"])
+        self.tau_hi = w.FloatInput(label="τ max (s)", value=None, width=135, css_classes=["gb-tau-max"])
+        self.tau_auto = w.Button(label="automatic τ range", css_classes=["gb-tau-auto"])
+        self.lines = w.Select(label="spectral lines", options=["auto", "none"], value="auto")
+        self.undo = w.Button(label="undo", color="warning", css_classes=["gb-undo"])
         self.steps = pn.pane.HTML(stylesheets=[_CSS], css_classes=["gb-steps"])
         for widget in (self.start, self.stop):
             widget.param.watch(self._on_part, "value")

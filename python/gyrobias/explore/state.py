@@ -56,7 +56,7 @@ METHODS = ("joint", "ieee", "gmwm")
 #: The stability view's statistics: the Allan family and the wavelet variance.
 DEVIATIONS = ("adev", "mdev", "hdev", "totdev", "theo1", "wvar", "wvar-robust")
 #: The Allan-family statistics that can skip NaN gaps (outliers removed).
-_GAP_AWARE = ("adev", "mdev", "hdev", "totdev")
+_GAP_AWARE = ("adev", "mdev", "hdev")
 #: The export formats (gyrobias.exports.FORMATS, without importing it here).
 FORMATS = ("kalibr", "openvins", "vins", "orbslam3", "liosam", "matlab", "json")
 #: Confidence of the Allan intervals, as ``gyrobias allan`` (its default).
@@ -427,7 +427,7 @@ class Session:
                 if gaps:
                     raise ValueError(
                         "the wavelet variance needs contiguous samples: switch the outlier "
-                        "removal off (or use ADEV, MDEV, HDEV or TOTDEV, which skip the gaps)"
+                        "removal off (or use ADEV, MDEV or HDEV, which skip the gaps)"
                     )
                 out = noise.wvar(
                     part, self.fs, robust=kind == "wvar-robust", units=unit, axis_names=names
@@ -438,7 +438,7 @@ class Session:
                     if kind not in _GAP_AWARE:
                         raise ValueError(
                             f"{kind.upper()} cannot skip the gaps the outlier removal leaves: "
-                            "switch it off or use ADEV, MDEV, HDEV or TOTDEV"
+                            "switch it off or use ADEV, MDEV or HDEV"
                         )
                     kw["gaps"] = "omit"
                 if kind == "adev":
