@@ -57,7 +57,8 @@ def test_parse_time_bound(text: str | float, expected: TimeBound) -> None:
 def test_parse_time_bound_none_and_str() -> None:
     assert parse_time_bound(None) is None
     assert str(parse_time_bound("250000n")) == "250000n"
-    assert str(parse_time_bound("0.5h")) == "1800s"
+    assert str(parse_time_bound(" 0.5h")) == "0.5h"
+    assert str(parse_time_bound(1800)) == "1800s"
 
 
 @pytest.mark.parametrize(

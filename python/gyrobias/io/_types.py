@@ -14,6 +14,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gyrobias._validation import as_float_array, count, sample_rate
+
 
 @dataclass(frozen=True)
 class SamplingReport:
@@ -231,7 +233,13 @@ class GyroLog:
         except ValueError:
             raise KeyError(f"no channel {name!r}; channels are {', '.join(self.columns)}") from None
 
-    def select(self, start: str | float | None = None, stop: str | float | None = None) -> GyroLog:
+    def select(
+        self,
+        start: str | float | TimeBound | None = None,
+        stop: str | float | TimeBound | None = None,
+        *,
+        names: tuple[str, str] = ("start", "stop"),
+    ) -> GyroLog:
         """The samples in the half-open span ``[start, stop)`` of the log, as a new log.
 
         Parameters
@@ -243,7 +251,11 @@ class GyroLog:
             sample index with the suffix ``n`` (``"250000n"``). ``None``: the log's start / end.
             A sample belongs to the selection when its time ``t`` satisfies
             ``start <= t < stop`` (its index ``i``: ``start <= i < stop``); times within
-            10⁻⁶ of a sample interval of a sample's time count as that time.
+            10⁻⁶ of a sample interval of a sample's time count as that time. A parsed
+            :class:`TimeBound` is taken as it is.
+        names : (str, str)
+            The bounds' names in error messages (the command line passes
+            ``("--start", "--stop")``).
 
         Returns
         -------
@@ -281,98 +293,158 @@ class GyroLog:
         >>> part.select(stop="1000n").selection.stop_index
         19000
         """
-        first = parse_time_bound(start, name="start")
-        last = parse_time_bound(stop, name="stop")
-        n = self.n_samples
-        if n == 0:
-            raise ValueError("start: the log has no samples to select from")
-        time = self.time
-        fs = self.fs
-        period = 1.0 / fs if fs is not None and fs > 0 and math.isfinite(1.0 / fs) else None
-        t0 = float(time[0]) if time is not None else 0.0
-        # length of the log in seconds: to the end of the last sample's interval
-        if time is not None:
-            span = float(time[-1]) - t0 + (period if period is not None else 0.0)
-        elif period is not None:
-            span = n * period
-        else:
-            span = None
-        tol = 1e-6 * period if period is not None else 0.0
-
-        def offset(i: int) -> float | None:
-            """Seconds from this log's first sample to sample ``i`` (``n``: the end)."""
-            if i >= n:
-                return span
-            if time is not None:
-                return float(time[i]) - t0
-            return i * period if period is not None else None
-
-        def index(bound: TimeBound, name: str) -> int:
-            if bound.index is not None:
-                return bound.index
-            seconds = bound.seconds
-            assert seconds is not None
-            if span is None:
-                raise ValueError(
-                    f"{name}={bound} is in seconds, and the log has neither timestamps nor a "
-                    f"sample rate: give fs, or a sample index such as '{n // 2}n'"
-                )
-            if time is not None:
-                return int(np.searchsorted(time, t0 + seconds - tol, side="left"))
-            assert period is not None
-            k = seconds / period
-            nearest = round(k)
-            return int(nearest if abs(k - nearest) <= 1e-6 else math.ceil(k))
-
-        def describe_end() -> str:
-            return f"{n} samples" + (f", {_format_seconds(span)}" if span is not None else "")
-
-        i0 = 0
-        if first is not None:
-            too_late = (
-                first.index >= n
-                if first.index is not None
-                else span is not None and first.seconds is not None and first.seconds >= span - tol
-            )
-            if too_late:
-                raise ValueError(
-                    f"start={first} is at or beyond the end of the log ({describe_end()})"
-                )
-            i0 = index(first, "start")
-        i1 = n
-        if last is not None:
-            too_far = (
-                last.index > n
-                if last.index is not None
-                else span is not None and last.seconds is not None and last.seconds > span + tol
-            )
-            if too_far:
-                raise ValueError(f"stop={last} is beyond the end of the log ({describe_end()})")
-            i1 = min(index(last, "stop"), n)
-        if first is not None and last is not None and first.comparable(last) and first >= last:
-            raise ValueError(f"start={first} must be before stop={last}")
-        if i0 >= i1:
-            raise ValueError(f"start={first} and stop={last} select no sample of the log")
-        i0 = min(i0, n)
-
+        local = resolve_selection(self.n_samples, self.fs, start, stop, time=self.time, names=names)
+        i0, i1 = local.start_index, local.stop_index
         before = self.selection
-        base_index = before.start_index if before is not None else 0
-        base_s = before.start_s if before is not None else 0.0
-        start_s, stop_s = offset(i0), offset(i1)
-        selection = Selection(
-            start_s=None if start_s is None or base_s is None else base_s + start_s,
-            stop_s=None if stop_s is None or base_s is None else base_s + stop_s,
-            start_index=base_index + i0,
-            stop_index=base_index + i1,
-            total_s=before.total_s if before is not None else span,
-            total_samples=before.total_samples if before is not None else n,
-        )
+        if before is None:
+            selection = local
+        else:  # a selection of a selection: in the log as read
+            base_s = before.start_s
+            selection = Selection(
+                start_s=None if local.start_s is None or base_s is None else base_s + local.start_s,
+                stop_s=None if local.stop_s is None or base_s is None else base_s + local.stop_s,
+                start_index=before.start_index + i0,
+                stop_index=before.start_index + i1,
+                total_s=before.total_s,
+                total_samples=before.total_samples,
+            )
         return replace(
             self,
             data=self.data[i0:i1],
-            time=None if time is None else time[i0:i1],
+            time=None if self.time is None else self.time[i0:i1],
             selection=selection,
         )
+
+
+def resolve_selection(
+    n_samples: int,
+    fs: float | None,
+    start: str | float | TimeBound | None = None,
+    stop: str | float | TimeBound | None = None,
+    *,
+    time: NDArray[np.float64] | None = None,
+    names: tuple[str, str] = ("start", "stop"),
+) -> Selection:
+    """The samples ``[start, stop)`` of a record of ``n_samples`` at ``fs`` (or with ``time``).
+
+    The rules of :meth:`GyroLog.select`, for a bare record (an array of samples rather than a
+    :class:`GyroLog`; :func:`gyrobias.fleet.analyse` uses it for arrays).
+
+    Parameters
+    ----------
+    n_samples : int
+        Length of the record.
+    fs : float or None
+        Sample rate, Hz (``None``: only sample-index bounds are possible without ``time``).
+    start, stop : float, int, str, TimeBound or None
+        The bounds (:func:`parse_time_bound`).
+    time : ndarray, optional
+        Timestamps of the samples, s, non-decreasing (time 0 is ``time[0]``).
+    names : (str, str)
+        The bounds' names in error messages.
+
+    Returns
+    -------
+    Selection
+        Rows ``start_index … stop_index - 1`` of the record; times from its first sample.
+
+    Raises
+    ------
+    ValueError, TypeError
+        As :meth:`GyroLog.select`.
+
+    Examples
+    --------
+    >>> from gyrobias.io import resolve_selection
+    >>> print(resolve_selection(6000, 100.0, "10s", "30s"))
+    10–30 s of 60 s (samples 1000–3000 of 6000)
+    """
+    start_name, stop_name = names
+    first = parse_time_bound(start, name=start_name)
+    last = parse_time_bound(stop, name=stop_name)
+    n = count("n_samples", n_samples)
+    if fs is not None:
+        fs = sample_rate(fs)
+    if time is not None:
+        time = as_float_array("time", time)  # no copy of a float64 vector (a mapped one too)
+    if n == 0:
+        raise ValueError(f"{start_name}: the log has no samples to select from")
+    if time is not None and len(time) != n:
+        raise ValueError(f"time has {len(time)} values for {n} samples")
+    period = 1.0 / fs if fs is not None and fs > 0 and math.isfinite(1.0 / fs) else None
+    t0 = float(time[0]) if time is not None else 0.0
+    # length of the log in seconds: to the end of the last sample's interval
+    if time is not None:
+        span = float(time[-1]) - t0 + (period if period is not None else 0.0)
+    elif period is not None:
+        span = n * period
+    else:
+        span = None
+    tol = 1e-6 * period if period is not None else 0.0
+
+    def offset(i: int) -> float | None:
+        """Seconds from this log's first sample to sample ``i`` (``n``: the end)."""
+        if i >= n:
+            return span
+        if time is not None:
+            return float(time[i]) - t0
+        return i * period if period is not None else None
+
+    def index(bound: TimeBound, name: str) -> int:
+        if bound.index is not None:
+            return bound.index
+        seconds = bound.seconds
+        assert seconds is not None
+        if span is None:
+            raise ValueError(
+                f"{name}={bound} is in seconds, and the log has neither timestamps nor a "
+                f"sample rate: give fs, or a sample index such as '{n // 2}n'"
+            )
+        if time is not None:
+            return int(np.searchsorted(time, t0 + seconds - tol, side="left"))
+        assert period is not None
+        k = seconds / period
+        nearest = round(k)
+        return int(nearest if abs(k - nearest) <= 1e-6 else math.ceil(k))
+
+    def describe_end() -> str:
+        return f"{n} samples" + (f", {_format_seconds(span)}" if span is not None else "")
+
+    i0 = 0
+    if first is not None:
+        too_late = (
+            first.index >= n
+            if first.index is not None
+            else span is not None and first.seconds is not None and first.seconds >= span - tol
+        )
+        if too_late:
+            raise ValueError(
+                f"{start_name}={first} is at or beyond the end of the log ({describe_end()})"
+            )
+        i0 = index(first, start_name)
+    i1 = n
+    if last is not None:
+        too_far = (
+            last.index > n
+            if last.index is not None
+            else span is not None and last.seconds is not None and last.seconds > span + tol
+        )
+        if too_far:
+            raise ValueError(f"{stop_name}={last} is beyond the end of the log ({describe_end()})")
+        i1 = min(index(last, stop_name), n)
+    if first is not None and last is not None and first._comparable(last) and first >= last:
+        raise ValueError(f"{start_name}={first} must be before {stop_name}={last}")
+    if i0 >= i1:
+        raise ValueError(f"{start_name}={first} and {stop_name}={last} select no sample of the log")
+
+    return Selection(
+        start_s=offset(i0),
+        stop_s=offset(i1),
+        start_index=i0,
+        stop_index=i1,
+        total_s=span,
+        total_samples=n,
+    )
 
 
 _BOUND = re.compile(
@@ -393,12 +465,15 @@ class TimeBound:
         Seconds from the log's start (time 0 is the first sample).
     index : int or None
         A 0-based sample index.
+    text : str or None
+        The text it was read from (shown in messages as the user wrote it); not compared.
     """
 
     seconds: float | None = None
     index: int | None = None
+    text: str | None = field(default=None, compare=False, repr=False)
 
-    def comparable(self, other: TimeBound) -> bool:
+    def _comparable(self, other: TimeBound) -> bool:
         """``True`` when both bounds are in the same kind (seconds, or sample index)."""
         return (self.index is None) == (other.index is None)
 
@@ -410,10 +485,14 @@ class TimeBound:
         return NotImplemented
 
     def __str__(self) -> str:
+        if self.text is not None:
+            return self.text.strip()
         return f"{self.index}n" if self.index is not None else f"{self.seconds:g}s"
 
 
-def parse_time_bound(value: str | float | None, *, name: str = "start") -> TimeBound | None:
+def parse_time_bound(
+    value: str | float | TimeBound | None, *, name: str = "start"
+) -> TimeBound | None:
     """Read one bound of a time selection (``--start`` / ``--stop``, :meth:`GyroLog.select`).
 
     Grammar: a real number is seconds from the log's start (time 0 is the first sample); a
@@ -422,8 +501,9 @@ def parse_time_bound(value: str | float | None, *, name: str = "start") -> TimeB
 
     Parameters
     ----------
-    value : float, int, str or None
-        The bound (``None``: no bound, returned as ``None``).
+    value : float, int, str, TimeBound or None
+        The bound (``None``: no bound, returned as ``None``; a :class:`TimeBound` is returned
+        as it is).
     name : str
         The argument's name, for messages.
 
@@ -448,8 +528,8 @@ TimeBound(seconds=12.0, index=None))
     >>> parse_time_bound("250000n")
     TimeBound(seconds=None, index=250000)
     """
-    if value is None:
-        return None
+    if value is None or isinstance(value, TimeBound):
+        return value
     if isinstance(value, bool) or not isinstance(value, (str, int, float, np.integer, np.floating)):
         raise TypeError(
             f"{name} must be seconds (a number), a string such as '0.5h' or '250000n', or None; "
@@ -468,7 +548,7 @@ TimeBound(seconds=12.0, index=None))
                 raise ValueError(
                     f"{name}={value!r}: a sample index is a non-negative integer before 'n'"
                 )
-            return TimeBound(index=int(number))
+            return TimeBound(index=int(number), text=value)
         seconds = float(number) * _SECONDS_PER[unit]
     else:
         seconds = float(value)
@@ -476,7 +556,7 @@ TimeBound(seconds=12.0, index=None))
         raise ValueError(f"{name}={value!r} must be finite")
     if seconds < 0:
         raise ValueError(f"{name}={value!r} must be >= 0 (seconds from the log's start)")
-    return TimeBound(seconds=seconds + 0.0)
+    return TimeBound(seconds=seconds + 0.0, text=value if isinstance(value, str) else None)
 
 
 def _format_seconds(seconds: float | None, unit: str | None = None) -> str:
