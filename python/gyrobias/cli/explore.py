@@ -92,7 +92,11 @@ def run(args: argparse.Namespace) -> int:
 
     _require_panel()
     options = load_options(args)
-    sessions, errors = load_sessions(args.logs, **options)
+    # --start/--stop: the first selection of every log (checked before any log is read)
+    from gyrobias.cli._common import selection_bounds
+
+    selection_bounds(args)
+    sessions, errors = load_sessions(args.logs, start=args.start, stop=args.stop, **options)
     for e in errors:
         warn(e)
     from gyrobias.explore.server import serve

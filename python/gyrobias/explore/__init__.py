@@ -56,10 +56,17 @@ def _expand(path: Path) -> list[Path]:
 
 
 def load_sessions(
-    paths: Sequence[str | os.PathLike[str]], **options: Any
+    paths: Sequence[str | os.PathLike[str]],
+    *,
+    start: Any = None,
+    stop: Any = None,
+    **options: Any,
 ) -> tuple[list[Session], list[str]]:
     """Read every log (a fleet directory gives its logs) with :func:`gyrobias.io.load`'s
-    ``options``: the sessions and a message for each input that could not be read."""
+    ``options``: the sessions and a message for each input that could not be read.
+
+    ``start`` / ``stop`` (as :meth:`gyrobias.io.GyroLog.select` reads them) are the first
+    selection of every log, in seconds."""
     from gyrobias import io
 
     sessions: list[Session] = []
@@ -73,7 +80,17 @@ def load_sessions(
         for path in files:
             try:
                 log = io.load(path, **options)
-                sessions.append(Session(log, Source.from_options(path, options)))
+                settings = Settings()
+                if start is not None or stop is not None:
+                    span = log.select(start, stop).selection
+                    assert span is not None
+                    settings = Settings(
+                        start=span.start_s if start is not None else None,
+                        stop=span.stop_s if stop is not None else None,
+                    )
+                sessions.append(
+                    Session(log, Source.from_options(path, options), settings=settings)
+                )
             except (ValueError, TypeError, OSError, MemoryError, ImportError) as exc:
                 errors.append(f"{path.name}: {exc}")
             except Exception as exc:  # a corrupt file must give a message, not a dead app
@@ -91,7 +108,7 @@ def _sessions_of(obj: Any, fs: float | None, units: Any, options: dict[str, Any]
     if isinstance(obj, GyroLog):
         opts: dict[str, Any] = {}
         if any(u is not None for u in obj.units) and not obj.topic:
-            opts["units"] = list(obj.units)
+            opts["units"] = obj.units[0] if len(set(obj.units)) == 1 else list(obj.units)
         if obj.sampling.fs_source == "user":
             opts["fs"] = obj.fs
         return [Session(obj, Source.from_options(obj.path, opts))], []

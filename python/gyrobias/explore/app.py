@@ -36,6 +36,8 @@ __all__ = ["ExploreApp", "ENVELOPE_BINS"]
 
 #: Bins of the rate envelope across the visible span (two points each: min and max).
 ENVELOPE_BINS = 1200
+#: Largest upload (a log sent from the browser), MB: refused in the browser beyond it.
+UPLOAD_LIMIT_MB = 200
 #: At most this many outlier markers are drawn (the count is always exact).
 MAX_OUTLIER_MARKERS = 5000
 _COLORS = Category10_10
@@ -60,6 +62,32 @@ def _envelope(data: Any, lo: int, hi: int, bins: int) -> tuple[Any, Any, Any]:
 
     env = cleaning.minmax_envelope(data[lo:hi], bins)
     return np.asarray(env.index) + lo, np.asarray(env.low), np.asarray(env.high)
+
+
+def load_upload(name: str, content: Any, *, units: str | None = None) -> Session:
+    """A session of an uploaded log: ``content`` (bytes, at most :data:`UPLOAD_LIMIT_MB`) is
+    read by :func:`gyrobias.io.load` from a temporary file in a private directory, deleted as
+    soon as it is read (nothing else on the server's disk is reachable from the browser)."""
+    import tempfile
+    from pathlib import Path
+
+    from gyrobias import io
+    from gyrobias.explore.state import Source
+
+    if isinstance(content, str):
+        content = content.encode("utf-8")
+    if not isinstance(content, (bytes, bytearray)):
+        raise TypeError(f"an upload must be bytes, got {type(content).__name__}")
+    if len(content) > UPLOAD_LIMIT_MB * 1_000_000:
+        raise ValueError(f"the file is larger than the upload limit ({UPLOAD_LIMIT_MB} MB)")
+    safe = Path(name).name or "upload"  # never a path: the name only
+    options = {} if units is None else {"units": units}
+    with tempfile.TemporaryDirectory(prefix="gyrobias-upload-") as tmp:
+        path = Path(tmp) / safe
+        path.write_bytes(bytes(content))
+        log = io.load(path, spill=False, **options)
+    source = Source.from_options(Path(safe), options)
+    return Session(log, Source(source.path, source.options, f"{safe} (uploaded)"))
 
 
 class _View:
@@ -764,6 +792,18 @@ class ExploreApp:
         self.tau_auto = w.Button(label="automatic τ range", css_classes=["gb-tau-auto"])
         self.lines = w.Select(label="spectral lines", options=["auto", "none"], value="auto")
         self.undo = w.Button(label="undo", color="warning", css_classes=["gb-undo"])
+        self.upload = pn.widgets.FileDropper(
+            max_file_size=f"{UPLOAD_LIMIT_MB}MB",
+            max_total_file_size=f"{UPLOAD_LIMIT_MB}MB",
+            multiple=False,
+            chunk_size=4_000_000,
+            layout="compact",
+            css_classes=["gb-upload"],
+        )
+        self.upload_units = w.TextInput(
+            label="units of the uploaded log", placeholder="e.g. deg/s (bags: rad/s, m/s^2)"
+        )
+        self.upload.param.watch(self._on_upload, "value")
         self.steps = pn.pane.HTML(stylesheets=[_CSS], css_classes=["gb-steps"])
         for widget in (self.start, self.stop):
             widget.param.watch(self._on_part, "value")
@@ -802,6 +842,9 @@ class ExploreApp:
             "#### Steps",
             self.steps,
             self.undo,
+            f"#### Add a log (at most {UPLOAD_LIMIT_MB} MB)",
+            self.upload_units,
+            self.upload,
             width=320,
         )
 
@@ -845,6 +888,29 @@ class ExploreApp:
 
     def _on_undo(self, _: Any) -> None:
         self.session.undo()
+        self.sync_widgets()
+        self.refresh()
+
+    def _on_upload(self, event: Any) -> None:
+        """A log uploaded in the browser: read from a private temporary copy, deleted at once."""
+        if not event.new:
+            return
+        units = (self.upload_units.value or "").strip() or None
+        for name, content in dict(event.new).items():
+            try:
+                session = load_upload(str(name), content, units=units)
+            except Exception as exc:  # a message, never a dead page
+                self.show_error(exc, f"{name}: ")
+                continue
+            self.sessions.append(session)
+        self.syncing = True
+        try:
+            self.source.options = {
+                s.source.label or f"log {i}": i for i, s in enumerate(self.sessions)
+            }
+        finally:
+            self.syncing = False
+        self.active = len(self.sessions) - 1
         self.sync_widgets()
         self.refresh()
 
