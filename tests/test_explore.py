@@ -77,9 +77,7 @@ CASES = {
 
 
 @pytest.mark.parametrize("case", list(CASES), ids=list(CASES))
-def test_python_code_prints_the_sessions_coefficients(
-    case: str, csv: Path, tmp_path: Path
-) -> None:
+def test_python_code_prints_the_sessions_coefficients(case: str, csv: Path, tmp_path: Path) -> None:
     s = _session(csv, **CASES[case])
     expected = "".join(c.to("ieee").summary() + "\n" for c in s.coefficients())
     script = tmp_path / "reproduce.py"
@@ -263,6 +261,7 @@ def test_explore_entry_accepts_paths_logs_arrays_and_allan_results(csv: Path) ->
     with pytest.raises(ValueError, match="sample rate"):
         gyrobias.explore(data)
 
+
 def test_inline_display_uses_no_cdn(csv: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     # Jupyter's display: Panel configured for inlined resources (pn.extension(inline=True) in
     # the notebook, the app's models rendered in 'inline' resource mode); IPython is not a test
@@ -277,7 +276,9 @@ def test_inline_display_uses_no_cdn(csv: Path, monkeypatch: pytest.MonkeyPatch) 
     bundle = app._repr_mimebundle_()
     text = str(bundle)
     assert "application/vnd.holoviews_exec.v0+json" in text or "text/html" in text
-    assert "cdn.bokeh.org" not in text and "cdn.holoviz.org" not in text and "cdn.jsdelivr" not in text
+    assert (
+        "cdn.bokeh.org" not in text and "cdn.holoviz.org" not in text and "cdn.jsdelivr" not in text
+    )
 
 
 def test_import_gyrobias_explore_loads_no_framework() -> None:

@@ -58,9 +58,7 @@ def _simulated_log(path: Path) -> Path:
     rate = np.column_stack(cols)
     rate += np.linspace(0.0, 0.05, n)[:, None]  # a drift to remove
     t = np.arange(n) / FS
-    np.savetxt(
-        path, np.column_stack([t, rate]), delimiter=",", header="time,gx,gy,gz", comments=""
-    )
+    np.savetxt(path, np.column_stack([t, rate]), delimiter=",", header="time,gx,gy,gz", comments="")
     return path
 
 
@@ -182,7 +180,11 @@ def _check(
     script.write_text(code.inner_text(), encoding="utf-8")
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
     done = subprocess.run(
-        [sys.executable, str(script)], cwd=tmp, capture_output=True, text=True, env=env,
+        [sys.executable, str(script)],
+        cwd=tmp,
+        capture_output=True,
+        text=True,
+        env=env,
         timeout=300,
     )
     assert done.returncode == 0, done.stderr
@@ -230,8 +232,16 @@ def test_cli_serves_on_loopback_and_prints_the_url(tmp_path: Path) -> None:
         err.open("w") as stderr,
         subprocess.Popen(
             [
-                sys.executable, "-m", "gyrobias", "explore", str(csv), "--units", "deg/s",
-                "--no-browser", "--port", "0",
+                sys.executable,
+                "-m",
+                "gyrobias",
+                "explore",
+                str(csv),
+                "--units",
+                "deg/s",
+                "--no-browser",
+                "--port",
+                "0",
             ],
             stdout=subprocess.PIPE,
             stderr=stderr,

@@ -231,7 +231,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
             "gyrobias.codegen",
         ),
     ),
-    ("applications", ("gyrobias", "gyrobias.cli", "gyrobias.__main__")),
+    ("applications", ("gyrobias", "gyrobias.cli", "gyrobias.__main__", "gyrobias.explore")),
 ]
 
 

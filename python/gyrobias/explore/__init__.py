@@ -88,9 +88,7 @@ def load_sessions(
                         start=span.start_s if start is not None else None,
                         stop=span.stop_s if stop is not None else None,
                     )
-                sessions.append(
-                    Session(log, Source.from_options(path, options), settings=settings)
-                )
+                sessions.append(Session(log, Source.from_options(path, options), settings=settings))
             except (ValueError, TypeError, OSError, MemoryError, ImportError) as exc:
                 errors.append(f"{path.name}: {exc}")
             except Exception as exc:  # a corrupt file must give a message, not a dead app
@@ -155,9 +153,7 @@ def io_from_array(data: Any, fs: float, units: Any = None) -> Any:
     )
 
 
-def explore(
-    obj: Any, *, fs: float | None = None, units: Any = None, **options: Any
-) -> ExploreApp:
+def explore(obj: Any, *, fs: float | None = None, units: Any = None, **options: Any) -> ExploreApp:
     """The explorer app for ``obj``; displays inline in Jupyter (``.servable()`` / ``.show()``
     for a page of its own).
 

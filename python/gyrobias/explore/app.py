@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 import panel as pn
 from bokeh.events import RangesUpdate, SelectionGeometry
-from bokeh.models import (
+from bokeh.models import (  # type: ignore[attr-defined]
     BoxAnnotation,
     BoxSelectTool,
     ColumnDataSource,
@@ -30,7 +30,7 @@ from bokeh.models import (
 from bokeh.palettes import Category10_10
 from bokeh.plotting import figure
 
-from gyrobias.explore.state import DEVIATIONS, FORMATS, METHODS, TERMS, Session, export_filename
+from gyrobias.explore.state import FORMATS, METHODS, TERMS, Session, export_filename
 
 __all__ = ["ExploreApp", "ENVELOPE_BINS"]
 
@@ -81,7 +81,7 @@ def load_upload(name: str, content: Any, *, units: str | None = None) -> Session
     if len(content) > UPLOAD_LIMIT_MB * 1_000_000:
         raise ValueError(f"the file is larger than the upload limit ({UPLOAD_LIMIT_MB} MB)")
     safe = Path(name).name or "upload"  # never a path: the name only
-    options = {} if units is None else {"units": units}
+    options: dict[str, Any] = {} if units is None else {"units": units}
     with tempfile.TemporaryDirectory(prefix="gyrobias-upload-") as tmp:
         path = Path(tmp) / safe
         path.write_bytes(bytes(content))
@@ -195,7 +195,7 @@ class _LogView(_View):
         lo, hi = max(0, lo), min(session.log.n_samples, hi)
         if hi - lo < 2:
             return
-        for (unit, cols), srcs in zip(self.groups, self.sources):
+        for (_unit, cols), srcs in zip(self.groups, self.sources):
             for c, src in zip(cols, srcs):
                 idx, mn, mx = _envelope(data[:, c], lo, hi, ENVELOPE_BINS)
                 src.data = {"t": self._time(session, idx), "lo": mn, "hi": mx}
@@ -260,11 +260,21 @@ class _CleanView(_View):
             "t", "lo", "hi", source=self.before, fill_color="#bbbbbb", legend_label="selection"
         )
         self.fig.varea(
-            "t", "lo", "hi", source=self.after, fill_color="#1f77b4", fill_alpha=0.6,
+            "t",
+            "lo",
+            "hi",
+            source=self.after,
+            fill_color="#1f77b4",
+            fill_alpha=0.6,
             legend_label="after the cleaning steps",
         )
         self.fig.scatter(
-            "t", "y", source=self.flagged, marker="x", color="#d62728", size=7,
+            "t",
+            "y",
+            source=self.flagged,
+            marker="x",
+            color="#d62728",
+            size=7,
             legend_label="outliers removed",
         )
         self.channel = pn.widgets.Select(label="channel", options=[], width=200)
@@ -441,7 +451,10 @@ class _FitView(_View):
             pn.Row(
                 pn.Column("### Coefficients", self.summary, sizing_mode="stretch_width"),
                 pn.Column(
-                    "### Diagnostics", self.diagnostics, "### Spectral lines", self.lines,
+                    "### Diagnostics",
+                    self.diagnostics,
+                    "### Spectral lines",
+                    self.lines,
                     width=420,
                 ),
             ),
@@ -472,7 +485,7 @@ class _FitView(_View):
         k = cols.index(self.channel.value) if self.channel.value in cols else 0
         c = fits[k]
         self.summary.object = (
-            f'<pre class="gb-pre gb-summary">'
+            '<pre class="gb-pre gb-summary">'
             + html.escape("\n\n".join(f.to("ieee").summary() for f in fits))
             + "</pre>"
         )
@@ -490,8 +503,11 @@ class _FitView(_View):
                 okp = np.isfinite(v) & (v > 0)
                 if okp.any() and np.max(v[okp]) > 0:
                     fig.line(
-                        grid[okp], v[okp], color=_COLORS[(j + 1) % len(_COLORS)],
-                        line_dash="dashed", legend_label=sym,
+                        grid[okp],
+                        v[okp],
+                        color=_COLORS[(j + 1) % len(_COLORS)],
+                        line_dash="dashed",
+                        legend_label=sym,
                     )
         d = c.diagnostics
         if d is not None:
@@ -514,8 +530,10 @@ class _FitView(_View):
         # lines: detected ones (joint/GMWM with lines="auto" or chosen ones)
         detected = sorted({float(line.frequency) for f in fits for line in _lines_of(f)})
         self._detected = detected
-        chosen = (
-            detected if s.lines == "auto" else ([] if s.lines == "none" else list(s.lines))
+        chosen: list[float] = (
+            detected
+            if s.lines == "auto"
+            else ([] if s.lines == "none" else [float(f) for f in s.lines])
         )
         self.app.syncing = True
         try:
@@ -525,7 +543,9 @@ class _FitView(_View):
         finally:
             self.app.syncing = False
         if s.method == "gmwm":
-            self.conservative.object = "<p>The conservative set is built from an Allan fit (joint or IEEE).</p>"
+            self.conservative.object = (
+                "<p>The conservative set is built from an Allan fit (joint or IEEE).</p>"
+            )
         else:
             try:
                 cons = session.conservative()
@@ -579,9 +599,7 @@ def _diagnostics_html(c: Any) -> str:
     if d.excluded:
         parts.append(
             "<p>Excluded τ:</p><ul>"
-            + "".join(
-                f"<li>{a:.4g}–{b:.4g} s: {html.escape(why)}</li>" for a, b, why in d.excluded
-            )
+            + "".join(f"<li>{a:.4g}–{b:.4g} s: {html.escape(why)}</li>" for a, b, why in d.excluded)
             + "</ul>"
         )
     bounds = [t for t in c.to("ieee").terms if t.bounded]
@@ -596,9 +614,7 @@ def _diagnostics_html(c: Any) -> str:
             + "</ul>"
         )
     if d.warnings:
-        parts.append(
-            "<ul>" + "".join(f"<li>{html.escape(w)}</li>" for w in d.warnings) + "</ul>"
-        )
+        parts.append("<ul>" + "".join(f"<li>{html.escape(w)}</li>" for w in d.warnings) + "</ul>")
     return "".join(parts)
 
 
@@ -607,7 +623,9 @@ class _CompareView(_View):
 
     def __init__(self, app: ExploreApp) -> None:
         super().__init__(app)
-        self.choice = pn.widgets.MultiChoice(label="curves", options=[], sizing_mode="stretch_width")
+        self.choice = pn.widgets.MultiChoice(
+            label="curves", options=[], sizing_mode="stretch_width"
+        )
         self.choice.param.watch(lambda *_: self.refresh(), "value")
         self.plots = pn.Column(sizing_mode="stretch_width")
         self.panel[:] = [
@@ -735,7 +753,7 @@ class ExploreApp:
         if not self.sessions:
             if not errors:
                 self.load_errors.append(_message("No log given.", "danger"))
-            self.layout = pn.Column(
+            self.layout: Any = pn.Column(
                 "# gyrobias explore",
                 "No log could be read; run gyrobias explore again with a readable log.",
                 self.load_errors,
@@ -774,21 +792,31 @@ class ExploreApp:
             css_classes=["gb-source"],
         )
         self.source.param.watch(self._on_source, "value")
-        self.start = w.FloatInput(label="start (s)", value=None, start=0.0, width=135, css_classes=["gb-start"])
-        self.stop = w.FloatInput(label="stop (s)", value=None, start=0.0, width=135, css_classes=["gb-stop"])
+        self.start = w.FloatInput(
+            label="start (s)", value=None, start=0.0, width=135, css_classes=["gb-start"]
+        )
+        self.stop = w.FloatInput(
+            label="stop (s)", value=None, start=0.0, width=135, css_classes=["gb-stop"]
+        )
         self.whole = w.Button(label="whole log", css_classes=["gb-whole"])
         self.outliers_on = w.Checkbox(label="remove outliers", css_classes=["gb-outliers-on"])
         self.sigma = w.FloatInput(label="threshold (σ)", value=5.0, start=0.5, step=0.5)
         self.detrend = w.RadioButtonGroup(
-            label="drift", options=["none", "linear", "quadratic"], value="none",
+            label="drift",
+            options=["none", "linear", "quadratic"],
+            value="none",
             css_classes=["gb-detrend"],
         )
         self.method = w.Select(label="estimator", options=list(METHODS), css_classes=["gb-method"])
         self.terms = w.CheckButtonGroup(
             label="terms", options=list(TERMS), value=[], css_classes=["gb-terms"]
         )
-        self.tau_lo = w.FloatInput(label="τ min (s)", value=None, width=135, css_classes=["gb-tau-min"])
-        self.tau_hi = w.FloatInput(label="τ max (s)", value=None, width=135, css_classes=["gb-tau-max"])
+        self.tau_lo = w.FloatInput(
+            label="τ min (s)", value=None, width=135, css_classes=["gb-tau-min"]
+        )
+        self.tau_hi = w.FloatInput(
+            label="τ max (s)", value=None, width=135, css_classes=["gb-tau-max"]
+        )
         self.tau_auto = w.Button(label="automatic τ range", css_classes=["gb-tau-auto"])
         self.lines = w.Select(label="spectral lines", options=["auto", "none"], value="auto")
         self.undo = w.Button(label="undo", color="warning", css_classes=["gb-undo"])
@@ -867,12 +895,16 @@ class ExploreApp:
         if self.syncing:
             return
         start, stop = self.start.value, self.stop.value
-        self.apply(start=None if start is None else float(start), stop=None if stop is None else float(stop))
+        self.apply(
+            start=None if start is None else float(start),
+            stop=None if stop is None else float(stop),
+        )
 
     def _on_outliers(self, _: Any) -> None:
         if self.syncing:
             return
-        self.apply(outliers=float(self.sigma.value) if self.outliers_on.value else None)
+        sigma = self.sigma.value
+        self.apply(outliers=float(sigma) if self.outliers_on.value and sigma is not None else None)
 
     def _on_tau(self, _: Any) -> None:
         if self.syncing:
@@ -1001,9 +1033,8 @@ class ExploreApp:
             for k, v in rows
         )
         warn = "".join(f"<li>{html.escape(w)}</li>" for w in log.warnings)
-        return (
-            f"<h4>Sampling report</h4><table class='gb-sampling'>{body}</table>"
-            + (f"<ul>{warn}</ul>" if warn else "")
+        return f"<h4>Sampling report</h4><table class='gb-sampling'>{body}</table>" + (
+            f"<ul>{warn}</ul>" if warn else ""
         )
 
     def servable(self) -> Any:

@@ -34,7 +34,7 @@ def configure() -> None:
     from bokeh.settings import settings
 
     settings.resources.set_value("server")  # /static/ of the local server, never a CDN
-    pn.config.inline = True  # in a notebook: the JS/CSS inlined into the output
+    # in a notebook: the JS/CSS inlined into the output (pn.extension sets config.inline)
     pn.extension(inline=True, notifications=False)
     _configured = True
 
@@ -62,8 +62,7 @@ def _page_factory(sessions: Sequence[Session], errors: Sequence[str]) -> Callabl
         from gyrobias.explore.app import ExploreApp
 
         fresh = [
-            Session(s.log, s.source, allan=s._allan_input, settings=s.history[0])
-            for s in sessions
+            Session(s.log, s.source, allan=s._allan_input, settings=s.history[0]) for s in sessions
         ]
         return ExploreApp(fresh, errors).layout
 

@@ -355,9 +355,8 @@ class Session:
     def cleaned(self) -> Cleaned:
         """The selection after the outlier and drift steps (cached)."""
         s = self.settings
-        return self._memo.get(
-            "cleaned", (s.start, s.stop, s.outliers, s.detrend), self._compute_cleaned
-        )  # type: ignore[no-any-return]
+        key = (s.start, s.stop, s.outliers, s.detrend)
+        return self._memo.get("cleaned", key, self._compute_cleaned)  # type: ignore[no-any-return]
 
     def _compute_cleaned(self) -> Cleaned:
         import numpy as np
