@@ -164,6 +164,11 @@ def _log_section(log: GyroLog, title: str) -> str:
         ("samples × channels", f"{log.n_samples} × {len(log.columns)} ({', '.join(log.columns)})"),
         ("sample rate", f"{log.fs:.9g} Hz ({s.fs_source or 'given'})"),
         ("duration", _duration(log.n_samples / log.fs)),
+        *(
+            [("analysed span", f"τ computed on {log.selection}")]
+            if log.selection is not None
+            else []
+        ),
         ("time column", log.time_column or "none"),
         (
             "units",

@@ -28,6 +28,7 @@ from gyrobias.cli._common import (
     describe_source,
     read_log,
     require_fs,
+    selection_note,
 )
 
 __all__ = ["ProgressBar", "register", "run"]
@@ -202,6 +203,9 @@ def run(args: argparse.Namespace) -> int:
         f"{args.log}{source}: {log.n_samples} samples × {len(log.columns)} channels, "
         f"{_duration(duration)} at {fs:.9g} Hz"
     )
+    note = selection_note(log)
+    if note is not None:
+        print(note)
     for r in results:
         unit = f" [{r.unit}]" if r.unit else ""
         print(
@@ -229,6 +233,7 @@ def run(args: argparse.Namespace) -> int:
             "time_column": log.time_column,
             "topic": log.topic,
             "sampling": report.to_dict(),
+            "selection": None if log.selection is None else log.selection.to_dict(),
             "timing_s": {"read": t_read, "analysis": t_run},
             "axes": [r.to_dict() for r in results],
         }
@@ -242,6 +247,8 @@ def run(args: argparse.Namespace) -> int:
         from gyrobias.plotting import save_allan_plot
 
         title = f"{args.kind.upper()} of {args.log.name} ({fs:.6g} Hz, {_duration(duration)})"
+        if log.selection is not None:
+            title += f", {log.selection.describe()}"
         fits = args.noise_coefficients or None
         if fits is not None and len(results) > 1:
             # One figure per axis for the fitted models (overlaying several models, their
