@@ -42,6 +42,12 @@ GROUPS: list[tuple[str, str, list[str]]] = [
         ["gyrobias.io"],
     ),
     (
+        "Cleaning a log",
+        "Stable32's Outliers and Drift steps (robust MAD z-score, least-squares drift) and the "
+        "min/max envelope that draws a long log.",
+        ["gyrobias.cleaning"],
+    ),
+    (
         "Allan family of deviations",
         "Overlapping and non-overlapping Allan, modified, Hadamard, total, Théo statistics, with "
         "chi-square confidence intervals (NIST SP 1065, IEEE Std 952).",

@@ -183,4 +183,5 @@ extractors!(size -> usize:
     noverlap, nperseg, padlen, per_decade, resamples, rows, step, window,
 );
 extractors!(unsigned -> u64: samples, seed);
+extractors!(size -> usize: bins, order);
 extractors!(optional_size -> Option<usize>: levels, m, row_width);

@@ -15,6 +15,7 @@
 
 mod allan;
 mod array;
+mod cleaning;
 mod codegen;
 mod count;
 mod discrete;
@@ -94,5 +95,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     submodule(m, "timestamps", timestamps::register)?;
     submodule(m, "random", random::register)?;
     submodule(m, "validate", validate::register)?;
+    submodule(m, "cleaning", cleaning::register)?;
     Ok(())
 }
