@@ -57,11 +57,15 @@ _CSS = """
 
 
 def _envelope(data: Any, lo: int, hi: int, bins: int) -> tuple[Any, Any, Any]:
-    """(bin centre index, min, max) per bin of rows ``lo:hi`` of a 1-D channel."""
+    """Rows ``lo:hi`` of ``data`` (n, k) as a min/max envelope
+    (:func:`gyrobias.cleaning.minmax_envelope`, one pass in the core over a view: no copy):
+    each bin's middle row, and its minimum and maximum per channel, shape (bins, k)."""
     from gyrobias import cleaning
 
     env = cleaning.minmax_envelope(data[lo:hi], bins)
-    return np.asarray(env.index) + lo, np.asarray(env.low), np.asarray(env.high)
+    starts = np.asarray(env.starts)
+    middle = (starts[:-1] + starts[1:] - 1) // 2 + lo
+    return middle, np.asarray(env.lower), np.asarray(env.upper)
 
 
 def load_upload(name: str, content: Any, *, units: str | None = None) -> Session:
@@ -195,10 +199,11 @@ class _LogView(_View):
         lo, hi = max(0, lo), min(session.log.n_samples, hi)
         if hi - lo < 2:
             return
+        idx, mn, mx = _envelope(data, lo, hi, ENVELOPE_BINS)
+        t = self._time(session, idx)
         for (_unit, cols), srcs in zip(self.groups, self.sources):
             for c, src in zip(cols, srcs):
-                idx, mn, mx = _envelope(data[:, c], lo, hi, ENVELOPE_BINS)
-                src.data = {"t": self._time(session, idx), "lo": mn, "hi": mx}
+                src.data = {"t": t, "lo": mn[:, c], "hi": mx[:, c]}
 
     def _on_range(self, event: Any) -> None:
         session = self.built_for
@@ -308,16 +313,11 @@ class _CleanView(_View):
                 return np.asarray(t_all)[rows]
             return (rows + offset) / session.fs
 
-        idx, mn, mx = _envelope(part.data[:, c], 0, n, ENVELOPE_BINS)
-        self.before.data = {"t": times(idx), "lo": mn, "hi": mx}
-        after = cleaned.data[:, c]
-        gaps = np.isnan(after)
-        if gaps.all():
-            raise ValueError(f"{cols[c]}: every sample of the selection was removed")
-        if gaps.any():  # the envelope of the kept samples (a gap drawn at their median)
-            after = np.where(gaps, np.median(after[~gaps]), after)
-        idx, mn, mx = _envelope(after, 0, n, ENVELOPE_BINS)
-        self.after.data = {"t": times(idx), "lo": mn, "hi": mx}
+        idx, mn, mx = _envelope(part.data, 0, n, ENVELOPE_BINS)
+        self.before.data = {"t": times(idx), "lo": mn[:, c], "hi": mx[:, c]}
+        # the kept samples (a bin of removed samples only is a break in the band)
+        idx, mn, mx = _envelope(cleaned.data, 0, n, ENVELOPE_BINS)
+        self.after.data = {"t": times(idx), "lo": mn[:, c], "hi": mx[:, c]}
         if cleaned.outlier_mask is not None:
             rows = np.flatnonzero(np.asarray(cleaned.outlier_mask)[:, c])[:MAX_OUTLIER_MARKERS]
             self.flagged.data = {"t": times(rows), "y": np.asarray(part.data[rows, c])}

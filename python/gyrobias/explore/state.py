@@ -374,7 +374,7 @@ class Session:
             out = cleaning.remove_outliers(data, threshold=s.outliers)
             data = out.data
             mask = np.asarray(out.mask)
-            counts = tuple(int(c) for c in np.atleast_1d(mask.sum(axis=0)))
+            counts = tuple(int(c) for c in np.atleast_1d(out.count))
         if s.detrend is not None:
             dt = cleaning.detrend(data, self.fs, order=1 if s.detrend == "linear" else 2)
             data = dt.data
