@@ -369,6 +369,81 @@ def _loglog(title: str, height: int = 380) -> Any:
     return fig
 
 
+class _Curves:
+    """A log-log figure built once whose curves are updated in place (a redraw sends only the
+    new points): ``show(name, ...)`` draws or updates a curve, ``finish(names)`` hides the
+    others (and their legend entries)."""
+
+    def __init__(self, title: str, height: int = 380) -> None:
+        self.fig = _loglog(title, height)
+        self.items: dict[str, tuple[ColumnDataSource, ColumnDataSource, list[Any], Any]] = {}
+        self.pane = pn.pane.Bokeh(self.fig, sizing_mode="stretch_width")
+
+    def show(
+        self,
+        name: str,
+        tau: Any,
+        dev: Any,
+        color: str,
+        *,
+        lo: Any = None,
+        hi: Any = None,
+        points: bool = True,
+        dash: str = "solid",
+        width: float = 1.0,
+    ) -> None:
+        dev = np.asarray(dev)
+        ok = np.isfinite(dev) & (dev > 0)
+        data = {"tau": np.asarray(tau)[ok], "dev": dev[ok]}
+        band = {"tau": data["tau"], "lo": data["dev"], "hi": data["dev"]}
+        if lo is not None and hi is not None:
+            band = {"tau": data["tau"], "lo": np.asarray(lo)[ok], "hi": np.asarray(hi)[ok]}
+        item = self.items.get(name)
+        if item is None:
+            src, bsrc = ColumnDataSource(data), ColumnDataSource(band)
+            renderers = [
+                self.fig.line(
+                    "tau",
+                    "dev",
+                    source=src,
+                    color=color,
+                    line_dash=dash,
+                    line_width=width,
+                    legend_label=name,
+                )
+            ]
+            if points:
+                renderers.append(
+                    self.fig.scatter(
+                        "tau", "dev", source=src, color=color, size=4, legend_label=name
+                    )
+                )
+            whisker = Whisker(source=bsrc, base="tau", lower="lo", upper="hi", line_color=color)
+            self.fig.add_layout(whisker)
+            self.items[name] = (src, bsrc, renderers, whisker)
+            self.fig.legend.location = "bottom_left"
+            self.fig.legend.click_policy = "hide"
+        else:
+            src, bsrc, renderers, whisker = item
+            src.data = data
+            bsrc.data = band
+            for r in renderers:
+                r.visible = True
+        self.items[name][3].visible = lo is not None and hi is not None
+
+    def finish(self, names: Any) -> None:
+        """Hide every curve not in ``names``."""
+        keep = set(names)
+        for name, (_s, _b, renderers, whisker) in self.items.items():
+            if name not in keep:
+                for r in renderers:
+                    r.visible = False
+                whisker.visible = False
+        for item in self.fig.legend.items:
+            label = item.label.get("value") if isinstance(item.label, dict) else item.label
+            item.visible = label in keep
+
+
 class _StabilityView(_View):
     title = "Stability"
 
@@ -383,6 +458,7 @@ class _StabilityView(_View):
         )
         self.layout.param.watch(lambda *_: self.refresh(), "value")
         self.plots = pn.Column(sizing_mode="stretch_width")
+        self.figures: dict[Any, _Curves] = {}
         self.panel[:] = [pn.Row(self.kind, self.layout), self.plots]
 
     def _on_kind(self, event: Any) -> None:
@@ -399,34 +475,26 @@ class _StabilityView(_View):
             self.app.syncing = False
         results = session.stability()
         label = _DEVIATION_LABELS[s.deviation]
-        figs = []
-        if self.layout.value == "overlaid":
-            by_unit: dict[Any, Any] = {}
-            for k, r in enumerate(results):
-                fig = by_unit.get(r.unit)
-                if fig is None:
-                    fig = by_unit[r.unit] = _loglog(f"{label} [{r.unit or 'data unit'}]")
-                _draw_dev(fig, r, _COLORS[k % len(_COLORS)], str(r.axis))
-            figs = list(by_unit.values())
-        else:
-            for k, r in enumerate(results):
-                fig = _loglog(f"{label}: {r.axis} [{r.unit or 'data unit'}]", height=300)
-                _draw_dev(fig, r, _COLORS[k % len(_COLORS)], str(r.axis))
-                figs.append(fig)
-        self.plots[:] = [pn.pane.Bokeh(f, sizing_mode="stretch_width") for f in figs]
-
-
-def _draw_dev(fig: Any, r: Any, color: str, name: str) -> None:
-    tau, dev, lo, hi = _dev_arrays(r)
-    ok = np.isfinite(dev) & (dev > 0)
-    src = ColumnDataSource({"tau": tau[ok], "dev": dev[ok]})
-    fig.line("tau", "dev", source=src, color=color, legend_label=name)
-    fig.scatter("tau", "dev", source=src, color=color, size=4, legend_label=name)
-    if lo is not None and hi is not None:
-        band = ColumnDataSource({"tau": tau[ok], "lo": lo[ok], "hi": hi[ok]})
-        fig.add_layout(Whisker(source=band, base="tau", lower="lo", upper="hi", line_color=color))
-    fig.legend.location = "bottom_left"
-    fig.legend.click_policy = "hide"
+        apart = self.layout.value == "apart"
+        wanted: dict[str, list[tuple[int, Any]]] = {}
+        for k, r in enumerate(results):
+            key = f"{r.axis}" if apart else f"{r.unit}"
+            wanted.setdefault(key, []).append((k, r))
+        panes = []
+        for key, members in wanted.items():
+            fkey = (session.source.label, apart, key)
+            curves = self.figures.get(fkey)
+            if curves is None:
+                curves = self.figures[fkey] = _Curves("", height=300 if apart else 380)
+            unit = members[0][1].unit or "data unit"
+            curves.fig.title.text = f"{label}: {key} [{unit}]" if apart else f"{label} [{unit}]"
+            for k, r in members:
+                tau, dev, lo, hi = _dev_arrays(r)
+                curves.show(str(r.axis), tau, dev, _COLORS[k % len(_COLORS)], lo=lo, hi=hi)
+            curves.finish(str(r.axis) for _, r in members)
+            panes.append(curves.pane)
+        if list(self.plots.objects) != panes:
+            self.plots[:] = panes
 
 
 class _FitView(_View):
@@ -442,6 +510,19 @@ class _FitView(_View):
         self.lines = pn.widgets.CheckBoxGroup(label="detected lines", options=[], inline=False)
         self.lines.param.watch(self._on_lines, "value")
         self.conservative = pn.pane.HTML(sizing_mode="stretch_width", stylesheets=[_CSS])
+        self.curves = _Curves("fit")
+        fig = self.curves.fig
+        self.used = BoxAnnotation(fill_color="#2ca02c", fill_alpha=0.07)
+        fig.add_layout(self.used)
+        self.excluded: list[Any] = []
+        self.spans = [Span(dimension="height", line_dash="dotted") for _ in range(2)]
+        for span in self.spans:
+            fig.add_layout(span)
+        box = BoxSelectTool(dimensions="width", persistent=False)
+        fig.add_tools(box)
+        fig.toolbar.active_drag = box
+        fig.on_event(SelectionGeometry, self._on_select)
+        self.plot[:] = [self.curves.pane]
         self.panel[:] = [
             pn.pane.Markdown(
                 "Drag across the plot to set the τ range of the fit (or type it at the left)."
@@ -491,41 +572,40 @@ class _FitView(_View):
         )
         # the plot: measured curve with intervals, total model, each term's asymptote
         r = c.allan
-        fig = _loglog(f"{s.method} fit, channel {cols[k]} [{c.data_unit or 'data unit'}]")
+        curves = self.curves
+        curves.fig.title.text = f"{s.method} fit, channel {cols[k]} [{c.data_unit or 'data unit'}]"
+        shown = []
         if r is not None:
-            _draw_dev(fig, r, "#333333", "measured")
-            tau = np.asarray(r.taus)
+            tau, dev, lo, hi = _dev_arrays(r)
+            curves.show("measured", tau, dev, "#333333", lo=lo, hi=hi)
             grid = np.geomspace(tau[0], tau[-1], 200)
             total, parts = c.model(grid)
-            ok = total > 0
-            fig.line(grid[ok], total[ok], color="#d62728", line_width=2, legend_label="model")
+            curves.show("model", grid, total, "#d62728", points=False, width=2.0)
+            shown += ["measured", "model"]
             for j, (sym, v) in enumerate(parts.items()):
-                okp = np.isfinite(v) & (v > 0)
-                if okp.any() and np.max(v[okp]) > 0:
-                    fig.line(
-                        grid[okp],
-                        v[okp],
-                        color=_COLORS[(j + 1) % len(_COLORS)],
-                        line_dash="dashed",
-                        legend_label=sym,
-                    )
+                v = np.asarray(v)
+                if np.any(np.isfinite(v) & (v > 0)):
+                    color = _COLORS[(j + 1) % len(_COLORS)]
+                    curves.show(sym, grid, v, color, points=False, dash="dashed")
+                    shown.append(sym)
+        curves.finish(shown)
         d = c.diagnostics
+        self.used.visible = d is not None
         if d is not None:
-            lo, hi = d.tau_range
-            fig.add_layout(BoxAnnotation(left=lo, right=hi, fill_color="#2ca02c", fill_alpha=0.07))
-            for a, b, _why in d.excluded:
-                fig.add_layout(
-                    BoxAnnotation(left=a, right=b, fill_color="#7f7f7f", fill_alpha=0.15)
-                )
-        if s.tau_range is not None:
-            for t in s.tau_range:
-                fig.add_layout(Span(location=t, dimension="height", line_dash="dotted"))
-        box = BoxSelectTool(dimensions="width", persistent=False)
-        fig.add_tools(box)
-        fig.toolbar.active_drag = box
-        fig.on_event(SelectionGeometry, self._on_select)
-        fig.legend.location = "bottom_left"
-        self.plot[:] = [pn.pane.Bokeh(fig, sizing_mode="stretch_width")]
+            self.used.left, self.used.right = d.tau_range
+        excluded = list(d.excluded) if d is not None else []
+        while len(self.excluded) < len(excluded):
+            box = BoxAnnotation(fill_color="#7f7f7f", fill_alpha=0.15)
+            curves.fig.add_layout(box)
+            self.excluded.append(box)
+        for i, box in enumerate(self.excluded):
+            box.visible = i < len(excluded)
+            if i < len(excluded):
+                box.left, box.right = excluded[i][0], excluded[i][1]
+        for span, t in zip(self.spans, s.tau_range or (None, None)):
+            span.visible = t is not None
+            if t is not None:
+                span.location = t
         self.diagnostics.object = _diagnostics_html(c)
         # lines: detected ones (joint/GMWM with lines="auto" or chosen ones)
         detected = sorted({float(line.frequency) for f in fits for line in _lines_of(f)})
@@ -628,6 +708,7 @@ class _CompareView(_View):
         )
         self.choice.param.watch(lambda *_: self.refresh(), "value")
         self.plots = pn.Column(sizing_mode="stretch_width")
+        self.figures: dict[Any, _Curves] = {}
         self.panel[:] = [
             pn.pane.Markdown(
                 "ADEV of every log and channel loaded, each with its own part and cleaning steps."
@@ -645,7 +726,7 @@ class _CompareView(_View):
         if list(self.choice.options) != keys:
             self.choice.options = keys
             self.choice.value = keys[: min(len(keys), 12)]
-        by_unit: dict[Any, Any] = {}
+        wanted: dict[Any, list[tuple[int, str, Any]]] = {}
         for k, key in enumerate(self.choice.value):
             i = int(key.split(":", 1)[0])
             col = key.rsplit(" · ", 1)[1]
@@ -655,11 +736,19 @@ class _CompareView(_View):
             except Exception as exc:  # one failing log does not hide the others
                 self.app.show_error(exc, f"{session.source.label}: ")
                 continue
-            fig = by_unit.get(r.unit)
-            if fig is None:
-                fig = by_unit[r.unit] = _loglog(f"ADEV [{r.unit or 'data unit'}]")
-            _draw_dev(fig, r, _COLORS[k % len(_COLORS)], key.split(": ", 1)[1])
-        self.plots[:] = [pn.pane.Bokeh(f, sizing_mode="stretch_width") for f in by_unit.values()]
+            wanted.setdefault(r.unit, []).append((k, key.split(": ", 1)[1], r))
+        panes = []
+        for unit, members in wanted.items():
+            curves = self.figures.get(unit)
+            if curves is None:
+                curves = self.figures[unit] = _Curves(f"ADEV [{unit or 'data unit'}]")
+            for k, name, r in members:
+                tau, dev, lo, hi = _dev_arrays(r)
+                curves.show(name, tau, dev, _COLORS[k % len(_COLORS)], lo=lo, hi=hi)
+            curves.finish(name for _, name, _ in members)
+            panes.append(curves.pane)
+        if list(self.plots.objects) != panes:
+            self.plots[:] = panes
 
 
 class _ExportView(_View):
