@@ -157,11 +157,15 @@ class _LogView(_View):
             for c in cols:
                 src = ColumnDataSource({"t": [], "lo": [], "hi": []})
                 color = _COLORS[c % len(_COLORS)]
-                fig.varea("t", "lo", "hi", source=src, fill_color=color, fill_alpha=0.45)
-                fig.line(
-                    "t", "hi", source=src, color=color, line_width=0.6, legend_label=log.columns[c]
+                fig.varea(
+                    "t",
+                    "lo",
+                    "hi",
+                    source=src,
+                    fill_color=color,
+                    fill_alpha=0.55,
+                    legend_label=log.columns[c],
                 )
-                fig.line("t", "lo", source=src, color=color, line_width=0.6)
                 srcs.append(src)
             fig.legend.location = "top_left"
             fig.legend.click_policy = "hide"
@@ -860,7 +864,7 @@ class ExploreApp:
             _ExportView(self),
         ]
         self.tabs = pn.Tabs(
-            *[(v.title, v.panel) for v in self.views], dynamic=False, sizing_mode="stretch_width"
+            *[(v.title, v.panel) for v in self.views], dynamic=True, sizing_mode="stretch_width"
         )
         self.tabs.param.watch(lambda *_: self.refresh(), "active")
         self.layout = pn.Row(
