@@ -8,6 +8,8 @@ each, with a typed result that records what was done:
 - :func:`remove_outliers` — flag the samples whose robust z-score ``|x − median| / (1.4826·MAD)``
   exceeds a threshold (per channel) and replace them by NaN (gaps);
 - :func:`detrend` — remove each channel's least-squares linear or quadratic drift in time;
+- :func:`clean` — both steps in that order, as the command line's ``--outliers`` and
+  ``--detrend`` run them;
 - :func:`minmax_envelope` — per bin of samples each channel's minimum and maximum, to draw a
   log of 10⁷ samples with a few thousand points without hiding a spike.
 
@@ -32,13 +34,22 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
 from gyrobias._validation import as_float_array, choice, integer, real, sample_rate
-from gyrobias.cleaning._types import ORDER_NAMES, DetrendResult, Envelope, OutlierResult
+from gyrobias.cleaning._types import (
+    ORDER_NAMES,
+    CleaningResult,
+    DetrendResult,
+    Envelope,
+    OutlierResult,
+)
 from gyrobias.units import checked_units
 
 __all__ = [
+    "ORDERS",
+    "CleaningResult",
     "DetrendResult",
     "Envelope",
     "OutlierResult",
+    "clean",
     "detrend",
     "minmax_envelope",
     "remove_outliers",
@@ -283,3 +294,68 @@ def minmax_envelope(data: ArrayLike, bins: int) -> Envelope:
         upper=upper.reshape(-1, k),
         starts=starts.astype(np.int64),
     )
+
+
+def clean(
+    data: ArrayLike,
+    fs: float,
+    *,
+    outliers: float | None = None,
+    detrend: str | None = None,
+    units: str | Sequence[str | None] | None = None,
+) -> CleaningResult:
+    """Stable32's Outliers then Drift steps in one call (the command line's ``--outliers
+    SIGMA --detrend linear|quadratic``).
+
+    Parameters
+    ----------
+    data : array_like, shape (n,) or (n, k)
+        Samples (e.g. ``log.data`` of a selected part); never modified.
+    fs : float
+        Sample rate in Hz.
+    outliers : float, optional
+        Robust z-score threshold of :func:`remove_outliers` (``None``: keep every sample).
+    detrend : {"linear", "quadratic"}, optional
+        Drift removed by :func:`detrend` after the outliers (``None``: none).
+    units : str or sequence of str, optional
+        Unit of the samples (one for all channels, or one per channel).
+
+    Returns
+    -------
+    CleaningResult
+        ``data`` and the record of each step (``outliers``, ``drift``).
+
+    Raises
+    ------
+    ValueError, TypeError
+        As :func:`remove_outliers` and :func:`detrend`; an unknown ``detrend`` name.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrobias import allan, cleaning
+    >>> rng = np.random.default_rng(1)
+    >>> rate = rng.normal(0.0, 0.1, 50_000) + 1e-4 * np.arange(50_000)   # drifting
+    >>> rate[123] = 40.0
+    >>> c = cleaning.clean(rate, 100.0, outliers=5.0, detrend="linear", units="deg/s")
+    >>> c.describe()
+    'outliers > 5σ (MAD) removed per channel: 1; linear drift removed'
+    >>> r = allan.adev(c.data, 100.0, gaps="omit" if c.has_gaps else "error")
+    """
+    order = None if detrend is None else ORDERS[choice("detrend", detrend, tuple(ORDERS))]
+    fs = sample_rate(fs)
+    current: Any = data
+    found = drift = None
+    if outliers is not None:
+        found = remove_outliers(current, outliers, units=units)
+        current = found.data
+    if order is not None:
+        drift = _detrend(current, fs, order, units=units)
+        current = drift.data
+    if found is None and drift is None:
+        current = as_float_array("data", data, ndims=(1, 2))
+    return CleaningResult(data=current, outliers=found, drift=drift)
+
+
+#: :func:`detrend` under another name inside :func:`clean` (whose argument is ``detrend``).
+_detrend = detrend

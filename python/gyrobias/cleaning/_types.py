@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["DetrendResult", "Envelope", "OutlierResult", "derivative_unit"]
+__all__ = ["CleaningResult", "DetrendResult", "Envelope", "OutlierResult", "derivative_unit"]
 
 #: ``order`` of :func:`gyrobias.cleaning.detrend` → its name (the CLI's ``--detrend``).
 ORDER_NAMES: dict[int, str] = {1: "linear", 2: "quadratic"}
@@ -174,3 +174,47 @@ class Envelope:
 
     def __repr__(self) -> str:
         return f"Envelope(bins={self.bins}, channels={self.lower.shape[1]})"
+
+
+@dataclass(frozen=True, eq=False)
+class CleaningResult:
+    """The outcome of :func:`gyrobias.cleaning.clean`: Stable32's Outliers then Drift steps.
+
+    Attributes
+    ----------
+    data : ndarray, shape (n,) or (n, k)
+        The cleaned samples (outliers NaN, drift removed); the input itself when no step ran.
+    outliers : OutlierResult or None
+        The outlier step (``None``: not asked for).
+    drift : DetrendResult or None
+        The drift step (``None``: not asked for).
+    """
+
+    data: NDArray[np.float64]
+    outliers: OutlierResult | None = None
+    drift: DetrendResult | None = None
+
+    @property
+    def has_gaps(self) -> bool:
+        """Whether ``data`` holds NaN (then the Allan functions need ``gaps="omit"``)."""
+        return bool(np.isnan(self.data).any())
+
+    def describe(self) -> str | None:
+        """One line for outputs, e.g. ``"outliers > 5σ (MAD) removed: 3, 0, 1; linear drift
+        removed"``; ``None`` when no step ran."""
+        parts = []
+        if self.outliers is not None:
+            counts = ", ".join(str(c) for c in self.outliers.count.tolist())
+            parts.append(
+                f"outliers > {self.outliers.threshold:g}σ (MAD) removed per channel: {counts}"
+            )
+        if self.drift is not None:
+            parts.append(f"{self.drift.kind} drift removed")
+        return "; ".join(parts) or None
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{"outliers": …, "drift": …}`` (each ``None`` or its ``to_dict()``)."""
+        return {
+            "outliers": None if self.outliers is None else self.outliers.to_dict(),
+            "drift": None if self.drift is None else self.drift.to_dict(),
+        }

@@ -31,12 +31,16 @@ from gyrobias.cli import _types
 
 if TYPE_CHECKING:
     from gyrobias import io
+    from gyrobias.cleaning import CleaningResult
 
 __all__ = [
     "ProgressBar",
+    "add_cleaning_arguments",
     "add_progress_argument",
     "add_read_arguments",
     "add_selection_arguments",
+    "clean_log",
+    "cleaning_options",
     "load_options",
     "progress_bar",
     "read_log",
@@ -183,6 +187,56 @@ def add_selection_arguments(group: argparse._ArgumentGroup) -> None:
         metavar="TIME",
         help="analyse up to this time (excluded), same forms as --start",
     )
+
+
+def add_cleaning_arguments(parser: argparse.ArgumentParser) -> argparse._ArgumentGroup:
+    """Add the "cleaning" option group: ``--outliers SIGMA`` and ``--detrend linear|quadratic``
+    (Stable32's Outliers and Drift steps, :func:`gyrobias.cleaning.clean`), applied after
+    ``--start``/``--stop`` and before the statistics."""
+    group = parser.add_argument_group(
+        "cleaning",
+        "applied in this order after --start/--stop, before the statistics "
+        "(gyrobias.cleaning.clean)",
+    )
+    group.add_argument(
+        "--outliers",
+        type=_types.positive,
+        metavar="SIGMA",
+        help="replace samples whose robust z-score |x - median|/(1.4826·MAD) exceeds SIGMA "
+        "(per channel; Stable32's default is 5) by gaps, which the statistics skip",
+    )
+    group.add_argument(
+        "--detrend",
+        choices=("linear", "quadratic"),
+        help="remove each channel's least-squares linear or quadratic drift in time",
+    )
+    return group
+
+
+def cleaning_options(args: argparse.Namespace) -> dict[str, Any]:
+    """``{"outliers": …, "detrend": …}`` of :func:`add_cleaning_arguments`' options."""
+    return {
+        "outliers": getattr(args, "outliers", None),
+        "detrend": getattr(args, "detrend", None),
+    }
+
+
+def clean_log(
+    args: argparse.Namespace, log: io.GyroLog
+) -> tuple[io.GyroLog, CleaningResult | None]:
+    """``log`` with ``--outliers`` / ``--detrend`` applied (a new :class:`GyroLog` whose data is
+    the cleaned copy; the input is untouched) and the record of the steps, or ``(log, None)``
+    when neither was given."""
+    options = cleaning_options(args)
+    if options["outliers"] is None and options["detrend"] is None:
+        return log, None
+    import dataclasses
+
+    from gyrobias import cleaning
+
+    fs = require_fs(log, Path(log.path))
+    done = cleaning.clean(log.data, fs, units=log.units, **options)
+    return dataclasses.replace(log, data=done.data), done
 
 
 def add_progress_argument(parser: argparse.ArgumentParser) -> None:

@@ -20,11 +20,14 @@ from typing import Any
 from gyrobias.cli import _types
 from gyrobias.cli._common import (
     SELECTION_NAMES,
+    add_cleaning_arguments,
     add_read_arguments,
+    cleaning_options,
     load_options,
     progress_bar,
     selection_bounds,
 )
+from gyrobias.cli.noise import add_fit_range_arguments, fit_range_options
 
 __all__ = ["register", "run"]
 
@@ -57,6 +60,7 @@ def register(subparsers: Any) -> None:
         metavar="X,Y,…",
         help="names for the channels of every log (compares logs whose headers differ, e.g. CSV and NPY)",
     )
+    add_cleaning_arguments(p)
     ana = p.add_argument_group("analysis")
     ana.add_argument(
         "--fit-method",
@@ -71,6 +75,7 @@ def register(subparsers: Any) -> None:
         help="noise terms to fit (Q, N, B, K, R, GM, GM2; default the five IEEE terms); GM adds a "
         "Gauss–Markov term (σ and correlation time columns), GM2 two (joint fit only)",
     )
+    add_fit_range_arguments(ana)
     ana.add_argument(
         "--taus",
         choices=("octave", "decade", "log", "all"),
@@ -195,6 +200,7 @@ def run(args: argparse.Namespace) -> int:
     options = load_options(args)
     fs, units = options.pop("fs"), options.pop("units")
     start, stop = selection_bounds(args)
+    extra = fit_range_options(args, args.fit_method)
     show = args.progress if args.progress is not None else sys.stderr.isatty()
     bar = progress_bar("fleet", args) if show else None
     try:
@@ -219,6 +225,8 @@ def run(args: argparse.Namespace) -> int:
             start=start,
             stop=stop,
             bound_confidence=args.bound_confidence,
+            **cleaning_options(args),
+            **extra,
         )
     finally:
         if bar is not None:
@@ -238,6 +246,12 @@ def run(args: argparse.Namespace) -> int:
             + ("; ".join(spans[:3]) or "—")
             + (f"; … ({len(spans)} spans)" if len(spans) > 3 else "")
         )
+    if args.outliers is not None or args.detrend is not None:
+        steps = [
+            *([f"outliers > {args.outliers:g}σ (MAD) removed"] if args.outliers else []),
+            *([f"{args.detrend} drift removed"] if args.detrend else []),
+        ]
+        print(f"cleaning of every log: {'; '.join(steps)} (per axis: the 'cleaning' column)")
     print()
     _print_table(table)
     summ = fleet.summary(table)

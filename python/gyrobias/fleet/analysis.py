@@ -13,8 +13,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gyrobias import _core, allan, io, noise
-from gyrobias._validation import as_float_array, callback, positive_float, real
+from gyrobias import _core, allan, cleaning, io, noise
+from gyrobias._validation import as_float_array, callback, pair, positive_float, real
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.fleet.spread import OUT_OF_FAMILY_THRESHOLD, _finish
 from gyrobias.fleet.table import GM_PARAMETERS, DataFrame, _require
@@ -42,6 +42,23 @@ class _Options:
     start: io.TimeBound | None = None  # the span of every log analysed (GyroLog.select)
     stop: io.TimeBound | None = None
     bound_confidence: float = 0.95
+    outliers: float | None = None  # cleaning.clean after the span, before the analysis
+    detrend: str | None = None
+    tau_range: tuple[float, float] | None = None  # noise.fit's (joint fit)
+    lines: str | tuple[float | tuple[float, float], ...] | None = "auto"
+
+    @property
+    def cleans(self) -> bool:
+        """Whether a cleaning step runs on every unit."""
+        return self.outliers is not None or self.detrend is not None
+
+    @property
+    def fit_extra(self) -> dict[str, Any]:
+        """``tau_range`` and ``lines`` for noise.fit when given (the joint fit's options)."""
+        if self.tau_range is None and self.lines == "auto":
+            return {}
+        lines = list(self.lines) if isinstance(self.lines, tuple) else self.lines
+        return {"tau_range": self.tau_range, "lines": lines}
 
     @property
     def n_gauss_markov(self) -> int:
@@ -92,13 +109,27 @@ def _rows_for(
     sampling: io.SamplingReport | None,
     selection: io.Selection | None = None,
 ) -> list[dict[str, Any]]:
-    """Allan analysis and fit of one unit (``data`` is ``(n,)`` or ``(n, axes)``)."""
+    """Allan analysis and fit of one unit (``data`` is ``(n,)`` or ``(n, axes)``), after the
+    cleaning steps of ``opts`` (whose gaps the Allan analysis then skips)."""
     matrix = data.reshape(-1, 1) if data.ndim == 1 else data
-    results = allan.adev(matrix, fs, **_allan_options(axis_names, axis_units, opts))
+    allan_options = _allan_options(axis_names, axis_units, opts)
+    cleaned = None
+    if opts.cleans:
+        cleaned = cleaning.clean(
+            matrix, fs, outliers=opts.outliers, detrend=opts.detrend, units=list(axis_units)
+        )
+        matrix = cleaned.data
+        if cleaned.has_gaps:
+            allan_options["gaps"] = "omit"
+    results = allan.adev(matrix, fs, **allan_options)
     assert isinstance(results, tuple)
-    return _fit_rows(
+    rows = _fit_rows(
         source, results, int(matrix.shape[0]), fs, axis_units, opts, sampling, selection
     )
+    if cleaned is not None:
+        for row in rows:
+            row["cleaning"] = cleaned.describe()
+    return rows
 
 
 def _allan_options(
@@ -130,6 +161,7 @@ def _fit_rows(
         "duration": n / fs,
         "n_samples": n,
         "selection": None if selection is None else str(selection),
+        "cleaning": None,
         "n_gaps": None,
         "missing_samples": None,
         "longest_gap": math.nan,
@@ -161,6 +193,7 @@ def _fit_rows(
         }
         if opts.terms is not None:
             fit_options["terms"] = opts.terms
+        fit_options.update(opts.fit_extra)
         try:
             row["sensor"] = None if unit is None else sensor_kind(unit)
             c = noise.fit(r, **fit_options)
@@ -230,11 +263,12 @@ def _analyse_block(block: NDArray[np.float64], start: int, opts: _Options) -> li
         selection = io.resolve_selection(int(block.shape[1]), opts.fs, opts.start, opts.stop)
         block = block[:, selection.start_index : selection.stop_index]
     n = int(block.shape[1])
-    batch: tuple[tuple[allan.AllanResult, ...], ...] | None
-    try:
-        batch = allan.adev_batch(block, opts.fs, **_allan_options(names, units, opts))
-    except Exception:  # noqa: BLE001 - find the failing unit below, one at a time
-        batch = None
+    batch: tuple[tuple[allan.AllanResult, ...], ...] | None = None
+    if not opts.cleans:  # cleaning is per unit: then one adev per cleaned unit
+        try:
+            batch = allan.adev_batch(block, opts.fs, **_allan_options(names, units, opts))
+        except Exception:  # noqa: BLE001 - find the failing unit below, one at a time
+            batch = None
     rows: list[dict[str, Any]] = []
     for i in range(block.shape[0]):
         source = f"array[{start + i}]"
@@ -380,6 +414,10 @@ def analyse(
     start: str | float | io.TimeBound | None = None,
     stop: str | float | io.TimeBound | None = None,
     bound_confidence: float = 0.95,
+    outliers: float | None = None,
+    detrend: str | None = None,
+    tau_range: tuple[float, float] | None = None,
+    lines: str | Sequence[float | tuple[float, float]] | None = "auto",
 ) -> DataFrame:
     """Noise terms of every unit of a fleet, one row per unit and axis, computed on Dask.
 
@@ -436,6 +474,16 @@ def analyse(
     bound_confidence : float
         One-sided confidence level of the upper bounds of terms a log does not show
         (:func:`gyrobias.noise.fit`; default 0.95).
+    outliers : float, optional
+        Remove every unit's outliers above this robust z-score after the span and before the
+        analysis (:func:`gyrobias.cleaning.clean`; they become gaps, skipped by the Allan
+        analysis); the ``cleaning`` column states what was removed.
+    detrend : {"linear", "quadratic"}, optional
+        Remove every unit's drift after the outliers (:func:`gyrobias.cleaning.clean`).
+    tau_range : (float, float), optional
+        ``fit="joint"``: fit the Allan points in this τ range (seconds) (:func:`gyrobias.noise.fit`).
+    lines : "auto", sequence or None
+        ``fit="joint"``: the lines modelled by a sinusoidal term (:func:`gyrobias.noise.fit`).
 
     Returns
     -------
@@ -444,7 +492,8 @@ def analyse(
         ``sources``. Columns: ``source``, ``axis``, ``sensor``, ``data_unit``, ``fs`` [Hz],
         ``duration`` [s] (``n_samples / fs``), ``n_samples`` (of the span analysed),
         ``selection`` (the span, ``"0.5–2.3 h of 2.8 h (samples …)"``, with ``start``/``stop``;
-        else ``None``); the gap summary of the
+        else ``None``), ``cleaning`` (the steps of ``outliers``/``detrend`` and the outliers
+        removed per axis, else ``None``); the gap summary of the
         timestamps (``<NA>`` without them): ``n_gaps``, ``missing_samples``, ``longest_gap``
         [s], ``n_duplicates``, ``sampling_warnings``; ``fit_method``; for every term X in Q, N,
         B, K, R (and, with Gauss–Markov ``terms``, ``GM1_sigma``, ``GM1_correlation_time``,
@@ -547,6 +596,10 @@ def analyse(
         bound_confidence=_core.validate.probability(
             "bound_confidence", real("bound_confidence", bound_confidence)
         ),
+        outliers=None if outliers is None else real("outliers", outliers),
+        detrend=detrend,
+        tau_range=None if tau_range is None else pair("tau_range", tau_range),
+        lines=tuple(lines) if lines is not None and not isinstance(lines, str) else lines,
     )
     _check_options(opts)
 
@@ -598,6 +651,8 @@ def _check_options(opts: _Options) -> None:
         # joint fit of every τ of even this short series takes seconds.
         result = allan.adev(probe, fs, confidence=opts.confidence, gaps=opts.gaps)
     assert isinstance(result, allan.AllanResult)
+    if opts.cleans:  # the cleaning options, judged by cleaning.clean itself
+        cleaning.clean(np.asarray(probe), fs, outliers=opts.outliers, detrend=opts.detrend)
     try:
         if opts.terms is None:
             noise.fit(result, method=opts.fit)

@@ -55,6 +55,7 @@ def _columns(n_gm: int = 0) -> list[str]:
         "duration",
         "n_samples",
         "selection",
+        "cleaning",
         "n_gaps",
         "missing_samples",
         "longest_gap",
