@@ -116,8 +116,8 @@ def test_session_matches_the_public_api_step_by_step(csv: Path) -> None:
 
     s = _session(csv, start=10.0, stop=300.0, outliers=5.0, detrend="linear")
     log = io.load(csv, units="deg/s").select(start=10.0, stop=300.0)
-    out = cleaning.remove_outliers(log.data, threshold=5.0)
-    data = cleaning.detrend(out.data, FS, order=1).data
+    out = cleaning.remove_outliers(log.data, threshold=5.0, units=log.units)
+    data = cleaning.detrend(out.data, FS, order=1, units=log.units).data
     np.testing.assert_array_equal(s.cleaned().data, data)
     assert sum(s.cleaned().outliers) == int(np.asarray(out.mask).sum()) > 0
     ref = allan.adev(data, FS, taus="octave", units="deg/s", axis_names=["gx", "gy"], gaps="omit")

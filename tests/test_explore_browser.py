@@ -168,7 +168,7 @@ def _check(
     expect(shown).to_have_text("\n\n".join(summaries), timeout=TIMEOUT)
     _tab(page, "Export")
     code = page.locator("pre.gb-code")
-    expect(code).to_contain_text("cleaning.detrend", timeout=TIMEOUT)
+    expect(code).to_contain_text("cleaning.clean", timeout=TIMEOUT)
     with page.expect_download(timeout=TIMEOUT) as info:
         page.locator(".gb-download-kalibr").click()
     downloaded = tmp / "downloaded.yaml"

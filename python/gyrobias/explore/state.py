@@ -13,11 +13,13 @@ framework: the state is tested without a browser, and the app only binds widgets
 The pipeline, in the order Stable32 walks it (Part, Outliers, Drift, stability, fit):
 
 1. ``log.select(start, stop)`` (a view of the loaded log: no copy);
-2. ``cleaning.remove_outliers(data, threshold)`` (flagged samples become NaN gaps), then
-   ``cleaning.detrend(data, fs, order)`` — the one working copy of the selection;
+2. ``cleaning.clean(data, fs, outliers=, detrend=)`` (Stable32's Outliers then Drift, as
+   ``gyrobias allan --outliers --detrend``: flagged samples become NaN gaps) — the one working
+   copy of the selection;
 3. per unit group (a 6-axis IMU's gyro and accelerometer), ``allan.adev(..., taus="octave",
    confidence=0.683, units=unit)``, as ``gyrobias allan`` computes it;
-4. ``noise.fit(results, method, terms, tau_range, lines)`` or ``noise.gmwm(data, fs, ...)``;
+4. ``noise.fit(results, method, terms, tau_range, lines)`` (τ range and lines: joint fit only)
+   or ``noise.gmwm(data, fs, ...)``;
 5. ``exports.export(gyro, fmt, accel=accel, rostopic=topic)``.
 """
 
@@ -148,11 +150,12 @@ class Settings:
             out.append(f"outliers beyond {self.outliers:g} σ removed")
         if self.detrend is not None:
             out.append(f"{self.detrend} drift removed")
-        out.append(
-            f"{self.method} fit of {','.join(self.terms)}"
-            + (f", τ {self.tau_range[0]:g}–{self.tau_range[1]:g} s" if self.tau_range else "")
-            + f", lines {_lines_text(self.lines)}"
-        )
+        fit = f"{self.method} fit of {','.join(self.terms)}"
+        if self.method == "joint" and self.tau_range:
+            fit += f", τ {self.tau_range[0]:g}–{self.tau_range[1]:g} s"
+        if self.method != "ieee":
+            fit += f", lines {_lines_text(self.lines)}"
+        out.append(fit)
         return out
 
 
@@ -231,12 +234,15 @@ class Cleaned:
         Where samples were removed.
     trend : tuple of tuple of float
         The drift polynomial's coefficients per channel (empty without drift removal).
+    has_gaps : bool
+        Samples were removed (NaN): the Allan deviations skip them (``gaps="omit"``).
     """
 
     data: NDArray[np.float64]
     outliers: tuple[int, ...]
     outlier_mask: NDArray[np.bool_] | None
     trend: tuple[tuple[float, ...], ...]
+    has_gaps: bool = False
 
 
 @dataclass
@@ -365,22 +371,24 @@ class Session:
 
         s = self.settings
         part = self.selection()
-        data = part.data
-        k = data.shape[1]
-        mask = None
-        counts: tuple[int, ...] = (0,) * k
+        k = part.data.shape[1]
+        if s.outliers is None and s.detrend is None:
+            return Cleaned(part.data, (0,) * k, None, (), False)
+        # the command line's --outliers / --detrend (cli._common.clean_log): one call
+        done = cleaning.clean(
+            part.data, self.fs, outliers=s.outliers, detrend=s.detrend, units=part.units
+        )
+        mask = None if done.outliers is None else np.asarray(done.outliers.mask)
+        counts = (
+            (0,) * k
+            if done.outliers is None
+            else tuple(int(c) for c in np.atleast_1d(done.outliers.count))
+        )
         trend: tuple[tuple[float, ...], ...] = ()
-        if s.outliers is not None:
-            out = cleaning.remove_outliers(data, threshold=s.outliers)
-            data = out.data
-            mask = np.asarray(out.mask)
-            counts = tuple(int(c) for c in np.atleast_1d(out.count))
-        if s.detrend is not None:
-            dt = cleaning.detrend(data, self.fs, order=1 if s.detrend == "linear" else 2)
-            data = dt.data
-            coef = np.atleast_2d(np.asarray(dt.coefficients, dtype=np.float64))
+        if done.drift is not None:
+            coef = np.atleast_2d(np.asarray(done.drift.coefficients, dtype=np.float64))
             trend = tuple(tuple(float(v) for v in row) for row in coef)
-        return Cleaned(data, counts, mask, trend)
+        return Cleaned(done.data, counts, mask, trend, bool(done.has_gaps))
 
     def unit_groups(self) -> list[tuple[str | None, list[int]]]:
         assert self.log is not None
@@ -411,13 +419,13 @@ class Session:
         )
 
     def _deviation(self, kind: str) -> tuple[Any, ...]:
-        import numpy as np
 
         from gyrobias import allan, noise
 
         assert self.log is not None
-        data = self.cleaned().data
-        gaps = bool(np.isnan(data).any()) if self.settings.outliers is not None else False
+        cleaned = self.cleaned()
+        data = cleaned.data
+        gaps = cleaned.has_gaps or bool(self.log.sampling.filled_samples)
         by_column: dict[int, Any] = {}
         for unit, cols in self.unit_groups():
             part = data if len(cols) == data.shape[1] else data[:, cols]
@@ -484,14 +492,21 @@ class Session:
                 by_column.update(zip(cols, out if isinstance(out, tuple) else (out,)))
             return tuple(by_column[c] for c in range(len(self.log.columns)))
         out = noise.fit(
-            list(self.allan()),
-            method=s.method,
-            terms=list(s.terms),
-            tau_range=s.tau_range,
-            lines=s.fit_lines,
+            list(self.allan()), method=s.method, terms=list(s.terms), **self.fit_options()
         )
         assert isinstance(out, tuple)
         return out
+
+    def fit_options(self) -> dict[str, Any]:
+        """The ``tau_range`` and ``lines`` the fit uses: the settings' for the joint fit; the
+        IEEE read-off has its own slope regions and no sinusoid (``gyrobias allan`` refuses
+        ``--fit-tau-range`` and ``--lines`` with it), so it gets neither; the GMWM its lines."""
+        s = self.settings
+        if s.method == "joint":
+            return {"tau_range": s.tau_range, "lines": s.fit_lines}
+        if s.method == "gmwm":
+            return {"lines": s.fit_lines}
+        return {}
 
     def conservative(self, confidence: float = 0.95) -> tuple[ConservativeCoefficients, ...]:
         """The conservative (overbounding) set of every fit (joint and read-off fits)."""
@@ -530,8 +545,14 @@ class Session:
             raise ValueError("the report needs a log")
         if self.settings.method == "gmwm":
             raise ValueError("the HTML report fits with the joint or IEEE method, not the GMWM")
-        log = dataclasses.replace(self.selection(), data=self.cleaned().data)
-        return report.build_report(log, method=self.settings.method)
+        s = self.settings
+        return report.build_report(
+            self.selection(),
+            method=s.method,
+            outliers=s.outliers,
+            detrend=s.detrend,
+            **self.fit_options(),
+        )
 
     # -- reproduction ----------------------------------------------------------------------
 
@@ -559,13 +580,17 @@ class Session:
             lines.append(f"log = io.load({', '.join(args)})")
         if s.start is not None or s.stop is not None:
             lines.append(f"log = log.select(start={s.start!r}, stop={s.stop!r})")
-        lines.append("data = log.data")
-        if s.outliers is not None:
-            lines.append(f"data = cleaning.remove_outliers(data, threshold={s.outliers!r}).data")
-        if s.detrend is not None:
-            order = 1 if s.detrend == "linear" else 2
-            lines.append(f"data = cleaning.detrend(data, log.fs, order={order}).data")
-        gaps = ', gaps="omit"' if s.outliers is not None else ""
+        filled = bool(self.source.kwargs.get("fill_gaps"))
+        if s.outliers is not None or s.detrend is not None:
+            lines.append(
+                f"cleaned = cleaning.clean(log.data, log.fs, outliers={s.outliers!r}, "
+                f"detrend={s.detrend!r}, units=log.units)"
+            )
+            lines.append("data = cleaned.data")
+            gaps = ', gaps="omit"' if filled else ', gaps="omit" if cleaned.has_gaps else "error"'
+        else:
+            lines.append("data = log.data")
+            gaps = ', gaps="omit"' if filled else ""
         lines.append("fits = []")
         lines.append("for unit, cols in log.unit_groups():  # gyro and accelerometer apart")
         lines.append("    names = [log.columns[c] for c in cols]")
@@ -574,14 +599,16 @@ class Session:
                 f"    fits += noise.gmwm(data[:, cols], log.fs, terms={list(s.terms)!r}, "
                 f"units=unit, axis_names=names, lines={s.fit_lines!r})"
             )
+            gaps = ""
         else:
             lines.append(
                 f'    results = allan.adev(data[:, cols], log.fs, taus="octave", '
                 f"confidence={CONFIDENCE!r}, units=unit, axis_names=names{gaps})"
             )
+            extra = "".join(f", {k}={v!r}" for k, v in self.fit_options().items())
             lines.append(
-                f"    fits += noise.fit(results, method={s.method!r}, terms={list(s.terms)!r}, "
-                f"tau_range={s.tau_range!r}, lines={s.fit_lines!r})"
+                f"    fits += noise.fit(results, method={s.method!r}, "
+                f"terms={list(s.terms)!r}{extra})"
             )
         lines.append("for c in fits:")
         lines.append('    print(c.to("ieee").summary())')
@@ -618,9 +645,10 @@ class Session:
         if s.detrend is not None:
             argv += ["--detrend", s.detrend]
         argv += ["--fit", "--fit-method", s.method, "--fit-terms", ",".join(s.terms)]
-        if s.tau_range is not None:
-            argv += ["--fit-tau-range", f"{s.tau_range[0]!r},{s.tau_range[1]!r}"]
-        argv += ["--lines", _lines_text(s.lines)]
+        if s.method == "joint":
+            if s.tau_range is not None:
+                argv += ["--fit-tau-range", f"{s.tau_range[0]!r},{s.tau_range[1]!r}"]
+            argv += ["--lines", _lines_text(s.lines)]
         if export:
             argv += ["--export", f"{export}={output or export_filename(export)}"]
         return shlex.join(argv)
