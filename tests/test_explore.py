@@ -289,3 +289,42 @@ def test_import_gyrobias_explore_loads_no_framework() -> None:
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[]"
+
+
+def test_every_view_draws_every_setting_without_a_message(csv: Path) -> None:
+    # The app over a good log: each view, each statistic, estimator and layout draws, and the
+    # only messages are the refusals the settings call for (no exception reaches the page).
+    from gyrobias.explore.app import ExploreApp
+    from gyrobias.explore.server import configure
+
+    configure()
+    app = ExploreApp([_session(csv)])
+
+    def shown() -> list[str]:
+        return [str(m.object) for m in app.alerts]
+
+    for i in range(len(app.views)):
+        app.tabs.active = i
+        assert shown() == [], (app.views[i].title, shown())
+    app.tabs.active = 2
+    for kind in ("mdev", "hdev", "totdev", "theo1", "wvar", "wvar-robust", "adev"):
+        app.apply(deviation=kind)
+        assert shown() == [], (kind, shown())
+    app.views[2].layout.value = "apart"  # type: ignore[attr-defined]
+    assert shown() == []
+    app.tabs.active = 3
+    for changes in (
+        {"method": "ieee"},
+        {"method": "gmwm", "terms": ("N", "B", "K")},
+        {"method": "joint", "terms": ("Q", "N", "B", "K", "R", "GM")},
+        {"start": 20.0, "stop": 380.0, "outliers": 5.0, "detrend": "quadratic"},
+        {"tau_range": (0.05, 20.0), "lines": "none"},
+    ):
+        app.apply(**changes)
+        assert shown() == [], (changes, shown())
+    # a statistic that cannot skip the removed outliers' gaps is a message, then undo clears it
+    app.tabs.active = 2
+    app.apply(deviation="theo1")
+    assert any("THEO1 cannot skip" in m for m in shown())
+    app._on_undo(None)
+    assert shown() == [] and app.session.settings.deviation == "adev"

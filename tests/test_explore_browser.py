@@ -166,6 +166,8 @@ def _check(
     _tab(page, "Fit")
     shown = page.locator("pre.gb-summary")
     expect(shown).to_have_text("\n\n".join(summaries), timeout=TIMEOUT)
+    expect(page.locator(".gb-alerts")).to_have_text("", timeout=TIMEOUT)  # the plot drew too
+    expect(page.locator(".gb-diag")).to_contain_text("χ²/ν", timeout=TIMEOUT)
     _tab(page, "Export")
     code = page.locator("pre.gb-code")
     expect(code).to_contain_text("cleaning.clean", timeout=TIMEOUT)
@@ -213,7 +215,7 @@ def test_explore_in_chromium(served: tuple[str, Path, Path], browser: Any, tmp_p
     (tmp_path / "bag").mkdir()
     _check(page, tmp_path / "bag", bag, BAG_CHOICE)
     # every view draws (no error message on any tab)
-    for name in ("Log", "Clean", "Stability", "Compare"):
+    for name in ("Log", "Clean", "Stability", "Fit", "Compare", "Export"):
         _tab(page, name)
         expect(page.locator(".gb-alerts")).to_have_text("", timeout=TIMEOUT)
     # blob: URLs of the page itself (a download) are local too

@@ -444,7 +444,7 @@ class _Curves:
                     r.visible = False
                 whisker.visible = False
         for item in self.fig.legend.items:
-            label = item.label.get("value") if isinstance(item.label, dict) else item.label
+            label = getattr(item.label, "value", item.label)  # a bokeh Value or a string
             item.visible = label in keep
 
 
