@@ -12,6 +12,7 @@ from __future__ import annotations
 import html
 import io as _stdio
 import math
+import threading
 import traceback
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -105,6 +106,9 @@ class _View:
 
     def refresh(self) -> None:  # pragma: no cover - every view overrides it
         raise NotImplementedError
+
+    def prefetch(self) -> None:
+        """The view's numerics (cached in the session), run off the event loop; no drawing."""
 
 
 def _message(text: str, kind: str = "warning") -> Any:
@@ -251,6 +255,10 @@ class _LogView(_View):
 
 class _CleanView(_View):
     title = "Clean"
+
+    def prefetch(self) -> None:
+        if self.app.session.log is not None:
+            self.app.session.cleaned()
 
     def __init__(self, app: ExploreApp) -> None:
         super().__init__(app)
@@ -451,6 +459,9 @@ class _Curves:
 class _StabilityView(_View):
     title = "Stability"
 
+    def prefetch(self) -> None:
+        self.app.session.stability()
+
     def __init__(self, app: ExploreApp) -> None:
         super().__init__(app)
         self.kind = pn.widgets.Select(
@@ -503,6 +514,12 @@ class _StabilityView(_View):
 
 class _FitView(_View):
     title = "Fit"
+
+    def prefetch(self) -> None:
+        session = self.app.session
+        session.coefficients()
+        if session.settings.method != "gmwm":
+            session.conservative()
 
     def __init__(self, app: ExploreApp) -> None:
         super().__init__(app)
@@ -835,6 +852,8 @@ class ExploreApp:
     def __init__(self, sessions: Sequence[Session], errors: Sequence[str] = ()) -> None:
         self.sessions = list(sessions)
         self.syncing = False
+        self._work = threading.Lock()  # one analysis at a time per page
+        self._generation = 0
         self.alerts = pn.Column(sizing_mode="stretch_width", css_classes=["gb-alerts"])
         #: Inputs that could not be read: shown for the whole visit.
         self.load_errors = pn.Column(
@@ -866,7 +885,7 @@ class ExploreApp:
         self.tabs = pn.Tabs(
             *[(v.title, v.panel) for v in self.views], dynamic=True, sizing_mode="stretch_width"
         )
-        self.tabs.param.watch(lambda *_: self.refresh(), "active")
+        self.tabs.param.watch(lambda *_: self.schedule(), "active")
         self.layout = pn.Row(
             self.controls,
             pn.Column(self.load_errors, self.alerts, self.tabs, sizing_mode="stretch_width"),
@@ -982,7 +1001,7 @@ class ExploreApp:
             return
         self.active = int(event.new)
         self.sync_widgets()
-        self.refresh()
+        self.schedule()
 
     def _on_part(self, _: Any) -> None:
         if self.syncing:
@@ -1014,7 +1033,7 @@ class ExploreApp:
     def _on_undo(self, _: Any) -> None:
         self.session.undo()
         self.sync_widgets()
-        self.refresh()
+        self.schedule()
 
     def _on_upload(self, event: Any) -> None:
         """A log uploaded in the browser: read from a private temporary copy, deleted at once."""
@@ -1037,7 +1056,7 @@ class ExploreApp:
             self.syncing = False
         self.active = len(self.sessions) - 1
         self.sync_widgets()
-        self.refresh()
+        self.schedule()
 
     def sync_widgets(self) -> None:
         """Show the current settings in the controls (after undo or a drag)."""
@@ -1081,13 +1100,45 @@ class ExploreApp:
             self.sync_widgets()
             return
         self.sync_widgets()
-        self.refresh()
+        self.schedule()
 
     def show_error(self, exc: BaseException, prefix: str = "") -> None:
         """A message at the top of the page (never a traceback in the browser)."""
         if not isinstance(exc, (ValueError, TypeError, OSError, ImportError, MemoryError)):
             traceback.print_exception(exc)  # on the server's terminal, for bug reports
         self.alerts[:] = [_message(f"{prefix}{exc}", "danger")]
+
+    def schedule(self) -> None:
+        """Redraw the visible tab after a change. Served, the numerics run in a worker thread
+        (the core releases the GIL) while the busy indicator shows, and the drawing follows on
+        the server's event loop with the document lock (``add_next_tick_callback``, Bokeh's
+        thread-safe entry); otherwise (a notebook, the tests) at once."""
+        import panel as pn
+
+        doc = pn.state.curdoc
+        if doc is None or doc.session_context is None:
+            self.refresh()
+            return
+        self.busy.value = True
+        self._generation += 1
+        generation = self._generation
+        view = self.views[self.tabs.active]
+
+        def work() -> None:
+            with self._work:
+                if generation == self._generation:  # a newer change supersedes this one
+                    try:
+                        view.prefetch()
+                    except Exception:  # noqa: S110 - refresh() recomputes and shows the message
+                        pass
+            doc.add_next_tick_callback(lambda: self._finish(generation))
+
+        threading.Thread(target=work, daemon=True, name="gyrobias-explore-work").start()
+
+    def _finish(self, generation: int) -> None:
+        if generation != self._generation:
+            return
+        self.refresh()
 
     def refresh(self) -> None:
         """Redraw the visible tab (busy indicator on meanwhile)."""

@@ -94,10 +94,6 @@ def serve(
     import panel as pn
 
     configure()
-    # Events from the browser are handled in a thread pool: the server's event loop stays free
-    # to send the busy indicator and other pages' updates while an analysis runs (the core
-    # releases the GIL).
-    pn.config.nthreads = 2  # type: ignore[misc]  # a property with a setter, untyped
     origins = None  # Bokeh's default: pages of this server only (localhost / 127.0.0.1)
     if host != LOOPBACK:
         if port == 0:
