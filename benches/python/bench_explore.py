@@ -139,7 +139,20 @@ def interactions(path: Path, repeats: int) -> dict[str, Any]:
         times.append(time.perf_counter() - t)
     out["zoom (log view envelope)"] = times
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    # the floor, in the same process: what `gyrobias allan` itself spends on the same data (ADEV
+    # with 68.3 % intervals per unit group, as every interaction above recomputes it), and the
+    # same without the intervals' noise identification
+    from gyrobias import allan
+
+    floor: dict[str, list[float]] = {"adev (with intervals)": [], "adev (no intervals)": []}
+    for _ in range(repeats):
+        for name, conf in (("adev (with intervals)", 0.683), ("adev (no intervals)", None)):
+            t = time.perf_counter()
+            for unit, cols in log.unit_groups():
+                allan.adev(log.data[:, cols], log.fs, taus="octave", confidence=conf, units=unit)
+            floor[name].append(time.perf_counter() - t)
     return {
+        "floor": floor,
         "n": n,
         "channels": log.data.shape[1],
         "load_s": load_s,
@@ -240,6 +253,10 @@ def main() -> None:
         print(
             f"  worst of all: {worst_all:.3f} s ({'within' if worst_all <= 0.3 else 'OVER'} 0.3 s)"
         )
+        for name, times in r["floor"].items():
+            print(
+                f"  library alone: {name:<22} {statistics.median(times):8.3f} {max(times):8.3f} s"
+            )
         size = r["data_bytes"]
         extra = (r["rss_peak"] - r["rss_loaded"]) / size
         print(
