@@ -164,6 +164,7 @@ def _check(
     expect = playwright_sync.expect
     summaries, kalibr = _expected(path, choice, **load)
     _tab(page, "Fit")
+    expect(page.locator(".gb-state")).to_have_text("ready: Fit", timeout=TIMEOUT)
     shown = page.locator("pre.gb-summary")
     expect(shown).to_have_text("\n\n".join(summaries), timeout=TIMEOUT)
     expect(page.locator(".gb-alerts")).to_have_text("", timeout=TIMEOUT)  # the plot drew too
@@ -217,6 +218,7 @@ def test_explore_in_chromium(served: tuple[str, Path, Path], browser: Any, tmp_p
     # every view draws (no error message on any tab)
     for name in ("Log", "Clean", "Stability", "Fit", "Compare", "Export"):
         _tab(page, name)
+        expect(page.locator(".gb-state")).to_have_text(f"ready: {name}", timeout=TIMEOUT)
         expect(page.locator(".gb-alerts")).to_have_text("", timeout=TIMEOUT)
     # blob: URLs of the page itself (a download) are local too
     local = re.compile(r"^(blob:)?(ws|http)://127\.0\.0\.1:\d+/")

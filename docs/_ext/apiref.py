@@ -113,6 +113,17 @@ GROUPS: list[tuple[str, str, list[str]]] = [
         ["gyrobias.report"],
     ),
     (
+        "Exploring a log",
+        "The interactive app (gyrobias explore): its state object, from which the results, the "
+        "reproducing Python code and the command are derived, and its Panel views and server.",
+        [
+            "gyrobias.explore",
+            "gyrobias.explore.state",
+            "gyrobias.explore.app",
+            "gyrobias.explore.server",
+        ],
+    ),
+    (
         "Fleets of units",
         "Every unit's noise terms on Dask, out-of-family units, the fleet's spread.",
         ["gyrobias.fleet"],

@@ -111,10 +111,12 @@ def main(out: Path = OUT) -> None:
                         "Log": ".gb-sampling",
                         "Clean": ".gb-outliers",
                         "Stability": "canvas >> visible=true",
-                        "Fit": "pre.gb-summary",
+                        "Fit": ".gb-diag",
                         "Compare": "canvas >> visible=true",
                         "Export": "pre.gb-code",
                     }[view]
+                    state = page.locator(".gb-state")
+                    expect(state).to_have_text(f"ready: {view}", timeout=TIMEOUT)
                     expect(page.locator(marker).first).to_be_visible(timeout=TIMEOUT)
                     expect(page.locator(".gb-alerts")).to_have_text("", timeout=TIMEOUT)
                     page.wait_for_load_state("networkidle")

@@ -51,6 +51,8 @@ _DEVIATION_LABELS = {
     "wvar": "wavelet variance (classical, as ADEV-equivalent √(2ν²))",
     "wvar-robust": "wavelet variance (robust, as ADEV-equivalent √(2ν²))",
 }
+_READY = "<span class='gb-idle'>ready: {view}</span>"
+_WORKING = "<span class='gb-working'>working…</span>"
 _CSS = """
 .gb-pre { font-family: monospace; font-size: 12px; white-space: pre; overflow-x: auto; }
 .gb-steps li { margin: 2px 0; }
@@ -862,6 +864,8 @@ class ExploreApp:
             css_classes=["gb-load-errors"],
         )
         self.busy = pn.indicators.LoadingSpinner(value=False, size=24)
+        #: "ready" / "working…" in words (what tests and screenshots wait for)
+        self.state = pn.pane.HTML(_READY.format(view="—"), css_classes=["gb-state"])
         if not self.sessions:
             if not errors:
                 self.load_errors.append(_message("No log given.", "danger"))
@@ -963,7 +967,7 @@ class ExploreApp:
         self.lines.param.watch(self._on_lines_select, "value")
         self.undo.on_click(self._on_undo)
         self.controls = pn.Column(
-            pn.Row("## gyrobias explore", self.busy),
+            pn.Row("## gyrobias explore", self.busy, self.state),
             self.source,
             "#### Part",
             pn.Row(self.start, self.stop),
@@ -1120,6 +1124,7 @@ class ExploreApp:
             self.refresh()
             return
         self.busy.value = True
+        self.state.object = _WORKING
         self._generation += 1
         generation = self._generation
         view = self.views[self.tabs.active]
@@ -1145,6 +1150,7 @@ class ExploreApp:
         if not self.sessions:
             return
         self.busy.value = True
+        self.state.object = _WORKING
         self.alerts.clear()
         view = self.views[self.tabs.active]
         try:
@@ -1153,6 +1159,7 @@ class ExploreApp:
             self.show_error(exc, f"{view.title}: ")
         finally:
             self.busy.value = False
+            self.state.object = _READY.format(view=view.title)
 
     def sampling_html(self, session: Session) -> str:
         """The sampling report of the log (rate, jitter, gaps, repairs)."""
