@@ -210,6 +210,23 @@ def test_explore_in_chromium(served: tuple[str, Path, Path], browser: Any, tmp_p
     # undo: the τ range goes, then comes back when typed again
     page.locator(".gb-undo button").click()
     expect(page.locator("ol.gb-steps")).not_to_contain_text("τ 0.02", timeout=TIMEOUT)
+    # a part dragged on the rate plot (Bokeh's box select along time) replaces the typed one
+    _tab(page, "Log")
+    expect(page.locator(".gb-state")).to_have_text("ready: Log", timeout=TIMEOUT)
+    canvas = page.locator(".bk-Canvas >> visible=true").first
+    box = canvas.bounding_box()
+    assert box is not None
+    y = box["y"] + 0.5 * box["height"]
+    page.mouse.move(box["x"] + 0.45 * box["width"], y)
+    page.mouse.down()
+    page.mouse.move(box["x"] + 0.55 * box["width"], y, steps=8)
+    page.mouse.move(box["x"] + 0.65 * box["width"], y, steps=8)
+    page.mouse.up()
+    dragged = page.locator("ol.gb-steps li").first
+    expect(dragged).to_contain_text("part ", timeout=TIMEOUT)
+    expect(dragged).not_to_contain_text(f"part {CSV_CHOICE[0]:g} s", timeout=TIMEOUT)
+    lo, hi = (float(v) for v in re.findall(r"([\d.]+) s", dragged.inner_text())[:2])
+    assert 0.0 < lo < hi < 600.0, (lo, hi)
     # the ROS2 bag
     _tab(page, "Log")
     _drive(page, bag.name, BAG_CHOICE)
