@@ -113,6 +113,11 @@ class _View:
         """The view's numerics (cached in the session), run off the event loop; no drawing."""
 
 
+def _heading(text: str, level: int = 4) -> Any:
+    """A heading as an HTML pane (no Markdown parsed while the first page is built)."""
+    return pn.pane.HTML(f"<h{level}>{html.escape(text)}</h{level}>", margin=(0, 10))
+
+
 def _message(text: str, kind: str = "warning") -> Any:
     return pn.pane.Alert(html.escape(text), alert_type=kind, sizing_mode="stretch_width")
 
@@ -186,9 +191,9 @@ class _LogView(_View):
         self.fs = fs
         self.built_for = session
         self.panel[:] = [
-            pn.pane.Markdown(
-                "Drag on a plot to select the part to analyse (or type it at the left); "
-                "scroll to zoom. The rate is drawn as its minimum and maximum per pixel."
+            pn.pane.HTML(
+                "<p>Drag on a plot to select the part to analyse (or type it at the left); "
+                "scroll to zoom. The rate is drawn as its minimum and maximum per pixel.</p>"
             ),
             *[pn.pane.Bokeh(f, sizing_mode="stretch_width") for f in self.figures],
             self.info,
@@ -840,6 +845,27 @@ class _ExportView(_View):
         self.cli.object = f'<pre class="gb-pre gb-cli">{html.escape(cmd)}</pre>'
 
 
+class _LazyViews:
+    """The views of the tabs, each built on first access (``views[i]``) into its tab's holder."""
+
+    def __init__(self, app: ExploreApp, kinds: Sequence[type[_View]]) -> None:
+        self.app = app
+        self.kinds = tuple(kinds)
+        self.holders = [pn.Column(sizing_mode="stretch_width") for _ in self.kinds]
+        self._built: list[_View | None] = [None] * len(self.kinds)
+
+    def __len__(self) -> int:
+        return len(self.kinds)
+
+    def __getitem__(self, i: int) -> _View:
+        view = self._built[i]
+        if view is None:
+            view = self.kinds[i](self.app)
+            self._built[i] = view
+            self.holders[i][:] = [view.panel]
+        return view
+
+
 class ExploreApp:
     """The explorer: a Panel layout over one or more :class:`Session` objects.
 
@@ -878,16 +904,16 @@ class ExploreApp:
             return
         self.active = 0
         self._build_controls()
-        self.views: list[_View] = [
-            _LogView(self),
-            _CleanView(self),
-            _StabilityView(self),
-            _FitView(self),
-            _CompareView(self),
-            _ExportView(self),
-        ]
+        #: The tabs' views, each built when first shown (the first page builds the log view's
+        #: models only)
+        self.views = _LazyViews(
+            self,
+            (_LogView, _CleanView, _StabilityView, _FitView, _CompareView, _ExportView),
+        )
         self.tabs = pn.Tabs(
-            *[(v.title, v.panel) for v in self.views], dynamic=True, sizing_mode="stretch_width"
+            *[(kind.title, holder) for kind, holder in zip(self.views.kinds, self.views.holders)],
+            dynamic=True,
+            sizing_mode="stretch_width",
         )
         self.tabs.param.watch(lambda *_: self.schedule(), "active")
         self.layout = pn.Row(
@@ -967,26 +993,26 @@ class ExploreApp:
         self.lines.param.watch(self._on_lines_select, "value")
         self.undo.on_click(self._on_undo)
         self.controls = pn.Column(
-            pn.Row("## gyrobias explore", self.busy, self.state),
+            pn.Row(_heading("gyrobias explore", 2), self.busy, self.state),
             self.source,
-            "#### Part",
+            _heading("Part"),
             pn.Row(self.start, self.stop),
             self.whole,
-            "#### Outliers",
+            _heading("Outliers"),
             self.outliers_on,
             self.sigma,
-            "#### Drift",
+            _heading("Drift"),
             self.detrend,
-            "#### Fit",
+            _heading("Fit"),
             self.method,
             self.terms,
             pn.Row(self.tau_lo, self.tau_hi),
             self.tau_auto,
             self.lines,
-            "#### Steps",
+            _heading("Steps"),
             self.steps,
             self.undo,
-            f"#### Add a log (at most {UPLOAD_LIMIT_MB} MB)",
+            _heading(f"Add a log (at most {UPLOAD_LIMIT_MB} MB)"),
             self.upload_units,
             self.upload,
             width=320,

@@ -426,31 +426,38 @@ class Session:
         cleaned = self.cleaned()
         data = cleaned.data
         gaps = cleaned.has_gaps or bool(self.log.sampling.filled_samples)
+        if not kind.startswith("wvar"):
+            # one call for every channel, one unit per column: the row-major buffer is analysed
+            # as it is (a call per unit would copy its columns first); the results are those of
+            # a call per unit (each column is computed alone)
+            kw: dict[str, Any] = {
+                "confidence": CONFIDENCE,
+                "units": list(self.log.units),
+                "axis_names": list(self.log.columns),
+            }
+            if gaps:
+                if kind not in _GAP_AWARE:
+                    raise ValueError(
+                        f"{kind.upper()} cannot skip the gaps the outlier removal leaves: "
+                        "switch it off or use ADEV, MDEV or HDEV"
+                    )
+                kw["gaps"] = "omit"
+            if kind == "adev":
+                kw["taus"] = "octave"
+            out = getattr(allan, kind)(data, self.fs, **kw)
+            return tuple(out) if isinstance(out, tuple) else (out,)
+        if gaps:
+            raise ValueError(
+                "the wavelet variance needs contiguous samples: switch the outlier "
+                "removal off (or use ADEV, MDEV or HDEV, which skip the gaps)"
+            )
         by_column: dict[int, Any] = {}
         for unit, cols in self.unit_groups():
             part = data if len(cols) == data.shape[1] else data[:, cols]
             names = [self.log.columns[c] for c in cols]
-            if kind.startswith("wvar"):
-                if gaps:
-                    raise ValueError(
-                        "the wavelet variance needs contiguous samples: switch the outlier "
-                        "removal off (or use ADEV, MDEV or HDEV, which skip the gaps)"
-                    )
-                out = noise.wvar(
-                    part, self.fs, robust=kind == "wvar-robust", units=unit, axis_names=names
-                )
-            else:
-                kw: dict[str, Any] = {"confidence": CONFIDENCE, "units": unit, "axis_names": names}
-                if gaps:
-                    if kind not in _GAP_AWARE:
-                        raise ValueError(
-                            f"{kind.upper()} cannot skip the gaps the outlier removal leaves: "
-                            "switch it off or use ADEV, MDEV or HDEV"
-                        )
-                    kw["gaps"] = "omit"
-                if kind == "adev":
-                    kw["taus"] = "octave"
-                out = getattr(allan, kind)(part, self.fs, **kw)
+            out = noise.wvar(
+                part, self.fs, robust=kind == "wvar-robust", units=unit, axis_names=names
+            )
             by_column.update(zip(cols, out if isinstance(out, tuple) else (out,)))
         return tuple(by_column[c] for c in range(len(self.log.columns)))
 
