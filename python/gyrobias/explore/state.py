@@ -247,22 +247,39 @@ class Cleaned:
 
 @dataclass
 class _Memo:
-    """One cached value per kind, recomputed when its key (the settings it depends on) changes:
-    at most one working copy of the log is kept."""
+    """Cached values per kind, keyed by the settings they depend on.
 
-    values: dict[str, tuple[Any, Any]] = field(default_factory=dict)
+    ``"cleaned"`` (a working copy of the log) is kept once: the old copy is released before a
+    new one is computed, so at most one working copy exists. The small results (Allan curves,
+    fits, bounds: a few hundred numbers per channel, and the line search's float32 segment of
+    at most 1 MB per channel) keep the last :data:`_RECENT` settings each, so undo, or
+    switching a step off and on again, redraws
+    without recomputing."""
+
+    values: dict[str, dict[Any, Any]] = field(default_factory=dict)
 
     def get(self, name: str, key: Any, compute: Callable[[], Any]) -> Any:
-        hit = self.values.get(name)
-        if hit is not None and hit[0] == key:
-            return hit[1]
-        self.values.pop(name, None)  # release the old value before computing the new one
+        recent = self.values.setdefault(name, {})
+        if key in recent:
+            value = recent.pop(key)
+            recent[key] = value  # the most recent last
+            return value
+        if name in _ONE_COPY:
+            recent.clear()  # release the old value before computing the new one
         value = compute()
-        self.values[name] = (key, value)
+        recent[key] = value
+        while len(recent) > _RECENT:
+            del recent[next(iter(recent))]
         return value
 
     def clear(self) -> None:
         self.values.clear()
+
+
+#: Settings whose small results are kept per kind (see :class:`_Memo`).
+_RECENT = 4
+#: Kinds that hold a copy of the samples: kept once.
+_ONE_COPY = frozenset({"cleaned"})
 
 
 class Session:
