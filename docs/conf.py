@@ -35,6 +35,7 @@ extensions = [
     "apiref_ext",
     "cliref",
     "mdexamples",
+    "explore_shots",
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}

@@ -141,7 +141,8 @@ REGISTRY: dict[str, str] = {
     # --- fleet ------------------------------------------------------------------------------------
     "fleet.analyse": "sources:spec fs:pos? units:spec? fit:option terms:spec? client:object? "
     "columns:spec? time_column:spec? load_options:spec? axis_names:text? taus:spec "
-    "confidence:level? gaps:option threshold:pos num_workers:count? progress:callable?",
+    "confidence:level? gaps:option threshold:pos num_workers:count? progress:callable? "
+    "start:spec? stop:spec? bound_confidence:level",
     "fleet.summary": "table:object alpha:level min_ratio:pos",
     "fleet.term_columns": "table:object",
     "fleet.write_table": "table:object path:path_out",
@@ -159,8 +160,17 @@ REGISTRY: dict[str, str] = {
     # --- io ---------------------------------------------------------------------------------------
     "io.GyroLog.__getitem__": "name:key",
     "io.GyroLog.__init__": "data:field columns:field fs:field time:field time_start:field "
-    "time_column:field path:field sampling:field units:field topic:field",
+    "time_column:field path:field sampling:field units:field topic:field "
+    "selection:field",
     "io.GyroLog.unit_groups": "",
+    "io.GyroLog.select": "start:spec? stop:spec? names:spec",
+    "io.Selection.__init__": "start_s:field stop_s:field start_index:field stop_index:field "
+    "total_s:field total_samples:field",
+    "io.Selection.describe": "",
+    "io.Selection.to_dict": "",
+    "io.TimeBound.__init__": "seconds:field index:field text:field",
+    "io.parse_time_bound": "value:spec? name:spec",
+    "io.resolve_selection": "n_samples:count fs:pos? start:spec? stop:spec? time:array? names:spec",
     "io.SamplingReport.__init__": "n_samples:field fs:field fs_source:field fs_estimated:field "
     "median_interval:field jitter:field time_unit:field duration:field n_gaps:field "
     "gap_rows:field gap_durations:field missing_samples:field n_duplicates:field "

@@ -334,3 +334,45 @@ def test_nan_in_multi_axis_names_row_and_column() -> None:
 def test_top_level_exports() -> None:
     assert gyrobias.adev is allan.adev and gyrobias.avar is allan.avar
     assert issubclass(gyrobias.GyroLinAlgError, ValueError)
+
+
+@pytest.mark.parametrize(
+    ("kind", "options"),
+    [
+        ("adev", {"taus": "octave", "confidence": 0.683}),
+        ("mdev", {"confidence": 0.683}),
+        ("hdev", {"overlapping": False}),
+        ("totdev", {}),
+        ("tdev", {}),
+    ],
+)
+def test_units_one_per_axis_equal_a_call_per_unit(kind: str, options: dict[str, object]) -> None:
+    # a log's gyro and accelerometer axes in one call (no column copy): every axis is computed
+    # alone, so each result equals the call per unit group bit for bit, with its own unit
+    rng = np.random.default_rng(7)
+    data = rng.normal(0.0, 0.1, (20_000, 4)) + np.cumsum(rng.normal(0.0, 1e-4, (20_000, 4)), 0)
+    units = ["deg/s", "deg/s", "m/s^2", "m/s^2"]
+    fn = getattr(allan, kind)
+    both = fn(data, 100.0, units=units, axis_names="abcd", **options)
+    apart = fn(data[:, :2], 100.0, units="deg/s", axis_names="ab", **options) + fn(
+        data[:, 2:], 100.0, units="m/s^2", axis_names="cd", **options
+    )
+    assert len(both) == 4
+    for one, ref_result in zip(both, apart, strict=True):
+        assert one.unit == ref_result.unit and one.axis == ref_result.axis
+        for name in ("taus", "avar", "deviation", "n_terms", "edf", "ci_low", "ci_high"):
+            a, b = getattr(one, name), getattr(ref_result, name)
+            assert (a is None and b is None) or np.array_equal(a, b), name
+    assert both[0].unit != both[2].unit
+
+
+def test_units_one_per_axis_refused() -> None:
+    data = np.random.default_rng(0).normal(size=(1_000, 3))
+    with pytest.raises(ValueError, match="units: 2 units for 3 axes"):
+        allan.adev(data, 100.0, units=["deg/s", "deg/s"])
+    with pytest.raises(ValueError, match="units: unknown unit 'furlong'"):
+        allan.adev(data, 100.0, units=["deg/s", "furlong", "deg/s"])
+    with pytest.raises(TypeError, match="units must be a unit string"):
+        allan.adev(data, 100.0, units=np.array(["deg/s"] * 3))
+    with pytest.raises(TypeError, match="units must be a unit string"):
+        allan.adev(data, 100.0, units=3)  # type: ignore[arg-type]

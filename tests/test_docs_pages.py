@@ -135,3 +135,45 @@ def test_readme_test_command_is_the_one_ci_runs() -> None:
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
     blocks = re.findall(r"^```bash\n(.*?)^```", readme, flags=re.S | re.M)
     assert command in {ln.strip() for b in blocks for ln in b.splitlines()}
+
+
+def _first_bash_line(text: str) -> str:
+    block = re.search(r"^```bash\n(.*?)^```", text, flags=re.S | re.M)
+    assert block, "no bash block"
+    return next(ln for ln in block.group(1).splitlines() if ln.strip())
+
+
+def test_readme_first_command_is_what_ci_runs_first() -> None:
+    """The README's first command (issue 33) installs from the source tree, needs no build
+    artefact, and is what ``.ci/run`` runs — verbatim, extracted from README.md by
+    ``scripts/readme-first-command`` — in a fresh clone and venv before anything is built."""
+    import subprocess
+
+    script = ROOT / "scripts" / "readme-first-command"
+    if not script.is_file():  # pragma: no cover - make test-wheel copies scripts/
+        pytest.skip("scripts/ is not beside tests/")
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    first = _first_bash_line(readme)
+    extracted = subprocess.run(
+        ["bash", str(script)], capture_output=True, text=True, check=True
+    ).stdout
+    assert extracted == first + "\n"
+    # It builds from the clone it is run in: no dist/, no other build product named.
+    assert "'.[plot]'" in first and "gyrobias demo" in first
+    assert not re.search(r"\bdist\b|find-links|target/", first), first
+    # docs/index.md and docs/install.md show the same first command.
+    for page in ("index.md", "install.md"):
+        assert _first_bash_line((DOCS / page).read_text(encoding="utf-8")) == first, page
+    # .ci/run runs it first: before the Rust checks and before any wheel is built.
+    ci = [ln.strip() for ln in (ROOT / ".ci" / "run").read_text(encoding="utf-8").splitlines()]
+    runs = [i for i, ln in enumerate(ci) if ln == "bash scripts/first-command"]
+    assert len(runs) == 1, "the README's first command is not run by .ci/run"
+    later = [i for i, ln in enumerate(ci) if ln.startswith(('step "cargo', "make wheel", "cargo "))]
+    assert later and runs[0] < min(later)
+    # scripts/first-command: a fresh clone and venv, the extracted command, nothing exported.
+    runner = (ROOT / "scripts" / "first-command").read_text(encoding="utf-8")
+    assert "git clone" in runner and "-m venv" in runner
+    assert "command=$(bash scripts/readme-first-command)" in runner
+    assert 'bash -c "$command"' in runner
+    assert not re.search(r"^\s*export\b", runner, flags=re.M)
+    assert re.search(r"^unset CARGO_TARGET_DIR\b", runner, flags=re.M)

@@ -18,7 +18,18 @@ import numpy as np
 import pytest
 
 #: The packages of the extras (plot/report, io, fleet) and the test-only references.
-EXTRAS = ("matplotlib", "rosbags", "pyarrow", "dask", "distributed", "pandas", "scipy", "yaml")
+EXTRAS = (
+    "matplotlib",
+    "rosbags",
+    "pyarrow",
+    "dask",
+    "distributed",
+    "pandas",
+    "scipy",
+    "yaml",
+    "panel",
+    "bokeh",
+)
 
 _RUN = """
 import sys
@@ -77,8 +88,9 @@ def test_analysis_without_extras(log_csv: Path) -> None:
         (("allan", "{log}", "--fs", "100", "--no-progress", "--plot", "{out}.png"), "plot"),
         (("fleet", "{log}", "--fs", "100", "--no-progress", "--out", "{out}.csv"), "fleet"),
         (("allan", "{bag}", "--no-progress"), "io"),
+        (("explore", "{log}", "--fs", "100", "--no-browser"), "explore"),
     ],
-    ids=["plot", "fleet", "bag"],
+    ids=["plot", "fleet", "bag", "explore"],
 )
 def test_missing_extra_is_one_line_naming_it(
     argv: tuple[str, ...], extra: str, log_csv: Path, tmp_path: Path

@@ -218,6 +218,10 @@ BASE: dict[str, Callable[[], tuple[Callable[..., Any], dict[str, Any]]]] = {
     "fractional.weights": lambda: (fractional.weights, {"d": 0.3, "n": 10}),
     "io.GyroLog.__getitem__": lambda: (lambda name: FX.log[name], {"name": "col0"}),
     "io.load": lambda: (gio.load, {"path": FX.log.path, "fs": 100.0}),
+    "io.resolve_selection": lambda: (
+        gio.resolve_selection,
+        {"n_samples": 1000, "fs": 100.0, "start": "1s", "time": np.arange(1000) / 100.0},
+    ),
     "kalman.FixedGainKalman.__init__": lambda: (
         kalman.FixedGainKalman,
         {"fs": 100.0, "arw": 0.01, "rrw": 1e-4, "q_omega": 1e-6},

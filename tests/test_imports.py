@@ -166,6 +166,7 @@ def test_value_types_import_no_algorithm_module() -> None:
         "gyrobias.io._types",
         "gyrobias.exports._types",
         "gyrobias._spectral_lines",
+        "gyrobias.cleaning._types",
     }
     leaves = {"gyrobias._generics", "gyrobias._files", "gyrobias._validation", "gyrobias.units"}
     for name in sorted(types):
@@ -202,6 +203,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
             "gyrobias.exports._types",
             "gyrobias._spectral_lines",
             "gyrobias.fleet.table",
+            "gyrobias.cleaning._types",
         ),
     ),
     (
@@ -220,6 +222,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
             "gyrobias.conservative",
             "gyrobias.exports",
             "gyrobias.fleet.spread",
+            "gyrobias.cleaning",
         ),
     ),
     (
@@ -232,7 +235,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
             "gyrobias.codegen",
         ),
     ),
-    ("applications", ("gyrobias", "gyrobias.cli", "gyrobias.__main__")),
+    ("applications", ("gyrobias", "gyrobias.cli", "gyrobias.__main__", "gyrobias.explore")),
 ]
 
 

@@ -82,3 +82,61 @@ def test_changelog_latest_release_is_the_version() -> None:
     name, rest = released[0]
     assert name == gyrobias.__version__
     assert re.fullmatch(r" - \d{4}-\d{2}-\d{2}", rest), f"'## [{name}]{rest}' needs ' - YYYY-MM-DD'"
+
+
+def _fake_dist(site: Path, version_text: str, files: list[str]) -> None:
+    """A ``gyrobias-<version>.dist-info`` in ``site`` whose RECORD lists ``files``."""
+    info = site / f"gyrobias-{version_text}.dist-info"
+    info.mkdir(parents=True)
+    (info / "METADATA").write_text(
+        f"Metadata-Version: 2.1\nName: gyrobias\nVersion: {version_text}\n"
+    )
+    (info / "RECORD").write_text("".join(f"{f},,\n" for f in files))
+
+
+def _version_from(pythonpath: list[Path], tmp_path: Path) -> tuple[str, set[str]]:
+    """``python -m gyrobias --version`` with ``pythonpath`` first: (its output, modules loaded)."""
+    import os
+
+    modules = tmp_path / f"modules-{len(list(tmp_path.iterdir()))}.txt"
+    wrapper = (
+        "import atexit, runpy, sys\n"
+        f"atexit.register(lambda: open({str(modules)!r}, 'w').write(' '.join(sys.modules)))\n"
+        "sys.argv = ['gyrobias', '--version']\n"
+        "runpy.run_module('gyrobias', run_name='__main__', alter_sys=True)\n"
+    )
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(str(p) for p in pythonpath)}
+    out = subprocess.run(
+        [sys.executable, "-c", wrapper], capture_output=True, text=True, env=env, check=True
+    ).stdout
+    return out.strip(), set(modules.read_text().split())
+
+
+def test_version_is_the_imported_packages_in_every_layout(tmp_path: Path) -> None:
+    """``--version`` names the copy that runs (issue 33): another gyrobias installed on the path
+    (here a dist-info claiming 9.9.9 for a package that is not the one imported) is never
+    reported, and the metadata of the copy that is imported is. Never NumPy or the core."""
+    package = Path(gyrobias.__file__).resolve().parent
+    expected = f"gyrobias {gyrobias.__version__}"
+    # 1. The package as it is imported here (source tree or installed wheel), with another
+    #    installed copy's metadata after it on the path.
+    other = tmp_path / "other-site"
+    _fake_dist(other, "9.9.9", ["gyrobias/__init__.py"])
+    out, loaded = _version_from([package.parent, other], tmp_path)
+    assert out == expected
+    # 2. An installed copy whose metadata lists its files: that metadata is the version (a
+    #    made-up 7.7.7 shows it is read; the copy imports first on the path, before 9.9.9).
+    import shutil
+
+    site = tmp_path / "site"
+    shutil.copytree(package, site / "gyrobias", ignore=shutil.ignore_patterns("__pycache__"))
+    _fake_dist(site, "7.7.7", ["gyrobias/__init__.py", "gyrobias/cli/__init__.py"])
+    out, loaded = _version_from([site, other], tmp_path)
+    assert out == "gyrobias 7.7.7"
+    assert not {"numpy", "gyrobias._core"} & loaded
+    # 3. A copy with no metadata of its own and no Cargo.toml beside it (another copy's
+    #    metadata on the path): the extension's version.
+    bare = tmp_path / "bare"
+    shutil.copytree(package, bare / "gyrobias", ignore=shutil.ignore_patterns("__pycache__"))
+    out, _ = _version_from([bare, other], tmp_path)
+    assert out == expected

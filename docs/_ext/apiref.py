@@ -42,6 +42,12 @@ GROUPS: list[tuple[str, str, list[str]]] = [
         ["gyrobias.io"],
     ),
     (
+        "Cleaning a log",
+        "Stable32's Outliers and Drift steps (robust MAD z-score, least-squares drift) and the "
+        "min/max envelope that draws a long log.",
+        ["gyrobias.cleaning"],
+    ),
+    (
         "Allan family of deviations",
         "Overlapping and non-overlapping Allan, modified, Hadamard, total, Théo statistics, with "
         "chi-square confidence intervals (NIST SP 1065, IEEE Std 952).",
@@ -105,6 +111,17 @@ GROUPS: list[tuple[str, str, list[str]]] = [
         "HTML report",
         "One self-contained page per log.",
         ["gyrobias.report"],
+    ),
+    (
+        "Exploring a log",
+        "The interactive app (gyrobias explore): its state object, from which the results, the "
+        "reproducing Python code and the command are derived, and its Panel views and server.",
+        [
+            "gyrobias.explore",
+            "gyrobias.explore.state",
+            "gyrobias.explore.app",
+            "gyrobias.explore.server",
+        ],
     ),
     (
         "Fleets of units",

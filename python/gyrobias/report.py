@@ -12,11 +12,12 @@ style sheet lays it out on A4.
 from __future__ import annotations
 
 import base64
+import dataclasses
 import datetime as _dt
 import html
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -55,6 +56,7 @@ def _analyse(
     method: str,
     conservative_confidence: float,
     bound_confidence: float,
+    fit_options: Mapping[str, Any],
 ) -> list[ChannelReport]:
     from gyrobias import allan, noise
 
@@ -63,9 +65,12 @@ def _analyse(
     for j, name in enumerate(log.columns):
         unit = units[j]
         errors: list[str] = []
+        column = log.data[:, j]
+        # NaN from --fill-gaps or from the outlier step are gaps the estimator skips.
+        gaps = "omit" if np.isnan(column).any() else "error"
         try:
             r = allan.adev(
-                log.data[:, j], log.fs, confidence=confidence, units=unit, axis_names=[name]
+                column, log.fs, confidence=confidence, units=unit, axis_names=[name], gaps=gaps
             )
         except ValueError as exc:
             out.append(ChannelReport(name, unit, None, errors=(f"Allan analysis failed: {exc}",)))
@@ -73,7 +78,7 @@ def _analyse(
         assert not isinstance(r, tuple)
         fit = cons = None
         try:
-            fit = noise.fit(r, method=method, bound_confidence=bound_confidence)
+            fit = noise.fit(r, method=method, bound_confidence=bound_confidence, **fit_options)
         except ValueError as exc:
             errors.append(f"noise fit failed: {exc}")
         if fit is not None:
@@ -156,7 +161,7 @@ def _duration(seconds: float) -> str:
     return f"{seconds:.3g} s"
 
 
-def _log_section(log: GyroLog, title: str) -> str:
+def _log_section(log: GyroLog, title: str, cleaning: str | None = None) -> str:
     s = log.sampling
     assert log.fs is not None
     rows = [
@@ -164,6 +169,12 @@ def _log_section(log: GyroLog, title: str) -> str:
         ("samples × channels", f"{log.n_samples} × {len(log.columns)} ({', '.join(log.columns)})"),
         ("sample rate", f"{log.fs:.9g} Hz ({s.fs_source or 'given'})"),
         ("duration", _duration(log.n_samples / log.fs)),
+        *(
+            [("analysed span", f"τ computed on {log.selection}")]
+            if log.selection is not None
+            else []
+        ),
+        *([("cleaning", cleaning)] if cleaning is not None else []),
         ("time column", log.time_column or "none"),
         (
             "units",
@@ -391,6 +402,10 @@ def build_report(
     rate: float | None = None,
     title: str | None = None,
     bound_confidence: float = 0.95,
+    outliers: float | None = None,
+    detrend: str | None = None,
+    tau_range: tuple[float, float] | None = None,
+    lines: str | Sequence[float | tuple[float, float]] | None = "auto",
 ) -> str:
     """Analyse every channel of ``log`` and return the report as one HTML document.
 
@@ -416,6 +431,16 @@ def build_report(
         One-sided confidence level of the upper bounds of terms the log does not show
         (:func:`gyrobias.noise.fit`; default 0.95), shown with each bound and in the exports'
         ``UPPER BOUND`` marks.
+    outliers : float, optional
+        Remove the samples whose robust z-score exceeds this threshold before the analysis
+        (:func:`gyrobias.cleaning.remove_outliers`; they become gaps).
+    detrend : {"linear", "quadratic"}, optional
+        Remove each channel's drift after the outliers (:func:`gyrobias.cleaning.detrend`).
+        Both steps (:func:`gyrobias.cleaning.clean`) are stated in the log table.
+    tau_range : (float, float), optional
+        ``method="joint"`` only: fit the Allan points in this τ range (seconds).
+    lines : "auto", sequence or None
+        ``method="joint"`` only: the lines modelled by a sinusoid (:func:`gyrobias.noise.fit`).
 
     Returns
     -------
@@ -459,8 +484,28 @@ def build_report(
         per_channel = list(units)
         if len(per_channel) != k:
             raise ValueError(f"units has {len(per_channel)} entries for {k} channels")
+    fit_options: dict[str, Any] = {}
+    if tau_range is not None or not (isinstance(lines, str) and lines == "auto"):
+        if method != "joint":
+            raise ValueError("tau_range and lines apply to method='joint' only")
+        fit_options = {"tau_range": tau_range, "lines": lines}
+    cleaned = None
+    if outliers is not None or detrend is not None:
+        from gyrobias import cleaning
+
+        assert log.fs is not None  # _check_log
+        cleaned = cleaning.clean(
+            log.data, log.fs, outliers=outliers, detrend=detrend, units=per_channel
+        )
+        log = dataclasses.replace(log, data=cleaned.data)
     channels = _analyse(
-        log, per_channel, confidence, method, conservative_confidence, bound_confidence
+        log,
+        per_channel,
+        confidence,
+        method,
+        conservative_confidence,
+        bound_confidence,
+        fit_options,
     )
     if all(ch.allan is None for ch in channels):
         # Nothing to report: a page of error messages would pass for a report.
@@ -476,7 +521,7 @@ def build_report(
             f'<p class="meta">gyrobias {_e(__version__)} · {now} · overlapping Allan deviation, IEEE-952 '
             f"{_e(method)} fit, conservative set at {100 * conservative_confidence:.3g} %</p></header>"
         ),
-        _log_section(log, str(log.path)),
+        _log_section(log, str(log.path), None if cleaned is None else cleaned.describe()),
         *(_channel_section(ch, i) for i, ch in enumerate(channels)),
         _exports_section(channels, rate),
         (

@@ -31,6 +31,7 @@ Kalibr's continuous-time densities are ``N`` in rad/s/√Hz (``gyroscope_noise_d
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from dataclasses import dataclass
@@ -154,7 +155,16 @@ def _named(name: str, text: str) -> Unit:
 
 
 def _parse_unit(text: str) -> Unit:
-    """:func:`parse_unit` without naming the argument (for callers that name it themselves)."""
+    """:func:`parse_unit` without naming the argument (for callers that name it themselves).
+
+    Parsed once per string (a :class:`Unit` is immutable): converting a fit's coefficients
+    parses the same few units for every term, channel and redraw."""
+    if isinstance(text, str):
+        return _parse_cached(text)
+    return _parse_text(text)
+
+
+def _parse_text(text: str) -> Unit:
     if not isinstance(text, str) or not text.strip():
         raise ValueError(_valid_units_message(str(text)))
     tokens: list[str] = []
@@ -216,6 +226,10 @@ def _parse_unit(text: str) -> Unit:
     if end != len(tokens):
         raise ValueError(_valid_units_message(text))
     return unit
+
+
+#: :func:`_parse_text` of the strings seen so far (errors are not cached: raised each time)
+_parse_cached = functools.lru_cache(maxsize=512)(_parse_text)
 
 
 def checked_units(name: str, value: object) -> str | None:

@@ -185,4 +185,5 @@ extractors!(size -> usize:
 extractors!(unsigned -> u64: samples, seed);
 extractors!(unsigned -> u64: channel, conn);
 extractors!(size -> usize: start);
+extractors!(size -> usize: bins, order);
 extractors!(optional_size -> Option<usize>: levels, m, row_width);

@@ -16,6 +16,7 @@
 mod allan;
 mod array;
 mod bags;
+mod cleaning;
 mod codegen;
 mod count;
 mod discrete;
@@ -96,5 +97,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     submodule(m, "random", random::register)?;
     submodule(m, "validate", validate::register)?;
     submodule(m, "bags", bags::register)?;
+    submodule(m, "cleaning", cleaning::register)?;
     Ok(())
 }

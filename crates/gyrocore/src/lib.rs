@@ -20,6 +20,7 @@
 //! | [`fleet`] | robust z-scores of a unit within its fleet, weighted χ² homogeneity test and Birge ratio | Rousseeuw & Croux (1993), Birge (1932) |
 //! | [`timestamps`] | sampling analysis of a log's timestamps: rate, jitter, gaps, repeated and out-of-order stamps, gap filling | — |
 //! | [`bags`] | bulk decoding of `sensor_msgs/Imu` from ROS1 bag chunks, MCAP chunks and CDR messages | REP 103, ROS bag format 2.0, MCAP spec, OMG CDR |
+//! | [`cleaning`] | outlier removal by the robust (MAD) z-score, least-squares drift removal (Legendre basis), min/max envelope of long logs | NIST SP 1065 §6.2, Stable32 |
 //! | [`simd`] | run-time choice of the kernels' vector instruction set (`GYROBIAS_SIMD=scalar` forces the baseline) | — |
 //!
 //! Units: time in seconds; rates and angles in the caller's unit (the core is unit-agnostic).
@@ -27,6 +28,7 @@
 
 pub mod allan;
 pub mod bags;
+pub mod cleaning;
 pub mod codegen;
 pub mod error;
 pub mod fir;

@@ -7,6 +7,7 @@ binding borrows C-contiguous float64 arrays and copies any other layout into C o
 
 from gyrobias._core import allan as allan
 from gyrobias._core import bags as bags
+from gyrobias._core import cleaning as cleaning
 from gyrobias._core import codegen as codegen
 from gyrobias._core import fir as fir
 from gyrobias._core import fleet as fleet

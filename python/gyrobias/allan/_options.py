@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias._validation import as_float_array, integer, real, sample_rate, string
 from gyrobias.allan._types import _ESTIMATOR_OF_KIND, Kind
+from gyrobias.units import checked_units
 
 
 def _options(
@@ -51,3 +54,20 @@ def _tau_options(
     else:
         explicit = as_float_array("taus", taus, ndims=(1,))
     return fs, spec, explicit, per_decade, checked
+
+
+def _axis_units(units: str | Sequence[str | None] | None, n_axes: int) -> list[str | None]:
+    """``units`` (one unit for every axis, or a sequence of one per axis) as one entry per axis.
+
+    One call for the columns of a log in several units (gyro and accelerometer axes) analyses
+    the row-major buffer as it is, where a call per unit would copy its columns first."""
+    if units is None or isinstance(units, str):
+        return [checked_units("units", units)] * n_axes
+    if isinstance(units, np.ndarray) or not isinstance(units, Sequence):
+        raise TypeError(
+            f"units must be a unit string, a sequence of one per axis or None, "
+            f"got {type(units).__name__}"
+        )
+    if len(units) != n_axes:
+        raise ValueError(f"units: {len(units)} units for {n_axes} axes (give one per axis)")
+    return [checked_units("units", u) for u in units]

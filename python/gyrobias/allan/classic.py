@@ -47,7 +47,7 @@ from gyrobias._spectral_lines import MIN_SAMPLES, SpectralLine
 from gyrobias._validation import as_float_array, asarray, callback, choice, string
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.allan import stream as _stream
-from gyrobias.allan._options import _options
+from gyrobias.allan._options import _axis_units, _options
 from gyrobias.allan._types import AllanResult, Kind
 from gyrobias.allan.family import _analyse_family
 from gyrobias.units import checked_units
@@ -62,7 +62,7 @@ def _analyse(
     data_type: str,
     overlapping: bool,
     confidence: float | None,
-    units: str | None,
+    units: str | Sequence[str | None] | None,
     axis_names: Sequence[str] | None,
     progress: Callable[[float], None] | None,
     gaps: str = "error",
@@ -81,7 +81,8 @@ def _analyse(
         arr = as_float_array("data", data, ndims=(1, 2))
     callback("progress", progress)
     string("gaps", gaps)  # its values are parsed by the core (allan::Gaps)
-    units = checked_units("units", units)
+    if units is None or isinstance(units, str):
+        checked_units("units", units)  # a sequence (one per axis) is checked below
     fs, estimator, spec, explicit, confidence = _options(
         kind, fs, taus, per_decade, data_type, overlapping, confidence
     )
@@ -92,6 +93,7 @@ def _analyse(
     matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
     n_axes = matrix.shape[1]
     check_axis_names(axis_names, n_axes)
+    axis_units = _axis_units(units, n_axes)
     readers = (
         _stream._file_readers(data) if estimator == "overlapping" and gaps == "error" else None
     )
@@ -141,7 +143,7 @@ def _analyse(
             data_type=data_type,
             overlapping=overlapping if kind == "adev" else True,
             confidence=confidence,
-            units=units,
+            units=axis_units[i],
             axis=None if axis_names is None else str(axis_names[i]),
         )
         for i, r in enumerate(raw)
@@ -150,7 +152,7 @@ def _analyse(
         # Periodic disturbances bias the Allan fit; noise.fit models the lines found here. The
         # search runs when the lines are first asked for (AllanResult.lines).
         results = tuple(
-            replace(r, lines=_LineSearch(matrix[:, i], fs, units))  # type: ignore[arg-type]
+            replace(r, lines=_LineSearch(matrix[:, i], fs, axis_units[i]))  # type: ignore[arg-type]
             for i, r in enumerate(results)
         )
     if arr.ndim == 1:
@@ -316,7 +318,7 @@ def avar(
     data_type: str = "rate",
     overlapping: bool = True,
     confidence: float | None = 0.683,
-    units: str | None = None,
+    units: str | Sequence[str | None] | None = None,
     axis_names: Sequence[str] | None = None,
     progress: Callable[[float], None] | None = None,
     gaps: str = "error",
@@ -345,9 +347,10 @@ def avar(
     confidence : float or None
         Two-sided confidence level of the chi-square intervals (0.683 ≈ 1σ). ``None`` skips
         noise identification and intervals.
-    units : str, optional
-        Unit of the input samples (``"deg/s"`` for rate, ``"deg"`` for angle); the result's
-        ``unit`` is the rate unit.
+    units : str or sequence of str, optional
+        Unit of the input samples (``"deg/s"`` for rate, ``"deg"`` for angle), or one per
+        column of a 2-D input (a log's gyro and accelerometer axes in one call, no column
+        copied); the result's ``unit`` is the rate unit.
     axis_names : sequence of str, optional
         Names of the columns of a 2-D input.
     progress : callable, optional
@@ -439,7 +442,7 @@ def adev(
     data_type: str = "rate",
     overlapping: bool = True,
     confidence: float | None = 0.683,
-    units: str | None = None,
+    units: str | Sequence[str | None] | None = None,
     axis_names: Sequence[str] | None = None,
     progress: Callable[[float], None] | None = None,
     gaps: str = "error",
@@ -473,7 +476,7 @@ def mdev(
     per_decade: int = 10,
     data_type: str = "rate",
     confidence: float | None = 0.683,
-    units: str | None = None,
+    units: str | Sequence[str | None] | None = None,
     axis_names: Sequence[str] | None = None,
     progress: Callable[[float], None] | None = None,
     gaps: str = "error",
@@ -509,7 +512,7 @@ def hdev(
     data_type: str = "rate",
     overlapping: bool = True,
     confidence: float | None = 0.683,
-    units: str | None = None,
+    units: str | Sequence[str | None] | None = None,
     axis_names: Sequence[str] | None = None,
     progress: Callable[[float], None] | None = None,
     gaps: str = "error",
@@ -576,7 +579,7 @@ def totdev(
     per_decade: int = 10,
     data_type: str = "rate",
     confidence: float | None = 0.683,
-    units: str | None = None,
+    units: str | Sequence[str | None] | None = None,
     axis_names: Sequence[str] | None = None,
     progress: Callable[[float], None] | None = None,
     gaps: str = "error",

@@ -10,7 +10,7 @@ from numpy.typing import ArrayLike
 from gyrobias import _core
 from gyrobias._validation import as_float_array, callback
 from gyrobias._validation import axis_names as check_axis_names
-from gyrobias.allan._options import _tau_options
+from gyrobias.allan._options import _axis_units, _tau_options
 from gyrobias.allan._types import AllanResult
 from gyrobias.units import checked_units
 
@@ -34,7 +34,7 @@ def _analyse_family(
     per_decade: int,
     data_type: str,
     confidence: float | None,
-    units: str | None,
+    units: str | Sequence[str | None] | None,
     axis_names: Sequence[str] | None,
     progress: Callable[[float], None] | None,
     overlapping: bool = True,
@@ -42,7 +42,8 @@ def _analyse_family(
     """Shared driver of the statistics computed by ``gyrocore::allan::family``."""
     arr = as_float_array("data", data, ndims=(1, 2))
     callback("progress", progress)
-    units = checked_units("units", units)
+    if units is None or isinstance(units, str):
+        checked_units("units", units)  # a sequence (one per axis) is checked below
     # Types only: the ranges (per_decade >= 1, 0 < confidence < 1, ...) are the core's checks.
     fs, spec, explicit, per_decade, confidence = _tau_options(
         fs, taus, per_decade, data_type, confidence
@@ -50,6 +51,7 @@ def _analyse_family(
     matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
     n_axes = matrix.shape[1]
     check_axis_names(axis_names, n_axes)
+    axis_units = _axis_units(units, n_axes)
     t0 = 1.0 / fs
     if progress is not None:
         progress(0.0)
@@ -73,7 +75,7 @@ def _analyse_family(
             data_type=data_type,
             overlapping=overlapping,
             confidence=confidence,
-            units=units,
+            units=axis_units[i],
             axis=None if axis_names is None else str(axis_names[i]),
         )
         for i, r in enumerate(raw)
@@ -91,7 +93,7 @@ def tdev(
     per_decade: int = 10,
     data_type: str = "rate",
     confidence: float | None = 0.683,
-    units: str | None = None,
+    units: str | Sequence[str | None] | None = None,
     axis_names: Sequence[str] | None = None,
     progress: Callable[[float], None] | None = None,
 ) -> AllanResult | tuple[AllanResult, ...]:
@@ -133,7 +135,7 @@ def mtotdev(
     per_decade: int = 10,
     data_type: str = "rate",
     confidence: float | None = 0.683,
-    units: str | None = None,
+    units: str | Sequence[str | None] | None = None,
     axis_names: Sequence[str] | None = None,
     progress: Callable[[float], None] | None = None,
 ) -> AllanResult | tuple[AllanResult, ...]:
@@ -177,7 +179,7 @@ def htotdev(
     per_decade: int = 10,
     data_type: str = "rate",
     confidence: float | None = 0.683,
-    units: str | None = None,
+    units: str | Sequence[str | None] | None = None,
     axis_names: Sequence[str] | None = None,
     progress: Callable[[float], None] | None = None,
 ) -> AllanResult | tuple[AllanResult, ...]:
@@ -220,7 +222,7 @@ def theo1(
     per_decade: int = 10,
     data_type: str = "rate",
     confidence: float | None = 0.683,
-    units: str | None = None,
+    units: str | Sequence[str | None] | None = None,
     axis_names: Sequence[str] | None = None,
     progress: Callable[[float], None] | None = None,
 ) -> AllanResult | tuple[AllanResult, ...]:
@@ -270,7 +272,7 @@ def theobr(
     per_decade: int = 10,
     data_type: str = "rate",
     confidence: float | None = 0.683,
-    units: str | None = None,
+    units: str | Sequence[str | None] | None = None,
     axis_names: Sequence[str] | None = None,
     progress: Callable[[float], None] | None = None,
 ) -> AllanResult | tuple[AllanResult, ...]:
@@ -316,7 +318,7 @@ def theoh(
     per_decade: int = 10,
     data_type: str = "rate",
     confidence: float | None = 0.683,
-    units: str | None = None,
+    units: str | Sequence[str | None] | None = None,
     axis_names: Sequence[str] | None = None,
     progress: Callable[[float], None] | None = None,
 ) -> AllanResult | tuple[AllanResult, ...]:

@@ -35,6 +35,7 @@ SUBCOMMANDS: list[str] = [
     "gyrobias.cli.thermal",
     "gyrobias.cli.fleet",
     "gyrobias.cli.report",
+    "gyrobias.cli.explore",
 ]
 
 #: Modules with ``register_experiment(exp_subparsers)`` for the ``gyrobias experiment`` group
@@ -92,18 +93,39 @@ class _VersionAction(argparse.Action):
 
 
 def _version() -> str:
-    """The installed distribution's version, from its metadata (no NumPy, no extension): maturin
-    writes the same Cargo.toml version there as into the extension (``tests/test_version.py``
-    checks that they agree). When gyrobias is not installed (run from a source tree), the
-    extension's own."""
-    from importlib.metadata import PackageNotFoundError, version
+    """The version of the gyrobias package that is imported, without NumPy or the extension.
 
-    try:
-        return version("gyrobias")
-    except PackageNotFoundError:
-        from gyrobias._version import __version__
+    In order: the metadata of the installed distribution whose files *are* the imported package
+    (maturin writes the Cargo.toml version there, as into the extension; ``tests/test_version.py``
+    checks that they agree); for a source tree (``PYTHONPATH=python``, ``scripts/dev-build``) the
+    workspace version of its ``Cargo.toml``, which the extension is built with; else the
+    extension's own. Another copy installed beside a source tree on ``PYTHONPATH`` is never
+    asked: its metadata describes that copy, not the one imported.
+    """
+    from importlib.metadata import distributions
+    from pathlib import Path
 
-        return __version__
+    import gyrobias
+
+    init = Path(gyrobias.__file__ or "").resolve()
+    for dist in distributions(name="gyrobias"):
+        try:
+            if Path(str(dist.locate_file("gyrobias/__init__.py"))).resolve() == init:
+                return str(dist.version)
+        except OSError:
+            continue
+    cargo = init.parent.parent.parent / "Cargo.toml"
+    if init.parent.parent.name == "python" and cargo.is_file():
+        import tomllib
+
+        try:
+            with cargo.open("rb") as f:
+                return str(tomllib.load(f)["workspace"]["package"]["version"])
+        except (OSError, KeyError, tomllib.TOMLDecodeError):
+            pass
+    from gyrobias._version import __version__
+
+    return __version__
 
 
 def main(argv: Sequence[str] | None = None) -> int:

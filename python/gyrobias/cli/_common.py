@@ -31,15 +31,22 @@ from gyrobias.cli import _types
 
 if TYPE_CHECKING:
     from gyrobias import io
+    from gyrobias.cleaning import CleaningResult
 
 __all__ = [
     "ProgressBar",
+    "add_cleaning_arguments",
     "add_progress_argument",
     "add_read_arguments",
+    "add_selection_arguments",
+    "clean_log",
+    "cleaning_options",
     "load_options",
     "progress_bar",
     "read_log",
     "require_fs",
+    "selection_bounds",
+    "selection_note",
     "warn",
 ]
 
@@ -156,9 +163,80 @@ def add_read_arguments(
         help="keep the samples in a memory-mapped temporary file (auto: when larger than "
         "a quarter of the memory)",
     )
+    add_selection_arguments(src)
     parser.set_defaults(read_units=units)
     add_progress_argument(parser)
     return src
+
+
+def add_selection_arguments(group: argparse._ArgumentGroup) -> None:
+    """Add ``--start`` / ``--stop`` (the span of the log analysed, :meth:`GyroLog.select`)."""
+    what = (
+        "seconds from the log's start (time 0 = first sample), with an optional unit "
+        "(1200s, 90min, 0.5h), or a sample index with the suffix n (250000n)"
+    )
+    group.add_argument(
+        "--start",
+        type=_types.text,
+        metavar="TIME",
+        help=f"analyse from this time on (included): {what}",
+    )
+    group.add_argument(
+        "--stop",
+        type=_types.text,
+        metavar="TIME",
+        help="analyse up to this time (excluded), same forms as --start",
+    )
+
+
+def add_cleaning_arguments(parser: argparse.ArgumentParser) -> argparse._ArgumentGroup:
+    """Add the "cleaning" option group: ``--outliers SIGMA`` and ``--detrend linear|quadratic``
+    (Stable32's Outliers and Drift steps, :func:`gyrobias.cleaning.clean`), applied after
+    ``--start``/``--stop`` and before the statistics."""
+    group = parser.add_argument_group(
+        "cleaning",
+        "applied in this order after --start/--stop, before the statistics "
+        "(gyrobias.cleaning.clean)",
+    )
+    group.add_argument(
+        "--outliers",
+        type=_types.positive,
+        metavar="SIGMA",
+        help="replace samples whose robust z-score |x - median|/(1.4826·MAD) exceeds SIGMA "
+        "(per channel; Stable32's default is 5) by gaps, which the statistics skip",
+    )
+    group.add_argument(
+        "--detrend",
+        choices=("linear", "quadratic"),
+        help="remove each channel's least-squares linear or quadratic drift in time",
+    )
+    return group
+
+
+def cleaning_options(args: argparse.Namespace) -> dict[str, Any]:
+    """``{"outliers": …, "detrend": …}`` of :func:`add_cleaning_arguments`' options."""
+    return {
+        "outliers": getattr(args, "outliers", None),
+        "detrend": getattr(args, "detrend", None),
+    }
+
+
+def clean_log(
+    args: argparse.Namespace, log: io.GyroLog
+) -> tuple[io.GyroLog, CleaningResult | None]:
+    """``log`` with ``--outliers`` / ``--detrend`` applied (a new :class:`GyroLog` whose data is
+    the cleaned copy; the input is untouched) and the record of the steps, or ``(log, None)``
+    when neither was given."""
+    options = cleaning_options(args)
+    if options["outliers"] is None and options["detrend"] is None:
+        return log, None
+    import dataclasses
+
+    from gyrobias import cleaning
+
+    fs = require_fs(log, Path(log.path))
+    done = cleaning.clean(log.data, fs, units=log.units, **options)
+    return dataclasses.replace(log, data=done.data), done
 
 
 def add_progress_argument(parser: argparse.ArgumentParser) -> None:
@@ -187,7 +265,8 @@ def read_log(
 ) -> io.GyroLog:
     """Read ``path`` (default ``args.log``) with the options of :func:`add_read_arguments`.
 
-    The sampling warnings are printed to stderr (unless ``quiet``). ``fs`` overrides
+    ``--start`` / ``--stop`` select the span analysed (:meth:`gyrobias.io.GyroLog.select`: a
+    view, never a copy; ``log.selection`` records it). The sampling warnings are printed to stderr (unless ``quiet``). ``fs`` overrides
     ``args.fs``. Raises ``ValueError`` for contradictory options and whatever
     :func:`gyrobias.io.load` raises.
     """
@@ -197,6 +276,8 @@ def read_log(
         options["fs"] = fs
     # gyrobias.io (NumPy, the core) only when a log is read: building the parser stays light.
     from gyrobias import io
+
+    start, stop = selection_bounds(args)  # a bad --start/--stop fails before the log is read
 
     bar = None
     if _wants_progress(args, path):
@@ -209,7 +290,26 @@ def read_log(
     if not quiet:
         for w in log.warnings:
             warn(f"{path.name}: {w}")
+    if start is not None or stop is not None:
+        log = log.select(start, stop, names=SELECTION_NAMES)
     return log
+
+
+#: The names of the selection options in messages.
+SELECTION_NAMES = ("--start", "--stop")
+
+
+def selection_bounds(
+    args: argparse.Namespace,
+) -> tuple[io.TimeBound | None, io.TimeBound | None]:
+    """``--start`` and ``--stop`` parsed by :func:`gyrobias.io.parse_time_bound` (or ``None``)."""
+    from gyrobias.io import parse_time_bound
+
+    start, stop = SELECTION_NAMES
+    return (
+        parse_time_bound(getattr(args, "start", None), name=start),
+        parse_time_bound(getattr(args, "stop", None), name=stop),
+    )
 
 
 def load_options(args: argparse.Namespace) -> dict[str, Any]:
@@ -322,3 +422,9 @@ def describe_source(log: io.GyroLog) -> str:
     """``"/imu (ROS1 bag)"`` for bags, the format name otherwise (for headings)."""
     fmt = log.sampling.source_format or ""
     return f"topic {log.topic} of a {fmt}" if log.topic else fmt
+
+
+def selection_note(log: io.GyroLog) -> str | None:
+    """``"τ computed on 0.5–2.3 h of 2.8 h (samples 18000–82800 of 100800)"`` after
+    ``--start``/``--stop``, else ``None``."""
+    return None if log.selection is None else f"τ computed on {log.selection}"

@@ -27,6 +27,8 @@ __all__ = [
     "delimiter",
     "export_spec",
     "finite",
+    "format_lines",
+    "line_list",
     "non_negative",
     "non_negative_int",
     "path",
@@ -35,6 +37,7 @@ __all__ = [
     "probability",
     "repair_spec",
     "term_list",
+    "tau_range",
     "text",
     "unit_spec",
 ]
@@ -236,3 +239,49 @@ def export_spec(value: str) -> tuple[str, str]:
     if fmt not in (*FORMATS, "all"):
         _fail(f"FMT=PATH with FMT one of {', '.join(FORMATS)}, all", value)
     return fmt, path.strip()
+
+
+def tau_range(value: str) -> tuple[float, float]:
+    """``MIN,MAX``: a τ range in seconds, 0 < MIN < MAX, both finite (``--fit-tau-range``)."""
+    what = "MIN,MAX in seconds with 0 < MIN < MAX"
+    parts = value.split(",")
+    if len(parts) != 2:
+        _fail(what, value)
+    low, high = (_float(p.strip(), what) for p in parts)
+    if not 0.0 < low < high:
+        _fail(what, value)
+    return (low, high)
+
+
+def line_list(value: str) -> str | list[float | tuple[float, float]] | None:
+    """``auto``, ``none`` or ``F[:HW],…`` (Hz; ``F`` a seed, ``F:HW`` a window, ``F:0`` held)
+    for :func:`gyrobias.noise.fit`'s ``lines`` (``--lines``)."""
+    text_value = value.strip().lower()
+    if text_value == "auto":
+        return "auto"
+    if text_value == "none":
+        return None
+    what = "auto, none or FREQ[:HALFWIDTH],… in Hz (FREQ > 0, 0 <= HALFWIDTH < FREQ)"
+    out: list[float | tuple[float, float]] = []
+    for item in _items(value, what):
+        freq_text, colon, width_text = item.partition(":")
+        freq = _float(freq_text, what)
+        if freq <= 0.0:
+            _fail(what, value)
+        if not colon:
+            out.append(freq)
+            continue
+        width = _float(width_text, what)
+        if not 0.0 <= width < freq:
+            _fail(what, value)
+        out.append((freq, width))
+    return out
+
+
+def format_lines(lines: str | list[float | tuple[float, float]] | None) -> str:
+    """The ``--lines`` text of a :func:`line_list` value (for the outputs)."""
+    if lines is None:
+        return "none"
+    if isinstance(lines, str):
+        return lines
+    return ",".join(f"{x[0]:g}:{x[1]:g}" if isinstance(x, tuple) else f"{x:g}" for x in lines)

@@ -24,10 +24,13 @@ from gyrobias.cli import _types
 from gyrobias.cli import noise as noise_cli
 from gyrobias.cli._common import (
     ProgressBar,
+    add_cleaning_arguments,
     add_read_arguments,
+    clean_log,
     describe_source,
     read_log,
     require_fs,
+    selection_note,
 )
 
 __all__ = ["ProgressBar", "register", "run"]
@@ -46,6 +49,8 @@ _KINDS = (
     "theobr",
     "theoh",
 )
+#: The ``--kind`` choices that skip gaps (``gaps="omit"``): the NaN of ``--outliers``.
+_GAP_KINDS = ("adev", "mdev", "hdev")
 #: Logs with at least this many samples × channels get a progress bar on a terminal.
 PROGRESS_MIN_VALUES = 1_000_000
 
@@ -77,6 +82,7 @@ def register(subparsers: Any) -> None:
         default="rate",
         help="rate (default) or integrated angle samples",
     )
+    add_cleaning_arguments(p)
     ana = p.add_argument_group("analysis")
     ana.add_argument(
         "--kind",
@@ -159,6 +165,9 @@ def run(args: argparse.Namespace) -> int:
         print(f"fs = {fs:.9g} Hz, as the file's preamble states (no time column)")
     for w in log.warnings:
         print(f"gyrobias: warning: {w}", file=sys.stderr)
+    # --fit-tau-range / --lines against --fit-method: refused before the analysis runs.
+    noise_cli.fit_range_options(args, getattr(args, "fit_method", "joint"))
+    log, cleaned = clean_log(args, log)
 
     bar = None
     if show_progress and (args.progress or log.data.size >= PROGRESS_MIN_VALUES):
@@ -183,8 +192,8 @@ def run(args: argparse.Namespace) -> int:
             }
             if args.kind in ("adev", "hdev"):
                 kw["overlapping"] = not args.non_overlapping
-            if log.sampling.filled_samples:
-                kw.update(_gap_option(args.kind))
+            if log.sampling.filled_samples or (cleaned is not None and cleaned.has_gaps):
+                kw.update(_gap_option(args.kind, cleaned is not None and cleaned.has_gaps))
             out = getattr(allan, args.kind)(part, fs, **kw)
             assert isinstance(out, tuple)
             by_column.update(zip(cols, out))
@@ -202,6 +211,11 @@ def run(args: argparse.Namespace) -> int:
         f"{args.log}{source}: {log.n_samples} samples × {len(log.columns)} channels, "
         f"{_duration(duration)} at {fs:.9g} Hz"
     )
+    note = selection_note(log)
+    if note is not None:
+        print(note)
+    if cleaned is not None:
+        print(f"cleaning: {cleaned.describe()}")
     for r in results:
         unit = f" [{r.unit}]" if r.unit else ""
         print(
@@ -229,6 +243,9 @@ def run(args: argparse.Namespace) -> int:
             "time_column": log.time_column,
             "topic": log.topic,
             "sampling": report.to_dict(),
+            "selection": None if log.selection is None else log.selection.to_dict(),
+            "cleaning": None if cleaned is None else cleaned.to_dict(),
+            "fit_options": _fit_options_json(args),
             "timing_s": {"read": t_read, "analysis": t_run},
             "axes": [r.to_dict() for r in results],
         }
@@ -242,6 +259,8 @@ def run(args: argparse.Namespace) -> int:
         from gyrobias.plotting import save_allan_plot
 
         title = f"{args.kind.upper()} of {args.log.name} ({fs:.6g} Hz, {_duration(duration)})"
+        if log.selection is not None:
+            title += f", {log.selection.describe()}"
         fits = args.noise_coefficients or None
         if fits is not None and len(results) > 1:
             # One figure per axis for the fitted models (overlaying several models, their
@@ -258,12 +277,30 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _gap_option(kind: str) -> dict[str, str]:
-    """``{"gaps": "omit"}`` for the NaN rows of ``--fill-gaps``, if the estimator supports it."""
+def _fit_options_json(args: argparse.Namespace) -> dict[str, Any] | None:
+    """The fit's τ range and lines as given (``None`` without a fit)."""
+    if not getattr(args, "noise_coefficients", None):
+        return None
+    tau_range = getattr(args, "fit_tau_range", None)
+    return {
+        "method": getattr(args, "fit_method", "joint"),
+        "tau_range_s": None if tau_range is None else list(tau_range),
+        "lines": _types.format_lines(getattr(args, "lines", "auto")),
+    }
+
+
+def _gap_option(kind: str, outliers: bool = False) -> dict[str, str]:
+    """``{"gaps": "omit"}`` for the NaN rows of ``--fill-gaps`` (or of the outliers removed by
+    ``--outliers``), if the estimator supports it."""
     import inspect
 
     from gyrobias import allan
 
+    if outliers and kind not in _GAP_KINDS:
+        raise ValueError(
+            f"--outliers replaces outliers by gaps (NaN), and this {kind.upper()} cannot skip "
+            f"gaps; use --kind {', '.join(_GAP_KINDS)}, or leave out --outliers"
+        )
     if "gaps" in inspect.signature(getattr(allan, kind)).parameters:
         return {"gaps": "omit"}
     raise ValueError(

@@ -18,7 +18,16 @@ import sys
 from typing import Any
 
 from gyrobias.cli import _types
-from gyrobias.cli._common import add_read_arguments, load_options, progress_bar
+from gyrobias.cli._common import (
+    SELECTION_NAMES,
+    add_cleaning_arguments,
+    add_read_arguments,
+    cleaning_options,
+    load_options,
+    progress_bar,
+    selection_bounds,
+)
+from gyrobias.cli.noise import add_fit_range_arguments, fit_range_options
 
 __all__ = ["register", "run"]
 
@@ -51,6 +60,7 @@ def register(subparsers: Any) -> None:
         metavar="X,Y,…",
         help="names for the channels of every log (compares logs whose headers differ, e.g. CSV and NPY)",
     )
+    add_cleaning_arguments(p)
     ana = p.add_argument_group("analysis")
     ana.add_argument(
         "--fit-method",
@@ -65,6 +75,7 @@ def register(subparsers: Any) -> None:
         help="noise terms to fit (Q, N, B, K, R, GM, GM2; default the five IEEE terms); GM adds a "
         "Gauss–Markov term (σ and correlation time columns), GM2 two (joint fit only)",
     )
+    add_fit_range_arguments(ana)
     ana.add_argument(
         "--taus",
         choices=("octave", "decade", "log", "all"),
@@ -80,6 +91,14 @@ def register(subparsers: Any) -> None:
         # package (NumPy, pandas); test_cli checks that this text states its value
         help="robust |z| above which a term is out of family (default 3.5, "
         "gyrobias.fleet.OUT_OF_FAMILY_THRESHOLD)",
+    )
+    ana.add_argument(
+        "--bound-confidence",
+        type=_types.finite,  # in (0, 1): the core's check (fleet.analyse)
+        default=0.95,
+        metavar="P",
+        help="one-sided confidence level of the upper bounds of terms a log does not show "
+        "(default 0.95)",
     )
     run_group = p.add_argument_group("where it runs")
     run_group.add_argument(
@@ -113,10 +132,23 @@ def _fmt(value: Any, digits: int = 4) -> str:
     return f"{value:.{digits}g}"
 
 
+def _cell(row: Any, term: str) -> str:
+    """``value ± 1σ``, or ``≤ bound`` for a term the log does not show."""
+    bound = row.get(f"{term}_upper_bound", math.nan)
+    value = row[term]
+    if (value is None or not math.isfinite(value)) and bound is not None and math.isfinite(bound):
+        return f"≤ {_fmt(bound)}"
+    return _fmt(value) + " ± " + _fmt(row[f"{term}_uncertainty"], 2)
+
+
 def _print_table(table: Any) -> None:
     from gyrobias import fleet
 
-    terms = [t for t in fleet.term_columns(table) if table[t].notna().any()]
+    terms = [
+        t
+        for t in fleet.term_columns(table)
+        if table[t].notna().any() or table.get(f"{t}_upper_bound", table[t]).notna().any()
+    ]
     ok = table[table["error"].isna()]
     units = {t: next((u for u in ok[f"{t}_unit"] if isinstance(u, str)), None) for t in terms}
     head = (
@@ -133,9 +165,7 @@ def _print_table(table: Any) -> None:
         if isinstance(row["error"], str):
             print(f"{name:<28} {'—':<6} error: {row['error']}")
             continue
-        cells = "".join(
-            f" {_fmt(row[t]) + ' ± ' + _fmt(row[f'{t}_uncertainty'], 2):>22}" for t in terms
-        )
+        cells = "".join(f" {_cell(row, t):>22}" for t in terms)
         terms_out = row["out_of_family_terms"]
         flag = f"OUT ({terms_out})" if isinstance(terms_out, str) else ""
         print(f"{name:<28} {row['axis']!s:<6}{cells}  {flag}")
@@ -169,6 +199,8 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"--out must end in .parquet or .csv, got '{args.out}'")
     options = load_options(args)
     fs, units = options.pop("fs"), options.pop("units")
+    start, stop = selection_bounds(args)
+    extra = fit_range_options(args, args.fit_method)
     show = args.progress if args.progress is not None else sys.stderr.isatty()
     bar = progress_bar("fleet", args) if show else None
     try:
@@ -190,6 +222,11 @@ def run(args: argparse.Namespace) -> int:
             threshold=args.threshold,
             num_workers=args.workers,
             progress=bar,
+            start=start,
+            stop=stop,
+            bound_confidence=args.bound_confidence,
+            **cleaning_options(args),
+            **extra,
         )
     finally:
         if bar is not None:
@@ -199,8 +236,23 @@ def run(args: argparse.Namespace) -> int:
     n_sources = table["source"].nunique()
     print(
         f"{n_sources} logs, {len(ok)} unit-axes analysed, {len(failed)} failed"
-        f"{f' (scheduler {args.scheduler})' if args.scheduler else ''}\n"
+        f"{f' (scheduler {args.scheduler})' if args.scheduler else ''}"
     )
+    if start is not None or stop is not None:
+        spans = sorted({s for s in ok["selection"] if isinstance(s, str)})
+        print(
+            f"τ computed on {SELECTION_NAMES[0]} {start or 0} {SELECTION_NAMES[1]} "
+            f"{stop or 'end'} of every log: "
+            + ("; ".join(spans[:3]) or "—")
+            + (f"; … ({len(spans)} spans)" if len(spans) > 3 else "")
+        )
+    if args.outliers is not None or args.detrend is not None:
+        steps = [
+            *([f"outliers > {args.outliers:g}σ (MAD) removed"] if args.outliers else []),
+            *([f"{args.detrend} drift removed"] if args.detrend else []),
+        ]
+        print(f"cleaning of every log: {'; '.join(steps)} (per axis: the 'cleaning' column)")
+    print()
     _print_table(table)
     summ = fleet.summary(table)
     if not summ.empty:

@@ -24,7 +24,13 @@ if TYPE_CHECKING:
 
     from gyrobias.noise import NoiseCoefficients
 
-__all__ = ["add_fit_arguments", "demo_section", "run_fit"]
+__all__ = [
+    "add_fit_arguments",
+    "add_fit_range_arguments",
+    "demo_section",
+    "fit_range_options",
+    "run_fit",
+]
 
 
 def add_fit_arguments(parser: argparse.ArgumentParser) -> None:
@@ -49,6 +55,7 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> None:
         default="Q,N,B,K,R",
         help="comma-separated model terms: Q,N,B,K,R and Gauss–Markov GM,GM2 (default Q,N,B,K,R)",
     )
+    add_fit_range_arguments(group)
     group.add_argument(
         "--bound-confidence",
         type=_types.finite,  # in (0, 1): the core's check (run_fit)
@@ -88,6 +95,43 @@ def add_fit_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def add_fit_range_arguments(group: argparse._ArgumentGroup) -> None:
+    """Add ``--fit-tau-range MIN,MAX`` and ``--lines auto|none|F[:HW],…`` (the joint fit's
+    ``tau_range`` and ``lines`` of :func:`gyrobias.noise.fit`) to ``group``."""
+    group.add_argument(
+        "--fit-tau-range",
+        type=_types.tau_range,
+        metavar="MIN,MAX",
+        default=None,
+        help="fit only the Allan points with MIN <= τ <= MAX seconds (joint fit; turns the "
+        "automatic range selection off)",
+    )
+    group.add_argument(
+        "--lines",
+        type=_types.line_list,
+        metavar="auto|none|F[:HW],…",
+        default="auto",
+        help="periodic disturbances modelled by a sinusoidal term (joint fit): auto (default, "
+        "the lines found in the rate), none, or frequencies in Hz: F a seed, F:HW refined within "
+        "F ± HW, F:0 held at F",
+    )
+
+
+def fit_range_options(args: argparse.Namespace, method: str) -> dict[str, Any]:
+    """The ``tau_range`` and ``lines`` keyword arguments of :func:`gyrobias.noise.fit` from
+    ``--fit-tau-range`` and ``--lines``; both apply to the joint fit only (a ``ValueError``
+    for ``--fit-method ieee``, whose ranges are its slope regions)."""
+    tau_range = getattr(args, "fit_tau_range", None)
+    lines = getattr(args, "lines", "auto")
+    if method != "joint":
+        if tau_range is not None:
+            raise ValueError("--fit-tau-range applies to --fit-method joint only")
+        if lines != "auto":
+            raise ValueError("--lines applies to --fit-method joint only")
+        return {}
+    return {"tau_range": tau_range, "lines": lines}
+
+
 def _display(c: NoiseCoefficients) -> NoiseCoefficients:
     return c.to("ieee") if c.data_unit is not None else c
 
@@ -121,10 +165,11 @@ def run_fit(args: argparse.Namespace, results: Sequence[Any]) -> None:
     terms = [
         t.strip() for t in str(getattr(args, "fit_terms", "Q,N,B,K,R")).split(",") if t.strip()
     ]
+    extra = fit_range_options(args, method)
     coefficients: list[NoiseCoefficients] = []
     for r in results:
         try:
-            c = fit(r, method=method, terms=terms, bound_confidence=bound_confidence)
+            c = fit(r, method=method, terms=terms, bound_confidence=bound_confidence, **extra)
         except ValueError as exc:
             name = f" axis {r.axis}" if getattr(r, "axis", None) else ""
             raise ValueError(f"noise fit{name} failed: {exc}") from None

@@ -16,7 +16,14 @@ import argparse
 from typing import Any
 
 from gyrobias.cli import _types
-from gyrobias.cli._common import add_read_arguments, read_log, require_fs
+from gyrobias.cli._common import (
+    add_cleaning_arguments,
+    add_read_arguments,
+    cleaning_options,
+    read_log,
+    require_fs,
+)
+from gyrobias.cli.noise import add_fit_range_arguments, fit_range_options
 
 __all__ = ["register", "run"]
 
@@ -49,6 +56,7 @@ def register(subparsers: Any) -> None:
         help="output file (default: LOG with the suffix .html)",
     )
     add_read_arguments(p)
+    add_cleaning_arguments(p)
     ana = p.add_argument_group("analysis")
     ana.add_argument(
         "--confidence",
@@ -60,6 +68,7 @@ def register(subparsers: Any) -> None:
     ana.add_argument(
         "--fit-method", choices=("joint", "ieee"), default="joint", help="identification method"
     )
+    add_fit_range_arguments(ana)
     ana.add_argument(
         "--conservative",
         type=_types.probability,
@@ -89,6 +98,7 @@ def run(args: argparse.Namespace) -> int:
     """Execute ``gyrobias report``."""
     from gyrobias.report import write_report
 
+    extra = fit_range_options(args, args.fit_method)  # refused before the log is read
     log = read_log(args)
     require_fs(log, args.log)
     output = args.output if args.output is not None else args.log.with_suffix(".html")
@@ -100,6 +110,8 @@ def run(args: argparse.Namespace) -> int:
         conservative_confidence=args.conservative,
         rate=args.rate,
         bound_confidence=args.bound_confidence,
+        **cleaning_options(args),
+        **extra,
     )
     print(f"wrote {output}")
     return 0

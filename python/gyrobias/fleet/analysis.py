@@ -13,8 +13,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from gyrobias import _core, allan, io, noise
-from gyrobias._validation import as_float_array, callback, positive_float, real
+from gyrobias import _core, allan, cleaning, io, noise
+from gyrobias._validation import as_float_array, callback, pair, positive_float, real
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.fleet.spread import OUT_OF_FAMILY_THRESHOLD, _finish
 from gyrobias.fleet.table import GM_PARAMETERS, DataFrame, _require
@@ -39,6 +39,26 @@ class _Options:
     load: dict[str, Any] = field(default_factory=dict)
     array_units: tuple[str | None, ...] = ()
     terms: tuple[str, ...] | None = None  # None: noise.fit's default (the five IEEE terms)
+    start: io.TimeBound | None = None  # the span of every log analysed (GyroLog.select)
+    stop: io.TimeBound | None = None
+    bound_confidence: float = 0.95
+    outliers: float | None = None  # cleaning.clean after the span, before the analysis
+    detrend: str | None = None
+    tau_range: tuple[float, float] | None = None  # noise.fit's (joint fit)
+    lines: str | tuple[float | tuple[float, float], ...] | None = "auto"
+
+    @property
+    def cleans(self) -> bool:
+        """Whether a cleaning step runs on every unit."""
+        return self.outliers is not None or self.detrend is not None
+
+    @property
+    def fit_extra(self) -> dict[str, Any]:
+        """``tau_range`` and ``lines`` for noise.fit when given (the joint fit's options)."""
+        if self.tau_range is None and self.lines == "auto":
+            return {}
+        lines = list(self.lines) if isinstance(self.lines, tuple) else self.lines
+        return {"tau_range": self.tau_range, "lines": lines}
 
     @property
     def n_gauss_markov(self) -> int:
@@ -64,11 +84,14 @@ def _empty_row(source: str) -> dict[str, Any]:
 
 
 def _put_term(row: dict[str, Any], name: str, term: noise.Term | None) -> None:
-    """``name`` and ``name_uncertainty`` of a row from a fitted term (NaN when missing)."""
+    """``name``, ``name_uncertainty`` and ``name_upper_bound`` of a row from a fitted term (NaN
+    when missing; the upper bound only for a term the log does not show)."""
     value = None if term is None else term.value
     unc = None if term is None else term.uncertainty
+    bound = term.upper_bound if term is not None and term.bounded else None
     row[name] = math.nan if value is None else float(value)
     row[f"{name}_uncertainty"] = math.nan if unc is None else float(unc)
+    row[f"{name}_upper_bound"] = math.nan if bound is None else float(bound)
 
 
 def _error_text(exc: BaseException) -> str:
@@ -84,12 +107,29 @@ def _rows_for(
     axis_units: Sequence[str | None],
     opts: _Options,
     sampling: io.SamplingReport | None,
+    selection: io.Selection | None = None,
 ) -> list[dict[str, Any]]:
-    """Allan analysis and fit of one unit (``data`` is ``(n,)`` or ``(n, axes)``)."""
+    """Allan analysis and fit of one unit (``data`` is ``(n,)`` or ``(n, axes)``), after the
+    cleaning steps of ``opts`` (whose gaps the Allan analysis then skips)."""
     matrix = data.reshape(-1, 1) if data.ndim == 1 else data
-    results = allan.adev(matrix, fs, **_allan_options(axis_names, axis_units, opts))
+    allan_options = _allan_options(axis_names, axis_units, opts)
+    cleaned = None
+    if opts.cleans:
+        cleaned = cleaning.clean(
+            matrix, fs, outliers=opts.outliers, detrend=opts.detrend, units=list(axis_units)
+        )
+        matrix = cleaned.data
+        if cleaned.has_gaps:
+            allan_options["gaps"] = "omit"
+    results = allan.adev(matrix, fs, **allan_options)
     assert isinstance(results, tuple)
-    return _fit_rows(source, results, int(matrix.shape[0]), fs, axis_units, opts, sampling)
+    rows = _fit_rows(
+        source, results, int(matrix.shape[0]), fs, axis_units, opts, sampling, selection
+    )
+    if cleaned is not None:
+        for row in rows:
+            row["cleaning"] = cleaned.describe()
+    return rows
 
 
 def _allan_options(
@@ -113,12 +153,15 @@ def _fit_rows(
     axis_units: Sequence[str | None],
     opts: _Options,
     sampling: io.SamplingReport | None,
+    selection: io.Selection | None = None,
 ) -> list[dict[str, Any]]:
     """The noise fit of each axis' Allan result, one row per axis."""
     common: dict[str, Any] = {
         "fs": fs,
         "duration": n / fs,
         "n_samples": n,
+        "selection": None if selection is None else str(selection),
+        "cleaning": None,
         "n_gaps": None,
         "missing_samples": None,
         "longest_gap": math.nan,
@@ -140,11 +183,17 @@ def _fit_rows(
         row["axis"] = r.axis
         row["data_unit"] = unit
         row["fit_method"] = opts.fit
+        row["bound_confidence"] = opts.bound_confidence
         row["adev_tau"] = np.asarray(r.taus, dtype=np.float64)
         row["adev"] = np.asarray(r.adev, dtype=np.float64)
-        fit_options: dict[str, Any] = {"method": opts.fit, "unit": unit}
+        fit_options: dict[str, Any] = {
+            "method": opts.fit,
+            "unit": unit,
+            "bound_confidence": opts.bound_confidence,
+        }
         if opts.terms is not None:
             fit_options["terms"] = opts.terms
+        fit_options.update(opts.fit_extra)
         try:
             row["sensor"] = None if unit is None else sensor_kind(unit)
             c = noise.fit(r, **fit_options)
@@ -182,13 +231,16 @@ def _analyse_file(path: str, opts: _Options) -> list[dict[str, Any]]:
             raise ValueError(
                 f"{os.path.basename(path)} has no time column: give the sample rate (fs)"
             )
+        fs = float(log.fs)
+        if opts.start is not None or opts.stop is not None:
+            log = log.select(opts.start, opts.stop)
         # A wrong number of axis_names is allan.adev's error (one check, _validation.axis_names),
         # reported in this file's row.
         names: Sequence[str] = log.columns if opts.axis_names is None else opts.axis_names
         units = (
             tuple(log.units) if len(log.units) == len(log.columns) else (None,) * len(log.columns)
         )
-        return _rows_for(path, log.data, float(log.fs), names, units, opts, log.sampling)
+        return _rows_for(path, log.data, fs, names, units, opts, log.sampling, log.selection)
     except Exception as exc:  # noqa: BLE001 - a failed file is a row with its error
         row = _empty_row(path)
         row["error"] = _error_text(exc)
@@ -205,20 +257,28 @@ def _analyse_block(block: NDArray[np.float64], start: int, opts: _Options) -> li
     """
     assert opts.fs is not None and opts.axis_names is not None
     names, units = opts.axis_names, opts.array_units
+    selection = None
+    if opts.start is not None or opts.stop is not None:
+        # checked in analyse() for the whole array: here only the view is taken
+        selection = io.resolve_selection(int(block.shape[1]), opts.fs, opts.start, opts.stop)
+        block = block[:, selection.start_index : selection.stop_index]
     n = int(block.shape[1])
-    batch: tuple[tuple[allan.AllanResult, ...], ...] | None
-    try:
-        batch = allan.adev_batch(block, opts.fs, **_allan_options(names, units, opts))
-    except Exception:  # noqa: BLE001 - find the failing unit below, one at a time
-        batch = None
+    batch: tuple[tuple[allan.AllanResult, ...], ...] | None = None
+    if not opts.cleans:  # cleaning is per unit: then one adev per cleaned unit
+        try:
+            batch = allan.adev_batch(block, opts.fs, **_allan_options(names, units, opts))
+        except Exception:  # noqa: BLE001 - find the failing unit below, one at a time
+            batch = None
     rows: list[dict[str, Any]] = []
     for i in range(block.shape[0]):
         source = f"array[{start + i}]"
         try:
             if batch is None:
-                rows.extend(_rows_for(source, block[i], opts.fs, names, units, opts, None))
+                rows.extend(
+                    _rows_for(source, block[i], opts.fs, names, units, opts, None, selection)
+                )
             else:
-                rows.extend(_fit_rows(source, batch[i], n, opts.fs, units, opts, None))
+                rows.extend(_fit_rows(source, batch[i], n, opts.fs, units, opts, None, selection))
         except Exception as exc:  # noqa: BLE001 - one failed unit is one error row
             row = _empty_row(source)
             row["error"] = _error_text(exc)
@@ -351,6 +411,13 @@ def analyse(
     threshold: float = OUT_OF_FAMILY_THRESHOLD,
     num_workers: int | None = None,
     progress: Callable[[float], None] | None = None,
+    start: str | float | io.TimeBound | None = None,
+    stop: str | float | io.TimeBound | None = None,
+    bound_confidence: float = 0.95,
+    outliers: float | None = None,
+    detrend: str | None = None,
+    tau_range: tuple[float, float] | None = None,
+    lines: str | Sequence[float | tuple[float, float]] | None = "auto",
 ) -> DataFrame:
     """Noise terms of every unit of a fleet, one row per unit and axis, computed on Dask.
 
@@ -399,19 +466,41 @@ def analyse(
     progress : callable, optional
         Called with the completed fraction (0..1) of the tasks as they finish; never changes
         a result.
+    start, stop : float, str or None
+        The span of every log analysed, ``[start, stop)`` (:meth:`gyrobias.io.GyroLog.select`:
+        seconds from each log's start, ``"90min"``, ``"0.5h"``, or a sample index
+        ``"250000n"``); the ``selection`` column states it. A log that the span does not fit
+        is an error row.
+    bound_confidence : float
+        One-sided confidence level of the upper bounds of terms a log does not show
+        (:func:`gyrobias.noise.fit`; default 0.95).
+    outliers : float, optional
+        Remove every unit's outliers above this robust z-score after the span and before the
+        analysis (:func:`gyrobias.cleaning.clean`; they become gaps, skipped by the Allan
+        analysis); the ``cleaning`` column states what was removed.
+    detrend : {"linear", "quadratic"}, optional
+        Remove every unit's drift after the outliers (:func:`gyrobias.cleaning.clean`).
+    tau_range : (float, float), optional
+        ``fit="joint"``: fit the Allan points in this τ range (seconds) (:func:`gyrobias.noise.fit`).
+    lines : "auto", sequence or None
+        ``fit="joint"``: the lines modelled by a sinusoidal term (:func:`gyrobias.noise.fit`).
 
     Returns
     -------
     pandas.DataFrame
         One row per unit and axis (a failed file: one row with ``error`` set), in the order of
         ``sources``. Columns: ``source``, ``axis``, ``sensor``, ``data_unit``, ``fs`` [Hz],
-        ``duration`` [s] (``n_samples / fs``), ``n_samples``; the gap summary of the
+        ``duration`` [s] (``n_samples / fs``), ``n_samples`` (of the span analysed),
+        ``selection`` (the span, ``"0.5–2.3 h of 2.8 h (samples …)"``, with ``start``/``stop``;
+        else ``None``), ``cleaning`` (the steps of ``outliers``/``detrend`` and the outliers
+        removed per axis, else ``None``); the gap summary of the
         timestamps (``<NA>`` without them): ``n_gaps``, ``missing_samples``, ``longest_gap``
         [s], ``n_duplicates``, ``sampling_warnings``; ``fit_method``; for every term X in Q, N,
         B, K, R (and, with Gauss–Markov ``terms``, ``GM1_sigma``, ``GM1_correlation_time``,
         ``GM2_sigma``, ``GM2_correlation_time``): ``X`` and ``X_uncertainty`` (1σ) in the base
         unit ``X_unit`` (NaN when the fit has no such term), ``X_z`` (robust z-score against
-        the fleet); the goodness of fit
+        the fleet), ``X_upper_bound`` (a term the log does not show: the largest value the data
+        allow, at the one-sided level ``bound_confidence``; else NaN); the goodness of fit
         ``chi2``, ``dof``, ``chi2_reduced`` (joint fit), ``p_value`` and ``fit_warnings`` of
         :attr:`gyrobias.noise.NoiseCoefficients.diagnostics`; ``out_of_family`` (nullable bool),
         ``out_of_family_terms``; ``error``; ``adev_tau`` [s] and ``adev`` [data unit], the
@@ -451,6 +540,8 @@ def analyse(
         term_tuple = (terms,) if isinstance(terms, str) else tuple(terms)
     threshold = positive_float("threshold", threshold)
     callback("progress", progress)
+    first = io.parse_time_bound(start, name="start")
+    last = io.parse_time_bound(stop, name="stop")
     if num_workers is not None and (
         isinstance(num_workers, bool)
         or not isinstance(num_workers, int)
@@ -488,6 +579,8 @@ def analyse(
         array_units = io.columns._resolve_units(
             units, names, None, "sources"
         )  # the reader's rules for units=
+        if first is not None or last is not None:  # the same span for every unit: check it once
+            io.resolve_selection(int(expanded.shape[1]), fs, first, last)
     opts = _Options(
         fs=fs,
         fit=fit,
@@ -498,6 +591,15 @@ def analyse(
         load=load,
         array_units=array_units,
         terms=term_tuple,
+        start=first,
+        stop=last,
+        bound_confidence=_core.validate.probability(
+            "bound_confidence", real("bound_confidence", bound_confidence)
+        ),
+        outliers=None if outliers is None else real("outliers", outliers),
+        detrend=detrend,
+        tau_range=None if tau_range is None else pair("tau_range", tau_range),
+        lines=tuple(lines) if lines is not None and not isinstance(lines, str) else lines,
     )
     _check_options(opts)
 
@@ -549,6 +651,8 @@ def _check_options(opts: _Options) -> None:
         # joint fit of every τ of even this short series takes seconds.
         result = allan.adev(probe, fs, confidence=opts.confidence, gaps=opts.gaps)
     assert isinstance(result, allan.AllanResult)
+    if opts.cleans:  # the cleaning options, judged by cleaning.clean itself
+        cleaning.clean(np.asarray(probe), fs, outliers=opts.outliers, detrend=opts.detrend)
     try:
         if opts.terms is None:
             noise.fit(result, method=opts.fit)

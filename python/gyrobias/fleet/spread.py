@@ -47,8 +47,10 @@ def _finish(pd: Any, rows: list[dict[str, Any]], threshold: float, n_gm: int = 0
         "chi2",
         "chi2_reduced",
         "p_value",
+        "bound_confidence",
         *terms,
         *(f"{t}_uncertainty" for t in terms),
+        *(f"{t}_upper_bound" for t in terms),
     ):
         table[name] = table[name].astype("float64")
     z = {t: np.full(len(table), np.nan) for t in terms}

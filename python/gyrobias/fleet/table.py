@@ -34,7 +34,7 @@ def term_columns(table: Any) -> list[str]:
 
     ``GM1_sigma`` [rate unit] and ``GM1_correlation_time`` [s] (``GM2_…`` for the second
     term) are there when :func:`analyse` was given ``terms`` with ``"GM"``/``"GM2"``. Each has
-    ``_uncertainty``, ``_unit`` and ``_z`` companions like the IEEE terms.
+    ``_uncertainty``, ``_unit``, ``_z`` and ``_upper_bound`` companions like the IEEE terms.
     """
     present = set(table.columns)
     return [c for c in (*TERMS, *_gm_columns(2)) if c in present]
@@ -54,15 +54,18 @@ def _columns(n_gm: int = 0) -> list[str]:
         "fs",
         "duration",
         "n_samples",
+        "selection",
+        "cleaning",
         "n_gaps",
         "missing_samples",
         "longest_gap",
         "n_duplicates",
         "sampling_warnings",
         "fit_method",
+        "bound_confidence",
     ]
     for t in (*TERMS, *_gm_columns(n_gm)):
-        cols += [t, f"{t}_uncertainty", f"{t}_unit", f"{t}_z"]
+        cols += [t, f"{t}_uncertainty", f"{t}_unit", f"{t}_z", f"{t}_upper_bound"]
     cols += [
         "chi2",
         "dof",

@@ -53,7 +53,14 @@ Examples
 (('gx',), ('deg/s',), 100.0, (4, 1))
 """
 
-from gyrobias.io._types import GyroLog, SamplingReport
+from gyrobias.io._types import (
+    GyroLog,
+    SamplingReport,
+    Selection,
+    TimeBound,
+    parse_time_bound,
+    resolve_selection,
+)
 from gyrobias.io.reader import load, topics
 from gyrobias.io.timestamps import FS_TOLERANCE as FS_TOLERANCE
 from gyrobias.io.timestamps import GAP_FACTOR as GAP_FACTOR
@@ -65,7 +72,11 @@ __all__ = [
     # loading
     "load",
     "topics",
+    "parse_time_bound",
+    "resolve_selection",
     # results
     "GyroLog",
     "SamplingReport",
+    "Selection",
+    "TimeBound",
 ]

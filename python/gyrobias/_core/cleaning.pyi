@@ -1,0 +1,31 @@
+"""Stubs of ``gyrobias._core.cleaning`` (binding of ``gyrocore::cleaning``)."""
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "MEAN_AD_TO_SD",
+    "MIN_OUTLIER_SAMPLES",
+    "detrend",
+    "minmax_envelope",
+    "remove_outliers",
+]
+
+MEAN_AD_TO_SD: float
+MIN_OUTLIER_SAMPLES: int
+
+def remove_outliers(
+    data: NDArray[np.float64], threshold: float
+) -> tuple[
+    NDArray[np.float64],
+    NDArray[np.bool_],
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.uint64],
+]: ...
+def detrend(
+    data: NDArray[np.float64], fs: float, order: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+def minmax_envelope(
+    data: NDArray[np.float64], bins: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.uint64]]: ...
