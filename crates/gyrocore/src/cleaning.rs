@@ -115,14 +115,16 @@ fn rows(data: &[f64], n_cols: usize) -> Result<usize> {
     Ok(data.len() / n_cols)
 }
 
-/// The finite samples of column `j` (rows of `n_cols`), copied.
-fn finite_column(data: &[f64], n_cols: usize, j: usize) -> Vec<f64> {
-    data.iter()
-        .skip(j)
-        .step_by(n_cols)
-        .copied()
-        .filter(|v| v.is_finite())
-        .collect()
+/// The finite samples of column `j` (rows of `n_cols`), copied into `out` (reused).
+fn finite_column_into(data: &[f64], n_cols: usize, j: usize, out: &mut Vec<f64>) {
+    out.clear();
+    out.extend(
+        data.iter()
+            .skip(j)
+            .step_by(n_cols)
+            .copied()
+            .filter(|v| v.is_finite()),
+    );
 }
 
 /// Median and robust scale of the finite values in `values` (reordered; module docs).
@@ -155,15 +157,33 @@ pub fn remove_outliers(data: &[f64], n_cols: usize, threshold: f64) -> Result<Ou
     let n = rows(data, n_cols)?;
     validate::positive("threshold", threshold)?;
     validate::min_len("data", n, MIN_OUTLIER_SAMPLES)?;
-    let channels: Vec<(f64, f64)> = (0..n_cols)
+    // One scratch column per worker, reused for its columns (first-touch page faults of a
+    // fresh buffer per column cost more than the selection itself); column j goes to worker
+    // j mod workers, and each column's statistics do not depend on the assignment.
+    let workers = n_cols.min(rayon::current_num_threads()).max(1);
+    let per_worker: Vec<Vec<(usize, Result<(f64, f64)>)>> = (0..workers)
         .into_par_iter()
-        .map(|j| {
-            let mut values = finite_column(data, n_cols, j);
-            if values.len() < MIN_OUTLIER_SAMPLES {
-                return Err(too_few_finite(j, values.len(), MIN_OUTLIER_SAMPLES));
-            }
-            Ok(robust_center_scale(&mut values))
+        .map(|w| {
+            let mut scratch = Vec::with_capacity(n);
+            (w..n_cols)
+                .step_by(workers)
+                .map(|j| {
+                    finite_column_into(data, n_cols, j, &mut scratch);
+                    let stats = if scratch.len() < MIN_OUTLIER_SAMPLES {
+                        Err(too_few_finite(j, scratch.len(), MIN_OUTLIER_SAMPLES))
+                    } else {
+                        Ok(robust_center_scale(&mut scratch))
+                    };
+                    (j, stats)
+                })
+                .collect()
         })
+        .collect();
+    let mut ordered: Vec<(usize, Result<(f64, f64)>)> = per_worker.into_iter().flatten().collect();
+    ordered.sort_by_key(|(j, _)| *j);
+    let channels: Vec<(f64, f64)> = ordered
+        .into_iter()
+        .map(|(_, stats)| stats)
         .collect::<Result<_>>()?;
     let mut out = data.to_vec();
     let mut mask = vec![false; data.len()];
