@@ -48,6 +48,9 @@ use crate::{Error, Result};
 /// `√(π/2)`: the mean absolute deviation of a normal sample times this estimates its s.d.
 pub const MEAN_AD_TO_SD: f64 = 1.253_314_137_315_500_3;
 
+/// A column's index and its (center, scale), or why it has none.
+type ColumnStats = (usize, Result<(f64, f64)>);
+
 /// Fewest finite samples per channel for an outlier test.
 pub const MIN_OUTLIER_SAMPLES: usize = 3;
 
@@ -161,7 +164,7 @@ pub fn remove_outliers(data: &[f64], n_cols: usize, threshold: f64) -> Result<Ou
     // fresh buffer per column cost more than the selection itself); column j goes to worker
     // j mod workers, and each column's statistics do not depend on the assignment.
     let workers = n_cols.min(rayon::current_num_threads()).max(1);
-    let per_worker: Vec<Vec<(usize, Result<(f64, f64)>)>> = (0..workers)
+    let per_worker: Vec<Vec<ColumnStats>> = (0..workers)
         .into_par_iter()
         .map(|w| {
             let mut scratch = Vec::with_capacity(n);
@@ -179,7 +182,7 @@ pub fn remove_outliers(data: &[f64], n_cols: usize, threshold: f64) -> Result<Ou
                 .collect()
         })
         .collect();
-    let mut ordered: Vec<(usize, Result<(f64, f64)>)> = per_worker.into_iter().flatten().collect();
+    let mut ordered: Vec<ColumnStats> = per_worker.into_iter().flatten().collect();
     ordered.sort_by_key(|(j, _)| *j);
     let channels: Vec<(f64, f64)> = ordered
         .into_iter()
@@ -515,7 +518,7 @@ fn envelope_bin(rows: &[f64], lo: &mut [f64], hi: &mut [f64]) {
 }
 
 /// `l = min(l, v)`, `h = max(h, v)` with NaN skipped (it compares false both ways).
-#[inline(always)]
+#[inline]
 fn widen(l: &mut f64, h: &mut f64, v: f64) {
     if v < *l {
         *l = v;
