@@ -138,11 +138,27 @@ REGISTRY: dict[str, str] = {
     "fir.apply": "taps:array x:array zero_phase:flag axis:axis padtype:option padlen:count?",
     "fir.kaiser_lowpass": "fs:pos fpass:pos fstop:pos apass_db:pos astop_db:pos",
     "fir.stream": "taps:array x:array state:array? axis:axis dtype:option",
+    # --- cleaning ---------------------------------------------------------------------------------
+    "cleaning.remove_outliers": "data:array threshold:pos method:option units:unit?",
+    "cleaning.detrend": "data:array fs:pos order:count units:unit?",
+    "cleaning.minmax_envelope": "data:array bins:count",
+    "cleaning.clean": "data:array fs:pos outliers:pos? detrend:option? units:unit?",
+    "cleaning.OutlierResult.__init__": "data:field mask:field count:field threshold:field "
+    "center:field scale:field units:field method:field",
+    "cleaning.OutlierResult.to_dict": "",
+    "cleaning.DetrendResult.__init__": "data:field coefficients:field order:field fs:field "
+    "units:field",
+    "cleaning.DetrendResult.to_dict": "",
+    "cleaning.CleaningResult.__init__": "data:field outliers:field drift:field",
+    "cleaning.CleaningResult.describe": "",
+    "cleaning.CleaningResult.to_dict": "",
+    "cleaning.Envelope.__init__": "lower:field upper:field starts:field",
     # --- fleet ------------------------------------------------------------------------------------
     "fleet.analyse": "sources:spec fs:pos? units:spec? fit:option terms:spec? client:object? "
     "columns:spec? time_column:spec? load_options:spec? axis_names:text? taus:spec "
     "confidence:level? gaps:option threshold:pos num_workers:count? progress:callable? "
-    "start:spec? stop:spec? bound_confidence:level",
+    "start:spec? stop:spec? bound_confidence:level outliers:pos? detrend:option? "
+    "tau_range:pair? lines:spec",
     "fleet.summary": "table:object alpha:level min_ratio:pos",
     "fleet.term_columns": "table:object",
     "fleet.write_table": "table:object path:path_out",
@@ -298,7 +314,8 @@ REGISTRY: dict[str, str] = {
     "report.ChannelReport.__init__": "name:field unit:field allan:field fit:field "
     "conservative:field errors:field",
     "report.build_report": "log:object units:spec? confidence:level? method:option "
-    "conservative_confidence:level rate:pos? title:text? bound_confidence:level",
+    "conservative_confidence:level rate:pos? title:text? bound_confidence:level outliers:pos? "
+    "detrend:option? tau_range:pair? lines:spec",
     "report.write_report": "path:path_out log:object kwargs:forwarded",
     # --- spectral ---------------------------------------------------------------------------------
     "spectral.LSSAResult.__init__": "frequencies:field spectrum:field alpha:field "
@@ -362,6 +379,8 @@ REGISTRY: dict[str, str] = {
     "cli.fleet.register": "subparsers:cli",
     "cli.fleet.run": "args:cli",
     "cli.noise.add_fit_arguments": "parser:cli",
+    "cli.noise.add_fit_range_arguments": "group:cli",
+    "cli.noise.fit_range_options": "args:cli method:cli",
     "cli.noise.demo_section": "rate:array fs:pos outdir:path_out true_coefficients:spec? unit:unit",
     "cli.noise.run_fit": "args:cli results:object",
     "cli.predict.demo_section": "rate:array fs:pos outdir:path_out",

@@ -36,6 +36,7 @@ import pytest
 import gyrobias
 from gyrobias import (
     allan,
+    cleaning,
     datasheet,
     exports,
     fir,
@@ -192,6 +193,16 @@ BASE: dict[str, Callable[[], tuple[Callable[..., Any], dict[str, Any]]]] = {
     "fir.KaiserLowpass.apply": lambda: (FX.lowpass.apply, {"x": FX.rate[:500]}),
     "fir.KaiserLowpass.frequency_response": lambda: (FX.lowpass.frequency_response, {}),
     "fir.apply": lambda: (fir.apply, {"taps": FX.lowpass.taps, "x": FX.rate[:500]}),
+    "cleaning.remove_outliers": lambda: (cleaning.remove_outliers, {"data": FX.rate[:500]}),
+    "cleaning.detrend": lambda: (cleaning.detrend, {"data": FX.rate[:500], "fs": 100.0}),
+    "cleaning.minmax_envelope": lambda: (
+        cleaning.minmax_envelope,
+        {"data": FX.rate[:500], "bins": 10},
+    ),
+    "cleaning.clean": lambda: (
+        cleaning.clean,
+        {"data": FX.rate[:500], "fs": 100.0, "outliers": 5.0, "detrend": "linear"},
+    ),
     "fir.kaiser_lowpass": lambda: (
         fir.kaiser_lowpass,
         {"fs": 100.0, "fpass": 10.0, "fstop": 20.0, "astop_db": 40.0},

@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from gyrobias import _core
-from gyrobias._validation import choice, real, string
+from gyrobias._validation import choice, pair, real, string
 from gyrobias.exports import DEFAULT_FILENAMES, FORMATS, atomic_write, export
 
 if TYPE_CHECKING:
@@ -485,6 +485,8 @@ def build_report(
         if len(per_channel) != k:
             raise ValueError(f"units has {len(per_channel)} entries for {k} channels")
     fit_options: dict[str, Any] = {}
+    if tau_range is not None:  # low < high: noise.fit's (the core's) check
+        tau_range = pair("tau_range", tau_range)
     if tau_range is not None or not (isinstance(lines, str) and lines == "auto"):
         if method != "joint":
             raise ValueError("tau_range and lines apply to method='joint' only")

@@ -20,7 +20,7 @@
 //! than half of a channel's finite samples equal the median (coarse quantisation), the MAD is
 //! 0; `s` then falls back to `1.253314·mean|x − m|` (the mean absolute deviation scaled to a
 //! normal s.d., Iglewicz & Hoaglin 1993), and when that is 0 too (a constant channel) nothing
-//! is flagged. An infinite sample has an infinite z-score. Flagged samples become NaN in the
+//! is flagged. An infinite sample has an infinite z-score (always flagged). Flagged samples become NaN in the
 //! output, which the Allan functions skip with `gaps = omit`.
 //!
 //! **Drift** ([`detrend`]): per channel, the least-squares polynomial of degree `order` (1 or
@@ -47,6 +47,9 @@ use crate::{Error, Result};
 
 /// `√(π/2)`: the mean absolute deviation of a normal sample times this estimates its s.d.
 pub const MEAN_AD_TO_SD: f64 = 1.253_314_137_315_500_3;
+
+/// A column's index and its (center, scale), or why it has none.
+type ColumnStats = (usize, Result<(f64, f64)>);
 
 /// Fewest finite samples per channel for an outlier test.
 pub const MIN_OUTLIER_SAMPLES: usize = 3;
@@ -115,14 +118,16 @@ fn rows(data: &[f64], n_cols: usize) -> Result<usize> {
     Ok(data.len() / n_cols)
 }
 
-/// The finite samples of column `j` (rows of `n_cols`), copied.
-fn finite_column(data: &[f64], n_cols: usize, j: usize) -> Vec<f64> {
-    data.iter()
-        .skip(j)
-        .step_by(n_cols)
-        .copied()
-        .filter(|v| v.is_finite())
-        .collect()
+/// The finite samples of column `j` (rows of `n_cols`), copied into `out` (reused).
+fn finite_column_into(data: &[f64], n_cols: usize, j: usize, out: &mut Vec<f64>) {
+    out.clear();
+    out.extend(
+        data.iter()
+            .skip(j)
+            .step_by(n_cols)
+            .copied()
+            .filter(|v| v.is_finite()),
+    );
 }
 
 /// Median and robust scale of the finite values in `values` (reordered; module docs).
@@ -144,54 +149,81 @@ fn robust_center_scale(values: &mut [f64]) -> (f64, f64) {
 /// Flags and removes the outliers of every channel by their robust z-score (module docs).
 ///
 /// `data` is row-major `(n, n_cols)`; NaN samples are gaps (skipped, kept, never flagged);
-/// `threshold` is in (0, ∞] (`∞` flags nothing).
+/// `threshold` is finite and > 0.
 ///
 /// # Errors
-/// `n_cols` of 0 or not dividing `data.len()`; `threshold` NaN or ≤ 0 ([`Error::InvalidParameter`]
+/// `n_cols` of 0 or not dividing `data.len()`; `threshold` not finite and > 0 ([`Error::InvalidParameter`]
 /// naming `threshold`); fewer than [`MIN_OUTLIER_SAMPLES`] rows ([`Error::TooShort`]) or a
 /// channel with fewer finite samples ([`Error::InvalidParameter`] naming `data` and the column).
 /// An infinite sample is not an error: it is flagged.
 pub fn remove_outliers(data: &[f64], n_cols: usize, threshold: f64) -> Result<Outliers> {
     let n = rows(data, n_cols)?;
-    if threshold.is_nan() || threshold <= 0.0 {
-        return Err(Error::invalid(
-            "threshold",
-            format!("must be > 0 (inf flags nothing), got {threshold}"),
-        ));
-    }
+    validate::positive("threshold", threshold)?;
     validate::min_len("data", n, MIN_OUTLIER_SAMPLES)?;
-    let channels: Vec<(f64, f64)> = (0..n_cols)
+    // One scratch column per worker, reused for its columns (first-touch page faults of a
+    // fresh buffer per column cost more than the selection itself); column j goes to worker
+    // j mod workers, and each column's statistics do not depend on the assignment.
+    let workers = n_cols.min(rayon::current_num_threads()).max(1);
+    let per_worker: Vec<Vec<ColumnStats>> = (0..workers)
         .into_par_iter()
-        .map(|j| {
-            let mut values = finite_column(data, n_cols, j);
-            if values.len() < MIN_OUTLIER_SAMPLES {
-                return Err(too_few_finite(j, values.len(), MIN_OUTLIER_SAMPLES));
-            }
-            Ok(robust_center_scale(&mut values))
+        .map(|w| {
+            let mut scratch = Vec::with_capacity(n);
+            (w..n_cols)
+                .step_by(workers)
+                .map(|j| {
+                    finite_column_into(data, n_cols, j, &mut scratch);
+                    let stats = if scratch.len() < MIN_OUTLIER_SAMPLES {
+                        Err(too_few_finite(j, scratch.len(), MIN_OUTLIER_SAMPLES))
+                    } else {
+                        Ok(robust_center_scale(&mut scratch))
+                    };
+                    (j, stats)
+                })
+                .collect()
         })
+        .collect();
+    let mut ordered: Vec<ColumnStats> = per_worker.into_iter().flatten().collect();
+    ordered.sort_by_key(|(j, _)| *j);
+    let channels: Vec<(f64, f64)> = ordered
+        .into_iter()
+        .map(|(_, stats)| stats)
         .collect::<Result<_>>()?;
     let mut out = data.to_vec();
     let mut mask = vec![false; data.len()];
-    let mut counts = vec![0_usize; n_cols];
-    for (row, row_mask) in out
-        .chunks_exact_mut(n_cols)
-        .zip(mask.chunks_exact_mut(n_cols))
-    {
-        for (j, (v, flag)) in row.iter_mut().zip(row_mask.iter_mut()).enumerate() {
-            let (center, scale) = channels[j];
-            let deviation = (*v - center).abs();
-            // deviation > threshold·scale, with 0/0 (a constant channel) never an outlier and
-            // an infinite sample always one (unless threshold is ∞).
-            let outlier = if scale > 0.0 {
-                deviation / scale > threshold
-            } else {
-                deviation > 0.0 && threshold.is_finite()
-            };
-            if outlier {
-                *v = f64::NAN;
-                *flag = true;
-                counts[j] += 1;
+    let block_len = BLOCK_ROWS * n_cols;
+    let block_counts: Vec<Vec<usize>> = out
+        .par_chunks_mut(block_len)
+        .zip(mask.par_chunks_mut(block_len))
+        .map(|(out_block, mask_block)| {
+            let mut counts = vec![0_usize; n_cols];
+            for (row, row_mask) in out_block
+                .chunks_exact_mut(n_cols)
+                .zip(mask_block.chunks_exact_mut(n_cols))
+            {
+                for (j, (v, flag)) in row.iter_mut().zip(row_mask.iter_mut()).enumerate() {
+                    let (center, scale) = channels[j];
+                    let deviation = (*v - center).abs();
+                    // deviation/scale > threshold, with 0/0 (a constant channel) never an
+                    // outlier and an infinite sample always one.
+                    let outlier = if scale > 0.0 {
+                        deviation / scale > threshold
+                    } else {
+                        deviation > 0.0
+                    };
+                    if outlier {
+                        *v = f64::NAN;
+                        *flag = true;
+                        counts[j] += 1;
+                    }
+                }
             }
+            counts
+        })
+        .collect();
+    let mut counts = vec![0_usize; n_cols];
+    for block in &block_counts {
+        for (total, c) in counts.iter_mut().zip(block) {
+            *total += c;
         }
     }
     Ok(Outliers {
@@ -465,24 +497,55 @@ pub fn minmax_envelope(data: &[f64], n_cols: usize, bins: usize) -> Result<Envel
 /// Min and max of each column of `rows` (NaN skipped; NaN when the column has no value).
 #[inline]
 fn envelope_bin(rows: &[f64], lo: &mut [f64], hi: &mut [f64]) {
-    lo.fill(f64::INFINITY);
-    hi.fill(f64::NEG_INFINITY);
-    for row in rows.chunks_exact(lo.len()) {
-        for ((l, h), &v) in lo.iter_mut().zip(hi.iter_mut()).zip(row) {
-            // NaN compares false both ways: skipped.
-            if v < *l {
-                *l = v;
-            }
-            if v > *h {
-                *h = v;
-            }
-        }
+    // The usual channel counts get a kernel whose row fits in registers (unrolled by the
+    // compiler); the others the general loop. Same comparisons, same results.
+    match lo.len() {
+        1 => envelope_fixed::<1>(rows, lo, hi),
+        2 => envelope_fixed::<2>(rows, lo, hi),
+        3 => envelope_fixed::<3>(rows, lo, hi),
+        4 => envelope_fixed::<4>(rows, lo, hi),
+        6 => envelope_fixed::<6>(rows, lo, hi),
+        7 => envelope_fixed::<7>(rows, lo, hi),
+        _ => envelope_any(rows, lo, hi),
     }
     for (l, h) in lo.iter_mut().zip(hi.iter_mut()) {
         if *l > *h {
             // Nothing but NaN (an infinite value keeps l ≤ h).
             *l = f64::NAN;
             *h = f64::NAN;
+        }
+    }
+}
+
+/// `l = min(l, v)`, `h = max(h, v)` with NaN skipped (it compares false both ways).
+#[inline]
+fn widen(l: &mut f64, h: &mut f64, v: f64) {
+    if v < *l {
+        *l = v;
+    }
+    if v > *h {
+        *h = v;
+    }
+}
+
+fn envelope_fixed<const K: usize>(rows: &[f64], lo: &mut [f64], hi: &mut [f64]) {
+    let mut l = [f64::INFINITY; K];
+    let mut h = [f64::NEG_INFINITY; K];
+    for row in rows.chunks_exact(K) {
+        for j in 0..K {
+            widen(&mut l[j], &mut h[j], row[j]);
+        }
+    }
+    lo.copy_from_slice(&l);
+    hi.copy_from_slice(&h);
+}
+
+fn envelope_any(rows: &[f64], lo: &mut [f64], hi: &mut [f64]) {
+    lo.fill(f64::INFINITY);
+    hi.fill(f64::NEG_INFINITY);
+    for row in rows.chunks_exact(lo.len()) {
+        for ((l, h), &v) in lo.iter_mut().zip(hi.iter_mut()).zip(row) {
+            widen(l, h, v);
         }
     }
 }
@@ -501,7 +564,7 @@ mod tests {
         assert!(r.mask[50] && !r.mask[7]);
         assert!(r.data[50].is_nan() && r.data[7].is_nan());
         assert_eq!(r.data[0], x[0]);
-        let none = remove_outliers(&x, 1, f64::INFINITY).unwrap();
+        let none = remove_outliers(&x, 1, 1e300).unwrap();
         assert_eq!(none.channels[0].count, 0);
     }
 
@@ -522,7 +585,7 @@ mod tests {
     #[test]
     fn outlier_errors_name_the_argument() {
         let x = [1.0, 2.0, 3.0, 4.0];
-        for t in [0.0, -1.0, f64::NAN] {
+        for t in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             let e = remove_outliers(&x, 1, t).unwrap_err().to_string();
             assert!(e.contains("threshold"), "{e}");
         }

@@ -94,8 +94,8 @@ def remove_outliers(
         Samples, one column per channel (e.g. ``log.data``). NaN marks a gap: skipped by the
         statistics, kept NaN, never flagged. Never modified.
     threshold : float
-        Robust z-score above which a sample is an outlier, in (0, ∞] (default 5, Stable32's
-        default sigma factor; ``inf`` flags nothing).
+        Robust z-score above which a sample is an outlier, finite and > 0 (default 5,
+        Stable32's default sigma factor).
     method : {"mad"}
         The median absolute deviation, Stable32's outlier recognition (the only method).
     units : str or sequence of str, optional
@@ -111,7 +111,7 @@ def remove_outliers(
     Raises
     ------
     ValueError
-        ``threshold`` NaN or ≤ 0; a channel with fewer than 3 finite samples (NaN only);
+        ``threshold`` not finite and > 0; a channel with fewer than 3 finite samples (NaN only);
         ``data`` empty, 0-D or 3-D; ``units`` not a unit or not one per channel; an unknown
         ``method``.
     TypeError
@@ -124,8 +124,7 @@ def remove_outliers(
     deviation) and a sample is an outlier when ``|x − m| / s > threshold``. When more than half
     of the samples equal the median (coarse quantisation) the MAD is 0 and ``s`` falls back to
     ``1.253314·mean|x − m|`` (Iglewicz & Hoaglin's modified z-score convention); a constant
-    channel has nothing flagged. An infinite sample is always flagged (unless ``threshold`` is
-    ``inf``).
+    channel has nothing flagged. An infinite sample is always flagged.
 
     The outliers become **gaps**: :func:`gyrobias.allan.adev` and its siblings analyse the
     result with ``gaps="omit"`` (every estimator term whose span touches a NaN is left out,
@@ -153,7 +152,7 @@ def remove_outliers(
     True
     """
     choice("method", method, ("mad",))
-    threshold = real("threshold", threshold)  # > 0 (inf allowed): the core's check
+    threshold = real("threshold", threshold)  # finite and > 0: the core's check
     matrix, shape = _matrix(data)
     channel_units = _channel_units(units, matrix.shape[1])
     flat, mask, center, scale, count = _core.cleaning.remove_outliers(matrix, threshold)
@@ -344,6 +343,8 @@ def clean(
     """
     order = None if detrend is None else ORDERS[choice("detrend", detrend, tuple(ORDERS))]
     fs = sample_rate(fs)
+    if outliers is not None:  # named as the caller knows it (remove_outliers says threshold)
+        outliers = _core.validate.positive("outliers", real("outliers", outliers))
     current: Any = data
     found = drift = None
     if outliers is not None:
