@@ -184,3 +184,8 @@ extractors!(size -> usize:
 );
 extractors!(unsigned -> u64: samples, seed);
 extractors!(optional_size -> Option<usize>: levels, m, row_width);
+
+/// The columns `usecols` of a text format (see [`sizes`]).
+pub(crate) fn usecols(obj: &Bound<'_, PyAny>) -> PyResult<Vec<usize>> {
+    sizes(obj, "usecols")
+}

@@ -29,6 +29,7 @@ mod predict;
 mod random;
 mod spectral;
 mod stats;
+mod text;
 mod thermal;
 mod timestamps;
 mod validate;
@@ -94,5 +95,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     submodule(m, "timestamps", timestamps::register)?;
     submodule(m, "random", random::register)?;
     submodule(m, "validate", validate::register)?;
+    submodule(m, "text", text::register)?;
     Ok(())
 }

@@ -19,6 +19,7 @@
 //! | [`stats`] | chi-square quantiles and the special functions behind them | — |
 //! | [`fleet`] | robust z-scores of a unit within its fleet, weighted χ² homogeneity test and Birge ratio | Rousseeuw & Croux (1993), Birge (1932) |
 //! | [`timestamps`] | sampling analysis of a log's timestamps: rate, jitter, gaps, repeated and out-of-order stamps, gap filling | — |
+//! | [`text`] | delimited text logs parsed into the samples array, as `numpy.loadtxt` reads them (correctly rounded, in parallel) | — |
 //! | [`simd`] | run-time choice of the kernels' vector instruction set (`GYROBIAS_SIMD=scalar` forces the baseline) | — |
 //!
 //! Units: time in seconds; rates and angles in the caller's unit (the core is unit-agnostic).
@@ -39,6 +40,7 @@ pub mod random;
 pub mod simd;
 pub mod spectral;
 pub mod stats;
+pub mod text;
 pub mod thermal;
 pub mod timestamps;
 pub mod validate;
