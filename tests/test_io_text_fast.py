@@ -331,3 +331,27 @@ def test_random_files_read_like_loadtxt(
     finally:
         mp.undo()
     assert fast == previous == loadtxt
+
+
+def test_core_path_needs_no_pyarrow(tmp_path: Path) -> None:
+    """CSV reading needs no extra: with pyarrow unimportable the core still reads the file."""
+    import subprocess
+    import sys
+
+    path = tmp_path / "log.csv"
+    path.write_text(_BASE)
+    code = (
+        "import sys; sys.modules['pyarrow'] = None\n"
+        "from gyrobias.io import text\n"
+        "used = []\n"
+        "real = text._read_core\n"
+        "text._read_core = lambda *a, **k: used.append(1) or real(*a, **k)\n"
+        "import gyrobias.io\n"
+        f"log = gyrobias.io.load({str(path)!r})\n"
+        "assert used and 'pyarrow' not in {m for m in sys.modules if sys.modules[m]}\n"
+        "print(log.data.shape)"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=120
+    )
+    assert out.stdout.strip() == "(50, 3)"

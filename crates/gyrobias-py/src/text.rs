@@ -148,6 +148,18 @@ fn parse_into<'py>(
     Ok(PyParsed { inner })
 }
 
+/// Lines in `text` (a uint8 array), the last one without its newline included
+/// (`gyrocore::text::lines_in`).
+#[pyfunction]
+#[pyo3(signature = (text))]
+#[allow(clippy::needless_pass_by_value)]
+fn lines_in(py: Python<'_>, text: PyReadonlyArray1<'_, u8>) -> PyResult<usize> {
+    let bytes = text
+        .as_slice()
+        .map_err(|_| PyTypeError::new_err("text must be a contiguous uint8 array"))?;
+    Ok(py.detach(|| text::lines_in(bytes)))
+}
+
 /// A cell as a number, as the parser reads it (`gyrocore::text::parse_float`); None if not one.
 #[pyfunction]
 #[pyo3(signature = (cell))]
@@ -166,6 +178,7 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyFormat>()?;
     m.add_class::<PyParsed>()?;
     m.add_function(wrap_pyfunction!(parse_into, m)?)?;
+    m.add_function(wrap_pyfunction!(lines_in, m)?)?;
     m.add_function(wrap_pyfunction!(parse_float, m)?)?;
     m.add_function(wrap_pyfunction!(parse_int, m)?)
 }

@@ -350,8 +350,9 @@ fn offset_stop(stop: Stop, rows: usize) -> Stop {
     }
 }
 
-/// Lines in `text`: newlines, plus one for a last line without its newline.
-fn lines_in(text: &[u8]) -> usize {
+/// Lines in `text`: newlines, plus one for a last line without its newline (an upper bound
+/// of its rows: the room [`parse_into`] needs to read it whole, in parallel).
+pub fn lines_in(text: &[u8]) -> usize {
     memchr::memchr_iter(b'\n', text).count() + usize::from(text.last().is_some_and(|&b| b != b'\n'))
 }
 

@@ -5,7 +5,7 @@ from typing import final
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["Format", "Parsed", "parse_float", "parse_int", "parse_into"]
+__all__ = ["Format", "Parsed", "lines_in", "parse_float", "parse_int", "parse_into"]
 
 @final
 class Format:
@@ -36,5 +36,6 @@ def parse_into(
     values: NDArray[np.float64],
     stamps: NDArray[np.int64] | NDArray[np.float64] | None = None,
 ) -> Parsed: ...
+def lines_in(text: NDArray[np.uint8]) -> int: ...
 def parse_float(cell: bytes) -> float | None: ...
 def parse_int(cell: bytes) -> int | None: ...

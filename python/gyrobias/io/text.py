@@ -479,10 +479,10 @@ def _read_core(
                 if end == 0:  # a line longer than the buffer: make room
                     buf.extend(bytes(len(buf)))
                     continue
-                lines = buf.count(b"\n", 0, end) + (buf[end - 1] != 0x0A)
+                text = np.frombuffer(buf, dtype=np.uint8, count=end)
+                lines = _core.text.lines_in(text)  # room for every line: parsed in parallel
                 block = sink.reserve(lines)
                 times = None if stamps is None else stamps.reserve(lines)[:, 0]
-                text = np.frombuffer(buf, dtype=np.uint8, count=end)
                 res = _core.text.parse_into(text, fmt, block, times)
                 del text, block, times
                 if res.stop == "bad_cell":
