@@ -19,6 +19,7 @@ struct PyFormat {
 impl PyFormat {
     #[new]
     #[pyo3(signature = (delimiter, comment, usecols, stamps))]
+    #[allow(clippy::needless_pass_by_value)]
     fn new(
         delimiter: Option<&str>,
         comment: &str,

@@ -55,13 +55,13 @@ impl Format {
         usecols: &[usize],
         stamps: bool,
     ) -> Result<Self> {
-        if let Some(d) = delimiter
-            && !matches!(d, b',' | b';' | b'\t' | b'|' | b':')
-        {
-            return Err(Error::invalid(
-                "delimiter",
-                format!("must be one of , ; tab | :, got byte {d}"),
-            ));
+        if let Some(d) = delimiter {
+            if !matches!(d, b',' | b';' | b'\t' | b'|' | b':') {
+                return Err(Error::invalid(
+                    "delimiter",
+                    format!("must be one of , ; tab | :, got byte {d}"),
+                ));
+            }
         }
         if comment.iter().any(|&c| !(0x21..0x7f).contains(&c))
             || comment.first().is_some_and(|&c| Some(c) == delimiter)
@@ -238,7 +238,7 @@ pub fn parse_into(
                 reason: "the format has no sample columns".into(),
             });
         }
-    } else if !values.len().is_multiple_of(k) {
+    } else if values.len() % k != 0 {
         return Err(Error::ShapeMismatch {
             name: "values",
             reason: format!("{} values are not whole rows of {k}", values.len()),
@@ -668,12 +668,12 @@ fn parse_piece(
     let mut pos = 0;
     let mut row = 0;
     while pos < text.len() {
-        if row < capacity
-            && let Some(next) = piece.fast_line(pos, values, stamps, row)
-        {
-            pos = next;
-            row += 1;
-            continue;
+        if row < capacity {
+            if let Some(next) = piece.fast_line(pos, values, stamps, row) {
+                pos = next;
+                row += 1;
+                continue;
+            }
         }
         match piece.careful_line(pos, values, stamps, row, capacity, &mut bounds) {
             Line::Row(next) => {
