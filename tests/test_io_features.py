@@ -319,6 +319,9 @@ def _arrow_used(monkeypatch: pytest.MonkeyPatch) -> list[bool]:
         return out
 
     monkeypatch.setattr(text, "_read_arrow", spy)
+    # the core's parser reads these files first; these tests are about the pyarrow fallback
+    # (quoted cells, non-ASCII text) behind it (tests/test_io_text_fast.py covers the core)
+    monkeypatch.setattr(text, "_core_reads", lambda *a: False)
     return calls
 
 

@@ -228,7 +228,13 @@ def main() -> None:
     ap.add_argument("--only", choices=sorted(SECTIONS), action="append", help="sections to run")
     ap.add_argument("--repeats", type=int, default=3, help="best of this many runs (default 3)")
     ap.add_argument("--no-memory", action="store_true", help="skip the peak-memory processes")
-    ap.add_argument("--keep", type=Path, help="directory to keep (and reuse) the test files in")
+    ap.add_argument(
+        "--keep",
+        type=Path,
+        default=os.environ.get("GYROBIAS_BENCH_DIR") or None,
+        help="directory to keep (and reuse) the test files in (default: $GYROBIAS_BENCH_DIR, "
+        "else a temporary one)",
+    )
     args = ap.parse_args()
     print(
         f"gyrobias {gyrobias.__version__}; numpy {np.__version__}; {os.cpu_count()} CPUs; "

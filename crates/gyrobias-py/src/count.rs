@@ -187,3 +187,8 @@ extractors!(unsigned -> u64: channel, conn);
 extractors!(size -> usize: start);
 extractors!(size -> usize: bins, order);
 extractors!(optional_size -> Option<usize>: levels, m, row_width);
+
+/// The columns `usecols` of a text format (see [`sizes`]).
+pub(crate) fn usecols(obj: &Bound<'_, PyAny>) -> PyResult<Vec<usize>> {
+    sizes(obj, "usecols")
+}

@@ -31,6 +31,7 @@ mod predict;
 mod random;
 mod spectral;
 mod stats;
+mod text;
 mod thermal;
 mod timestamps;
 mod validate;
@@ -98,5 +99,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     submodule(m, "validate", validate::register)?;
     submodule(m, "bags", bags::register)?;
     submodule(m, "cleaning", cleaning::register)?;
+    submodule(m, "text", text::register)?;
     Ok(())
 }

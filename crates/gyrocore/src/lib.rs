@@ -21,6 +21,7 @@
 //! | [`timestamps`] | sampling analysis of a log's timestamps: rate, jitter, gaps, repeated and out-of-order stamps, gap filling | — |
 //! | [`bags`] | bulk decoding of `sensor_msgs/Imu` from ROS1 bag chunks, MCAP chunks and CDR messages | REP 103, ROS bag format 2.0, MCAP spec, OMG CDR |
 //! | [`cleaning`] | outlier removal by the robust (MAD) z-score, least-squares drift removal (Legendre basis), min/max envelope of long logs | NIST SP 1065 §6.2, Stable32 |
+//! | [`text`] | delimited text logs parsed into the samples array, as `numpy.loadtxt` reads them (correctly rounded, in parallel) | — |
 //! | [`simd`] | run-time choice of the kernels' vector instruction set (`GYROBIAS_SIMD=scalar` forces the baseline) | — |
 //!
 //! Units: time in seconds; rates and angles in the caller's unit (the core is unit-agnostic).
@@ -43,6 +44,7 @@ pub mod random;
 pub mod simd;
 pub mod spectral;
 pub mod stats;
+pub mod text;
 pub mod thermal;
 pub mod timestamps;
 pub mod validate;

@@ -148,12 +148,17 @@ class Sink:
         """Add the ``m`` rows written into the view from :meth:`reserve`."""
         if self._file is not None:
             assert self._block is not None
-            self._file.write(self._block[:m].tobytes())
+            self._file.write(self._block[:m].data)  # the buffer itself, no bytes copy
         self.rows += m
 
     def _grow(self, m: int) -> None:
         if self.rows + m > self._buf.shape[0]:
             size = max(self._estimate, int(1.5 * self._buf.shape[0]), self.rows + m)
+            if self._buf.shape[0] and self._buf.flags.owndata:
+                # in place (realloc, which moves large blocks by remapping their pages): no
+                # second copy of the rows at the peak; the views from reserve() are gone by now
+                self._buf.resize((size, self.cols), refcheck=False)
+                return
             bigger = np.empty((size, self.cols), dtype=self.dtype)
             bigger[: self.rows] = self._buf[: self.rows]
             self._buf = bigger

@@ -156,12 +156,14 @@ def load(
     ``Δt > 1.5 · median(Δt)``; the regular intervals are ``0 < Δt ≤ 1.5 · median(Δt)``; the
     estimated rate is ``fs = 1 / mean(regular Δt)`` and the jitter ``std(regular Δt) /
     median(Δt)``. Integer timestamps are read as int64, so epoch nanoseconds keep their
-    exact intervals. Delimited text is parsed by pyarrow's streaming CSV reader when pyarrow
-    is installed (``gyrobias[io]``; about 4× faster than :func:`numpy.loadtxt`, see
-    ``benches/python/bench_io.py``; 4 MB blocks, written into one preallocated array),
-    with :func:`numpy.loadtxt` for whitespace-separated or compressed files and for any
-    file pyarrow rejects (comment lines between the rows, bad cells: the error then
-    names the line and column). Bags are read chunk by chunk by the core's reader
+    exact intervals. Delimited text (``,`` ``;`` tab ``|`` ``:`` or whitespace, plain or
+    ``.gz``/``.bz2``/``.xz``) is parsed by the core (``gyrocore::text``): read in 8 MiB
+    chunks of whole lines, parsed on every core straight into the result array (or the
+    spill file), numbers rounded correctly as by :func:`float`, with exactly the rows,
+    columns and errors of :func:`numpy.loadtxt` (see ``benches/python/bench_io.py``
+    for the speed). Files it does not read as loadtxt does (non-ASCII text, quoted
+    cells, lone carriage returns, other delimiters) go to pyarrow's CSV reader when
+    installed, then :func:`numpy.loadtxt`. Bags are read chunk by chunk by the core's reader
     (``sensor_msgs/Imu`` decoded in bulk from the ROS1/CDR bytes straight into the result:
     ROS1 and MCAP bags 6–25× faster than iterating their raw messages with ``rosbags``, bz2
     chunks 3×; sqlite3 bags about as fast, the row fetch being the limit; see
