@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import re
 import secrets
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 import numpy as np
@@ -69,7 +70,18 @@ def real(name: str, value: Any) -> float:
     """
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
-    return float(value)
+    return _float(name, value)
+
+
+def _float(name: str, value: Any) -> float:
+    """``float(value)``; an integer beyond float64's range is a ``ValueError`` naming ``name``
+    (Python raises ``OverflowError``)."""
+    try:
+        return float(value)
+    except OverflowError:
+        raise ValueError(
+            f"{name} must be finite in float64, got an integer of {int(value).bit_length()} bits"
+        ) from None
 
 
 def sample_rate(value: Any) -> float:
@@ -117,10 +129,68 @@ def axis_names(value: Any, n_axes: int) -> Any:
 
     The one check that ``axis_names`` fits the data (a shape check): every public function
     taking ``axis_names`` calls it, and wrappers (``fleet``) leave it to the function they call.
+    Each name is :func:`text` (it reaches estimator files, plots and reports).
     """
-    if value is not None and len(value) != n_axes:
-        raise ValueError(f"axis_names has {len(value)} names for {n_axes} axes")
+    if value is None:
+        return None
+    names = sequence("axis_names", value)
+    if len(names) != n_axes:
+        raise ValueError(f"axis_names has {len(names)} names for {n_axes} axes")
+    for i, item in enumerate(names):
+        text(f"axis_names[{i}]", item)
     return value
+
+
+#: Longest free text (a name, a title, a label) gyrobias accepts, in characters.
+TEXT_LIMIT = 200
+
+
+def _shown(value: str) -> str:
+    """``repr`` of ``value`` cut to a readable length (for messages)."""
+    return repr(value) if len(value) <= 60 else repr(value[:60]) + f"... ({len(value)} characters)"
+
+
+def text(name: str, value: Any, *, limit: int = TEXT_LIMIT) -> str:
+    """``value`` if it is one line of printable text of at most ``limit`` characters, else an
+    error naming ``name``.
+
+    The one check of every user string that can reach a written file or a page (axis, channel
+    and column names, topics, titles, labels): ``TypeError`` for a non-string; ``ValueError``
+    for a line break of any kind (``\\n``, ``\\r``, ``\\x85``, ``\\u2028``, …), another control
+    or format character, a lone surrogate (it cannot be encoded) or a text longer than
+    ``limit``. Printable is Python's :meth:`str.isprintable` (Unicode letters, marks, numbers,
+    punctuation, symbols and the ASCII space): non-ASCII names such as ``"Gyro-Ä"`` or ``"ω_z"``
+    are accepted.
+    """
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be a string, got {type(value).__name__}")
+    if len(value) > limit:
+        raise ValueError(f"{name} must be at most {limit} characters, got {_shown(value)}")
+    for i, ch in enumerate(value):
+        if not ch.isprintable():
+            raise ValueError(
+                f"{name} must be one line of printable text, got {_shown(value)} "
+                f"(character U+{ord(ch):04X} at position {i})"
+            )
+    return value
+
+
+def optional_text(name: str, value: Any, *, limit: int = TEXT_LIMIT) -> str | None:
+    """:func:`text`, or ``None`` for ``None``."""
+    return None if value is None else text(name, value, limit=limit)
+
+
+def sequence(name: str, value: Any) -> list[Any]:
+    """``value`` as a list if it is a sequence of items (list, tuple, array, any iterable but a
+    string or a mapping), else ``TypeError`` naming ``name``.
+
+    The one check of sequence arguments: ``None``, a number, a string (a sequence of
+    characters, never meant as one) or a mapping given where items are expected is a
+    ``TypeError`` saying so, not Python's ``'int' object is not iterable`` from deeper down.
+    """
+    if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, Iterable):
+        raise TypeError(f"{name} must be a sequence (list or tuple), got {type(value).__name__}")
+    return list(value)
 
 
 def boolean(name: str, value: Any) -> bool:
@@ -149,7 +219,7 @@ def positive_float(name: str, value: Any) -> float:
     """``value`` as a finite positive float, else ``ValueError``/``TypeError`` naming ``name``."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
-    v = float(value)
+    v = _float(name, value)
     if not np.isfinite(v) or v <= 0.0:
         raise ValueError(f"{name} must be finite and > 0, got {value!r}")
     return v

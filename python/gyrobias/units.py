@@ -36,6 +36,9 @@ import re
 from dataclasses import dataclass
 from fractions import Fraction
 
+
+from gyrobias._validation import text as _text
+
 __all__ = [
     "CUSTOMARY",
     "SYMBOLS",
@@ -146,11 +149,19 @@ def parse_unit(text: str) -> Unit:
 
 
 def _named(name: str, text: str) -> Unit:
-    """:func:`_parse_unit` with the argument's ``name`` in front of its message."""
+    """:func:`_parse_unit` with the argument's ``name`` in front of its message.
+
+    The text is checked first (:func:`gyrobias._validation.text`: a string, one printable line,
+    bounded length — which also bounds the parser's nesting depth); a unit whose factor leaves
+    float64 (``deg^99999``) is a ``ValueError`` like any other unparsable unit.
+    """
+    _text(name, text)
     try:
         return _parse_unit(text)
     except ValueError as exc:
         raise ValueError(f"{name}: {exc}") from None
+    except (OverflowError, ZeroDivisionError, RecursionError):
+        raise ValueError(f"{name}: {_valid_units_message(text)}") from None
 
 
 def _parse_unit(text: str) -> Unit:

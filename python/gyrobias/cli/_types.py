@@ -18,6 +18,8 @@ import sys
 from pathlib import Path
 from typing import NoReturn
 
+from gyrobias._cnames import reserved_c_name
+
 __all__ = [
     "TERMS",
     "Parser",
@@ -202,6 +204,9 @@ def c_identifier(value: str) -> str:
     """A C identifier (``[A-Za-z_][A-Za-z0-9_]*``): written into generated C as a prefix."""
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", value):
         _fail("a C identifier ([A-Za-z_][A-Za-z0-9_]*)", value)
+    reserved = reserved_c_name(value)
+    if reserved is not None:
+        _fail(f"a C identifier that is no standard header or reserved name ({reserved})", value)
     return value
 
 
