@@ -36,7 +36,6 @@ import re
 from dataclasses import dataclass
 from fractions import Fraction
 
-
 from gyrobias._validation import text as _text
 
 __all__ = [
