@@ -175,6 +175,14 @@ def text(name: str, value: Any, *, limit: int = TEXT_LIMIT) -> str:
     return value
 
 
+def names(name: str, value: Any) -> list[str]:
+    """``value`` as a list of strings: one string (one name) or a :func:`sequence` of them,
+    each :func:`string`; else ``TypeError``/``ValueError`` naming ``name`` (the one parser of
+    name lists such as ``terms``; which names are valid is the caller's check)."""
+    items = [value] if isinstance(value, str) else sequence(name, value)
+    return [string(name, item) for item in items]
+
+
 def optional_text(name: str, value: Any, *, limit: int = TEXT_LIMIT) -> str | None:
     """:func:`text`, or ``None`` for ``None``."""
     return None if value is None else text(name, value, limit=limit)
@@ -273,6 +281,7 @@ def ros_topic(name: str, value: Any) -> str:
     """
     if not isinstance(value, str):
         raise TypeError(f"{name} must be a ROS topic name (a string), got {type(value).__name__}")
+    text(name, value)  # one printable line of bounded length, like every name
     if not _ROS_NAME.fullmatch(value):
         raise ValueError(
             f"{name} must be a ROS topic name (letters, digits, '_' and '/', starting with a "
@@ -284,7 +293,8 @@ def ros_topic(name: str, value: Any) -> str:
 def choice(name: str, value: Any, options: tuple[str, ...]) -> str:
     """``value`` if it is one of ``options``, else ``ValueError`` listing them."""
     if not isinstance(value, str) or value not in options:
-        raise ValueError(f"{name} must be one of {', '.join(map(repr, options))}; got {value!r}")
+        shown = _shown(value) if isinstance(value, str) else repr(value)
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, options))}; got {shown}")
     return value
 
 
@@ -296,4 +306,18 @@ def string(name: str, value: Any) -> str:
     """
     if not isinstance(value, str):
         raise TypeError(f"{name} must be a string, got {type(value).__name__}")
+    return encodable(name, value)
+
+
+def encodable(name: str, value: str) -> str:
+    """``value`` if it can be encoded as UTF-8 (no lone surrogate such as ``"\\udcff"``,
+    which a file name decoded with ``surrogateescape`` can hold), else ``ValueError`` naming
+    ``name`` — not the ``UnicodeEncodeError`` of the core's string conversion or of a write."""
+    try:
+        value.encode("utf-8")
+    except UnicodeEncodeError as exc:
+        raise ValueError(
+            f"{name} must be valid Unicode text, got {_shown(value)} (a lone surrogate "
+            f"U+{ord(value[exc.start]):04X} at position {exc.start} cannot be encoded)"
+        ) from None
     return value

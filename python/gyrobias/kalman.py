@@ -483,6 +483,19 @@ class FixedGainKalman:
             if type(out) is not tuple or len(out) != 2:
                 raise TypeError("out must be a tuple (rate, bias) of float64 arrays")
             rate, bias = out
+            for name, arr in (("out[0]", rate), ("out[1]", bias)):
+                # the binding writes into the arrays: exactly C-contiguous float64 ndarrays,
+                # else the binding's "'list' object is not an instance of 'ndarray'"
+                if (
+                    not isinstance(arr, np.ndarray)
+                    or arr.dtype != np.float64
+                    or not arr.flags.c_contiguous
+                    or not arr.flags.writeable
+                ):
+                    shown = arr.dtype if isinstance(arr, np.ndarray) else type(arr).__name__
+                    raise TypeError(
+                        f"{name} must be a writable C-contiguous float64 ndarray, got {shown}"
+                    )
         new_state = self._core.filter_into(data, rate, bias, state)
         return FilterResult(rate, bias, new_state)
 

@@ -159,14 +159,35 @@ def _named(name: str, text: str) -> Unit:
         return _parse_unit(text)
     except ValueError as exc:
         raise ValueError(f"{name}: {exc}") from None
-    except (OverflowError, ZeroDivisionError, RecursionError):
-        raise ValueError(f"{name}: {_valid_units_message(text)}") from None
 
 
 def _parse_unit(text: str) -> Unit:
-    """:func:`parse_unit` without naming the argument (for callers that name it themselves)."""
+    """:func:`parse_unit` without naming the argument (for callers that name it themselves).
+
+    Every unit string goes through here: a text that is not one printable line of at most
+    200 characters (which also bounds the parser's nesting depth) or whose factor to SI leaves
+    float64 (``deg^99999``) is a ``ValueError`` like any other unparsable unit.
+    """
     if not isinstance(text, str) or not text.strip():
         raise ValueError(_valid_units_message(str(text)))
+    if len(text) > 200 or not text.isprintable():
+        shown = repr(text[:60]) + ("..." if len(text) > 60 else "")
+        raise ValueError(
+            f"unknown unit {shown}: a unit is one printable line of at most 200 characters"
+        )
+    try:
+        unit = _parse_checked(text)
+    except (OverflowError, ZeroDivisionError, RecursionError):
+        raise ValueError(_valid_units_message(text)) from None
+    if not (math.isfinite(unit.factor) and unit.factor > 0.0):
+        raise ValueError(
+            f"the unit {text!r} has a factor of {unit.factor!r} to SI, outside float64's range"
+        )
+    return unit
+
+
+def _parse_checked(text: str) -> Unit:
+    """The recursive-descent parser of :func:`_parse_unit` (its input already checked)."""
     tokens: list[str] = []
     pos = 0
     while pos < len(text):

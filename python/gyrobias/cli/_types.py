@@ -211,9 +211,11 @@ def c_identifier(value: str) -> str:
 
 
 def text(value: str) -> str:
-    """Free text that ends up in files (a topic, a name): one line, no control characters."""
-    if not value or any(ord(c) < 32 or ord(c) == 127 for c in value):
-        _fail("non-empty text on one line without control characters", value)
+    """Free text that ends up in files (a topic, a name): one line of printable text (the
+    library's rule, :func:`gyrobias._validation.text`: no line break of any kind — ``\\x85``
+    and ``\\u2028`` included — no control or format character, no lone surrogate)."""
+    if not value or not value.isprintable() or len(value) > 200:
+        _fail("non-empty printable text on one line (at most 200 characters)", value)
     return value
 
 

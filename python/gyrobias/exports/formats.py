@@ -14,7 +14,7 @@ from typing import Any
 
 from gyrobias import _core
 from gyrobias._files import atomic_write
-from gyrobias._validation import choice, real, ros_topic
+from gyrobias._validation import choice, real, ros_topic, sequence
 from gyrobias.exports import _yaml
 from gyrobias.exports.discretisation import discrete
 from gyrobias.noise._types import NoiseCoefficients
@@ -47,7 +47,7 @@ _NAMES = {"N": "white noise N", "K": "random walk K", "B": "bias instability B"}
 def _group(name: str, value: Any, kind: str) -> list[NoiseCoefficients]:
     if value is None:
         return []
-    items = [value] if isinstance(value, NoiseCoefficients) else list(value)
+    items = [value] if isinstance(value, NoiseCoefficients) else sequence(name, value)
     for c in items:
         if not isinstance(c, NoiseCoefficients):
             raise TypeError(
@@ -67,7 +67,10 @@ def _group(name: str, value: Any, kind: str) -> list[NoiseCoefficients]:
 
 def _split(gyro: Any, accel: Any) -> tuple[list[NoiseCoefficients], list[NoiseCoefficients]]:
     """Sort the arguments into gyro and accel groups (an accel set passed first is accepted)."""
-    first = [gyro] if isinstance(gyro, NoiseCoefficients) else list(gyro or [])
+    if gyro is None:
+        first: list[Any] = []
+    else:
+        first = [gyro] if isinstance(gyro, NoiseCoefficients) else sequence("gyro", gyro)
     if (
         accel is None
         and first
@@ -616,6 +619,10 @@ def export(
     """
     fmt = choice("fmt", fmt, FORMATS)
     ros_topic("rostopic", rostopic)  # written verbatim into YAML: a ROS name, nothing else
+    if rate is not None:
+        # every format's numeric option checked here, once, whether the format writes it or
+        # not (LIO-SAM has no rate key and wrote rate=nan without a word): the core's check
+        rate = _core.noise.discrete_rate(real("rate", rate))
     if not isinstance(strict, bool):
         raise TypeError(f"strict must be a bool, got {type(strict).__name__}")
     g, a = _split(gyro, accel)

@@ -75,6 +75,7 @@ use super::simulate::{Ar1, NoiseSpec, simulate_axis};
 use super::sinusoid;
 use super::wavelet::{WaveletVariance, haar};
 use crate::random::NormalStream;
+use crate::validate;
 use crate::{Error, Result};
 
 /// Options of [`gmwm`].
@@ -420,6 +421,9 @@ fn symbols(enabled: [bool; 5], n_gm: usize) -> Vec<String> {
 
 /// GMWM estimate of the noise model of one rate series (period `t0`); see the module docs.
 pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
+    // The bootstrap keeps one estimate vector per replicate: a size from the caller, checked
+    // before anything is fitted.
+    validate::allocatable::<Vec<f64>>("bootstrap", options.bootstrap)?;
     if options.gauss_markov > 2 {
         return Err(Error::invalid(
             "terms",

@@ -52,12 +52,17 @@ pub fn haar(rate: &[f64], t0: f64, min_blocks: usize) -> Result<WaveletVariance>
             got: n,
         });
     }
-    let mean = rate.iter().sum::<f64>() / n as f64;
+    // The data divided by a power of two 2^e (exact) so that the sums of squares neither
+    // overflow (data near 1e155) nor underflow (subnormal data); the variances are multiplied
+    // back by 2^2e below, and refused if float64 cannot hold them. Bit-identical to the
+    // unscaled computation wherever that one neither overflows nor underflows.
+    let e = validate::pow2_exponent(rate);
+    let mean = rate.iter().map(|v| validate::times_pow2(*v, -e)).sum::<f64>() / n as f64;
     let mut prefix = Vec::with_capacity(n + 1);
     prefix.push(0.0);
     let mut acc = 0.0;
     for v in rate {
-        acc += v - mean;
+        acc += validate::times_pow2(*v, -e) - mean;
         prefix.push(acc);
     }
     let variance: Vec<f64> = m
@@ -73,6 +78,29 @@ pub fn haar(rate: &[f64], t0: f64, min_blocks: usize) -> Result<WaveletVariance>
             sum / count as f64
         })
         .collect();
+    let scaled_nonzero = variance.iter().any(|v| *v != 0.0);
+    let variance: Vec<f64> = variance
+        .into_iter()
+        .map(|v| validate::times_pow2(v, 2 * e))
+        .collect();
+    if variance.iter().any(|v| !v.is_finite()) {
+        return Err(Error::invalid(
+            "data",
+            format!(
+                "the wavelet variance of data this large (max |x| ≈ 2^{e}) exceeds float64's \
+                 range (about 1.8e308): rescale the data (another unit)"
+            ),
+        ));
+    }
+    if scaled_nonzero && variance.iter().all(|v| *v == 0.0) {
+        return Err(Error::invalid(
+            "data",
+            format!(
+                "the wavelet variance of data this small (max |x| ≈ 2^{e}) is below float64's \
+                 smallest number: rescale the data (another unit)"
+            ),
+        ));
+    }
     if variance.iter().all(|v| *v == 0.0) {
         return Err(Error::invalid(
             "data",

@@ -91,6 +91,7 @@ pub struct Compiled {
 impl Compiled {
     /// Precomputes `W`, `w0` and the standard deviations (O(n·k) memory, O(h·k²) time).
     pub fn new(model: &Model, k: usize, horizon: usize, n_threads: usize) -> Result<Self> {
+        validate::threads(n_threads)?;
         validate::min_len("calibration_length", k, 2)?;
         check_window(&[0.0, 0.0], horizon)?;
         let n = k.saturating_add(horizon);
@@ -227,6 +228,7 @@ impl Compiled {
         n_columns: usize,
         n_threads: usize,
     ) -> Result<BatchPrediction> {
+        validate::threads(n_threads)?;
         if n_columns != self.calibration_length {
             return Err(Error::ShapeMismatch {
                 name: "batch",

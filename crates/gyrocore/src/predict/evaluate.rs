@@ -267,6 +267,7 @@ pub fn evaluate(
     model: &Model,
     n_threads: usize,
 ) -> Result<Vec<Scores>> {
+    validate::threads(n_threads)?;
     let count = sections(log.len(), row_width, k, h)?;
     let width = k + h;
     let used = &log[..count * width];

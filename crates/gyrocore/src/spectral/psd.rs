@@ -65,7 +65,16 @@ pub fn welch(
             format!("must be >= 2, got {nperseg}"),
         ));
     }
-    validate::min_len("x", x.len(), nperseg)?;
+    if nperseg > x.len() {
+        return Err(Error::invalid(
+            "nperseg",
+            format!(
+                "must be at most the length of x ({} samples), got {nperseg} (x is too short: \
+                 {nperseg} samples needed)",
+                x.len()
+            ),
+        ));
+    }
     if noverlap >= nperseg {
         return Err(Error::invalid(
             "noverlap",
