@@ -465,3 +465,102 @@ def test_named_internal_errors_of_the_issue() -> None:
         gyrobias.units.parse_unit("(" * 5000 + "deg" + ")" * 5000)
     with pytest.raises(ValueError, match=r"^mean must be valid Unicode"):
         predict.FractionalKalmanPredictor(d=0.4, mean="\udcff")
+
+
+# --- 3b. every public function at extreme data scales ----------------------------------------------
+
+#: Array parameters that carry the data (its scale is what the extremes vary).
+_DATA_NAMES = ("data", "x", "z", "y", "log", "rate", "w", "calibration", "batch", "section")
+_SCALES = [2.0**-1040, 1e-160, 1e153, 1e300]
+
+
+def _floats(obj: Any, depth: int = 0) -> list[float]:
+    """Every float a result holds (arrays, dataclass fields, tuples), for the finiteness check."""
+    if depth > 3:
+        return []
+    if isinstance(obj, (float, np.floating)):
+        return [float(obj)]
+    if isinstance(obj, np.ndarray):
+        return [float(v) for v in obj.ravel()[:2000]] if obj.dtype.kind == "f" else []
+    if isinstance(obj, (tuple, list)):
+        return [v for item in obj[:8] for v in _floats(item, depth + 1)]
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        return [
+            v
+            for f in dataclasses.fields(obj)
+            if f.name not in ("ci_low", "ci_high", "p_value", "chi2", "uncertainty", "edf")
+            and not (f.name in _BEYOND_FLOAT64 and getattr(obj, "deviation", None) is not None)
+            for v in _floats(getattr(obj, f.name), depth + 1)
+        ]
+    return []
+
+
+def _extreme_members() -> list[tuple[str, str]]:
+    return [
+        (k, n)
+        for k, n, _ in entries("array")
+        if n in _DATA_NAMES and k in BASE and not k.startswith(("plotting.", "cli."))
+    ]
+
+
+#: Members whose results legitimately hold non-finite values at an extreme scale, with reason.
+EXTREME_UNCHECKED: dict[tuple[str, str], str] = {
+    ("allan.dynamic_adev", "data"): "a variance of data near 1e300 (1e600) is beyond float64: "
+    "the dynamic result holds variances only and reports them as inf (left valid: the static "
+    "statistics carry the exact deviation, see test_allan_statistics_of_subnormal_and_huge_data)",
+}
+
+#: Fields that may hold inf where the quantity itself is beyond float64 while the result
+#: carries it exactly in another form: AllanResult.avar (variance of data near 1e300) next to
+#: AllanResult.deviation, computed before the scale was restored and finite.
+_BEYOND_FLOAT64 = ("avar",)
+
+
+@pytest.mark.parametrize(("key", "name"), _extreme_members(), ids=str)
+def test_every_data_function_is_finite_or_refuses_at_extreme_scales(key: str, name: str) -> None:
+    """Data scaled to subnormal, tiny, huge and near-overflow magnitudes: a result without
+    NaN/inf the caller did not put in, or a ValueError saying why — never inf/NaN/0 garbage
+    returned as values."""
+    if (key, name) in EXTREME_UNCHECKED:
+        pytest.skip(EXTREME_UNCHECKED[(key, name)])
+    problems = []
+    for scale in _SCALES:
+        func, kwargs = BASE[key]()
+        base = np.asarray(kwargs[name], dtype=np.float64)
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                result = func(**{**kwargs, name: base * scale})
+        except (ValueError, MemoryError) as exc:
+            assert str(exc), key
+            continue
+        bad = [v for v in _floats(result) if not math.isfinite(v)]
+        if bad:
+            problems.append(f"scale {scale:g}: {len(bad)} non-finite values, e.g. {bad[:3]}")
+    assert not problems, f"{key}({name}=...): " + "; ".join(problems)
+
+
+@pytest.mark.parametrize("kind", ["adev", "mdev", "hdev", "totdev", "theo1", "mtotdev"])
+@pytest.mark.parametrize("scale", [2.0**-1040, 1e-310, 2.0**1023 / 8])
+def test_allan_statistics_of_subnormal_and_huge_data_are_the_scaled_ones(
+    kind: str, scale: float
+) -> None:
+    """Subnormal data (every deviation was 0) and data near float64's top: the deviation is
+    the unit-scale deviation times the scale (rtol 1e-9: a subnormal sample keeps fewer
+    significant bits; 2^k scales are exact otherwise)."""
+    ref = getattr(allan, kind)(_X[:1000], 100.0, confidence=None).adev
+    got = getattr(allan, kind)(_X[:1000] * scale, 100.0, confidence=None).adev
+    assert np.all(got > 0.0), got[:4]
+    np.testing.assert_allclose(got / scale, ref, rtol=1e-9 if scale < 1e-300 else 1e-12)
+
+
+def test_elw_objective_of_constant_or_extreme_series() -> None:
+    for x in (np.full(8, 2, dtype=np.int8), np.zeros(20)):
+        with pytest.raises(ValueError, match=r"^x is constant"):
+            fractional.elw_objective(x, [0.1, 0.3])
+    y = _X[:500]
+    ref = fractional.elw_objective(y, [0.0, 0.3])
+    for scale in (2.0**600, 2.0**-600):
+        got = fractional.elw_objective(y * scale, [0.0, 0.3])
+        # R(d) of c·x is R(d) of x + ln c² (the periodogram scales with c²)
+        np.testing.assert_allclose(got, ref + 2.0 * math.log(scale), rtol=1e-12, atol=1e-9)

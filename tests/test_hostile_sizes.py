@@ -78,7 +78,7 @@ def test_huge_sizes_are_clean_errors_in_a_live_interpreter(
     )
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT / "python"), str(ROOT)])}
     proc = subprocess.run(
-        [sys.executable, "-c", script], capture_output=True, text=True, timeout=120, env=env
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=60, env=env
     )
     assert proc.returncode == 0, (
         f"{key}({name}=2**{exponent}): exit {proc.returncode}\n{proc.stderr[-1500:]}"

@@ -130,7 +130,9 @@ def _mapping(items: list[Any], indent: int) -> Any:
                 value: Any = _Number(float(item.value), item.text)
                 shown = item.text
             else:
-                value = DoubleQuotedScalarString(item.value) if item.quoted else str(item.value)
+                value = (
+                    DoubleQuotedScalarString(str(item.value)) if item.quoted else str(item.value)
+                )
                 shown = f'"{item.value}"' if item.quoted else str(item.value)
             out[key] = value
             column = indent + len(key) + 2 + len(shown) + 2

@@ -149,7 +149,8 @@ def gmwm(
     replicates = integer("bootstrap", bootstrap)
     seed_number = seed_value("seed", seed)
     bound_confidence = real("bound_confidence", bound_confidence)  # (0, 1): the core's check
-    sensor = sensor_kind(checked_units("units", units)) if units is not None else None
+    units = checked_units("units", units)
+    sensor = sensor_kind(units) if units is not None else None
     matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
     n_axes = matrix.shape[1]
     check_axis_names(axis_names, n_axes)

@@ -57,7 +57,11 @@ pub fn haar(rate: &[f64], t0: f64, min_blocks: usize) -> Result<WaveletVariance>
     // back by 2^2e below, and refused if float64 cannot hold them. Bit-identical to the
     // unscaled computation wherever that one neither overflows nor underflows.
     let e = validate::pow2_exponent(rate);
-    let mean = rate.iter().map(|v| validate::times_pow2(*v, -e)).sum::<f64>() / n as f64;
+    let mean = rate
+        .iter()
+        .map(|v| validate::times_pow2(*v, -e))
+        .sum::<f64>()
+        / n as f64;
     let mut prefix = Vec::with_capacity(n + 1);
     prefix.push(0.0);
     let mut acc = 0.0;

@@ -132,6 +132,15 @@ pub fn welch(
             p * scale * one_sided
         })
         .collect();
+    if psd.iter().any(|p| !p.is_finite()) {
+        // |X|² of data near 1e154 and above (or at a tiny fs) leaves float64: refused with
+        // the reason rather than returned as inf
+        return Err(Error::invalid(
+            "x",
+            "gives a power spectral density beyond float64's range (data of this magnitude \
+             square to more than 1.8e308): rescale the data (another unit)",
+        ));
+    }
     let freqs = (0..nbins).map(|k| k as f64 * fs / nperseg as f64).collect();
     Ok((freqs, psd))
 }
