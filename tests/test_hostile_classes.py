@@ -546,17 +546,20 @@ def test_allan_statistics_of_subnormal_and_huge_data_are_the_scaled_ones(
     kind: str, scale: float
 ) -> None:
     """Subnormal data (every deviation was 0) and data near float64's top: the deviation is
-    the unit-scale deviation times the scale (rtol 1e-9: a subnormal sample keeps fewer
-    significant bits; 2^k scales are exact otherwise)."""
+    the unit-scale deviation times the scale. Tolerance: a sample at 2^-1040 keeps 34
+    significant bits (relative rounding 6e-11 each, ~2e-9 in the last τ's few terms), hence
+    rtol 1e-7 there; power-of-two scales of normal data are exact (rtol 1e-12)."""
     ref = getattr(allan, kind)(_X[:1000], 100.0, confidence=None).adev
-    got = getattr(allan, kind)(_X[:1000] * scale, 100.0, confidence=None).adev
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the variance of data near 2^1020 is inf (see adev)
+        got = getattr(allan, kind)(_X[:1000] * scale, 100.0, confidence=None).adev
     assert np.all(got > 0.0), got[:4]
-    np.testing.assert_allclose(got / scale, ref, rtol=1e-9 if scale < 1e-300 else 1e-12)
+    np.testing.assert_allclose(got / scale, ref, rtol=1e-7 if scale < 1e-300 else 1e-12)
 
 
 def test_elw_objective_of_constant_or_extreme_series() -> None:
     for x in (np.full(8, 2, dtype=np.int8), np.zeros(20)):
-        with pytest.raises(ValueError, match=r"^x is constant"):
+        with pytest.raises(ValueError, match=r"x: is constant"):
             fractional.elw_objective(x, [0.1, 0.3])
     y = _X[:500]
     ref = fractional.elw_objective(y, [0.0, 0.3])

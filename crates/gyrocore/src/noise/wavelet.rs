@@ -32,56 +32,38 @@ pub struct WaveletVariance {
     pub n_coefficients: Vec<usize>,
 }
 
-/// Haar wavelet variance of `rate` (period `t0`) at every dyadic scale with
-/// `n / m ≥ min_blocks` (`m` the half-width), at least two scales.
-pub fn haar(rate: &[f64], t0: f64, min_blocks: usize) -> Result<WaveletVariance> {
-    validate::positive("fs", 1.0 / t0)?;
-    validate::finite("data", rate)?;
+/// The prefix sums of the mean-removed data divided by a power of two `2^e` (exact), and `e`
+/// ([`validate::pow2_exponent`]): the sums of squares of the wavelet coefficients then neither
+/// overflow (data near 1e155) nor underflow (subnormal data). Ordinary data (`|e| <= 400`) are
+/// used as given, so their variances are bit-identical to the unscaled computation.
+fn scaled_prefix(rate: &[f64]) -> (Vec<f64>, i32) {
     let n = rate.len();
-    let min_blocks = min_blocks.max(2);
-    let mut m = Vec::new();
-    let mut half = 1usize;
-    while half.saturating_mul(min_blocks) <= n {
-        m.push(half);
-        half *= 2;
-    }
-    if m.len() < 2 {
-        return Err(Error::TooShort {
-            name: "data",
-            needed: 2 * min_blocks,
-            got: n,
-        });
-    }
-    // The data divided by a power of two 2^e (exact) so that the sums of squares neither
-    // overflow (data near 1e155) nor underflow (subnormal data); the variances are multiplied
-    // back by 2^2e below, and refused if float64 cannot hold them. Bit-identical to the
-    // unscaled computation wherever that one neither overflows nor underflows.
     let e = validate::pow2_exponent(rate);
-    let mean = rate
-        .iter()
-        .map(|v| validate::times_pow2(*v, -e))
-        .sum::<f64>()
-        / n as f64;
+    let e = if e.abs() > 400 { e } else { 0 };
+    let value = |v: f64| {
+        if e == 0 {
+            v
+        } else {
+            validate::times_pow2(v, -e)
+        }
+    };
+    let mean = rate.iter().map(|v| value(*v)).sum::<f64>() / n as f64;
     let mut prefix = Vec::with_capacity(n + 1);
     prefix.push(0.0);
     let mut acc = 0.0;
     for v in rate {
-        acc += validate::times_pow2(*v, -e) - mean;
+        acc += value(*v) - mean;
         prefix.push(acc);
     }
-    let variance: Vec<f64> = m
-        .par_iter()
-        .map(|&h| {
-            let count = n - 2 * h + 1;
-            let scale = 1.0 / (2.0 * h as f64);
-            let mut sum = 0.0;
-            for t in 0..count {
-                let w = (prefix[t + 2 * h] - 2.0 * prefix[t + h] + prefix[t]) * scale;
-                sum += w * w;
-            }
-            sum / count as f64
-        })
-        .collect();
+    (prefix, e)
+}
+
+/// Variances of data scaled by `2^-e` ([`scaled_prefix`]) brought back to the data's scale
+/// (times `4^e`), or an error naming `data` when float64 cannot hold them.
+fn unscaled(variance: Vec<f64>, e: i32) -> Result<Vec<f64>> {
+    if e == 0 {
+        return Ok(variance);
+    }
     let scaled_nonzero = variance.iter().any(|v| *v != 0.0);
     let variance: Vec<f64> = variance
         .into_iter()
@@ -105,6 +87,44 @@ pub fn haar(rate: &[f64], t0: f64, min_blocks: usize) -> Result<WaveletVariance>
             ),
         ));
     }
+    Ok(variance)
+}
+
+/// Haar wavelet variance of `rate` (period `t0`) at every dyadic scale with
+/// `n / m ≥ min_blocks` (`m` the half-width), at least two scales.
+pub fn haar(rate: &[f64], t0: f64, min_blocks: usize) -> Result<WaveletVariance> {
+    validate::positive("fs", 1.0 / t0)?;
+    validate::finite("data", rate)?;
+    let n = rate.len();
+    let min_blocks = min_blocks.max(2);
+    let mut m = Vec::new();
+    let mut half = 1usize;
+    while half.saturating_mul(min_blocks) <= n {
+        m.push(half);
+        half *= 2;
+    }
+    if m.len() < 2 {
+        return Err(Error::TooShort {
+            name: "data",
+            needed: 2 * min_blocks,
+            got: n,
+        });
+    }
+    let (prefix, e) = scaled_prefix(rate);
+    let variance: Vec<f64> = m
+        .par_iter()
+        .map(|&h| {
+            let count = n - 2 * h + 1;
+            let scale = 1.0 / (2.0 * h as f64);
+            let mut sum = 0.0;
+            for t in 0..count {
+                let w = (prefix[t + 2 * h] - 2.0 * prefix[t + h] + prefix[t]) * scale;
+                sum += w * w;
+            }
+            sum / count as f64
+        })
+        .collect();
+    let variance = unscaled(variance, e)?;
     if variance.iter().all(|v| *v == 0.0) {
         return Err(Error::invalid(
             "data",
@@ -393,14 +413,7 @@ pub fn wvar(
             ));
         }
     };
-    let mean = rate.iter().sum::<f64>() / n as f64;
-    let mut prefix = Vec::with_capacity(n + 1);
-    prefix.push(0.0);
-    let mut acc = 0.0;
-    for v in rate {
-        acc += v - mean;
-        prefix.push(acc);
-    }
+    let (prefix, e) = scaled_prefix(rate);
     let levels: Vec<usize> = (1..=j_count).collect();
     let m: Vec<usize> = levels.iter().map(|&j| 1usize << (j - 1)).collect();
     let variance: Vec<f64> = m
@@ -417,6 +430,7 @@ pub fn wvar(
             }
         })
         .collect();
+    let variance = unscaled(variance, e)?;
     if variance.iter().all(|v| *v == 0.0) {
         return Err(Error::invalid(
             "data",
