@@ -409,14 +409,11 @@ fn check_filter_args(taps: &[f64], n: usize, mode: Mode) -> Result<()> {
             ));
         }
         if padlen >= n {
-            return Err(Error::invalid(
-                "padlen",
-                format!(
-                    "must be less than the length of x ({n} samples), got {padlen} (x is too \
-                     short: {} samples needed)",
-                    padlen.saturating_add(1)
-                ),
-            ));
+            return Err(Error::TooShort {
+                name: "x",
+                needed: padlen + 1,
+                got: n,
+            });
         }
     }
     Ok(())
