@@ -567,3 +567,25 @@ def test_elw_objective_of_constant_or_extreme_series() -> None:
         got = fractional.elw_objective(y * scale, [0.0, 0.3])
         # R(d) of c·x is R(d) of x + ln c² (the periodogram scales with c²)
         np.testing.assert_allclose(got, ref + 2.0 * math.log(scale), rtol=1e-12, atol=1e-9)
+
+
+@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize("lines", [[(23.0, 0.5)], [23.0], [(31.0, 0.0)], "auto"])
+def test_gmwm_sinusoids_never_exceed_what_the_data_allow(seed: int, lines: Any) -> None:
+    """Every estimated sinusoid of ``noise.gmwm``: a sine of amplitude Ω₀ alone has variance
+    Ω₀²/2, so a fit on data of variance v either keeps Ω₀ <= √(2v) or is refused saying so
+    (the issue's log: std 0.0562 allowed 0.0795, gmwm returned 0.131 with a passing test)."""
+    rate = noise.simulate(
+        40_000, 100.0, arw=0.01, rrw=1e-4, seed=seed, sinusoids=[(23.0, 0.002 * (seed + 1))]
+    )
+    limit = math.sqrt(2.0 * float(np.var(rate)))
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            c = noise.gmwm(rate, 100.0, units="deg/s", lines=lines, seed=seed)
+    except ValueError as exc:
+        assert "more than the data allow" in str(exc), exc
+        return
+    for s in c.sinusoids:
+        if s.amplitude.value is not None:
+            assert s.amplitude.to("deg/s").value <= limit * (1 + 1e-9), (s, limit)
