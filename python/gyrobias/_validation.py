@@ -133,7 +133,8 @@ def axis_names(value: Any, n_axes: int) -> Any:
     """
     if value is None:
         return None
-    names = sequence("axis_names", value)
+    # a string names one axis per character (axis_names="xyz"), as documented
+    names = list(value) if isinstance(value, str) else sequence("axis_names", value)
     if len(names) != n_axes:
         raise ValueError(f"axis_names has {len(names)} names for {n_axes} axes")
     for i, item in enumerate(names):

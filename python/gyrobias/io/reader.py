@@ -46,7 +46,9 @@ def _column_spec(name: str, value: Any) -> None:
     if isinstance(value, str):
         text(name, value)
     elif isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be a column name or index, got {type(value).__name__}")
+        raise TypeError(
+            f"{name} must be a column name or integer index, got {type(value).__name__}"
+        )
 
 
 def load(
