@@ -1,6 +1,6 @@
 """The base install works without the extras, and a missing extra is one line naming it (issue 25).
 
-``pip install gyrobias`` brings numpy and tqdm only. The tests run with every extra installed,
+``pip install gyrobias`` brings numpy, tqdm and ruamel.yaml only (the YAML writer, imported lazily). The tests run with every extra installed,
 so each case starts a fresh interpreter in which the extras' packages cannot be imported
 (``sys.modules[name] = None`` makes ``import name`` raise ``ImportError``, as if it were not
 installed): ``import gyrobias``, ``gyrobias --help`` and an analysis must work, and a command

@@ -97,7 +97,8 @@ class _Fixtures:
 
     @functools.cached_property
     def evaluation(self) -> Any:
-        return predict.evaluate(self.rate[:600], calibration=100, horizon=50)
+        # 10 sections: enough for the bootstrap of Evaluation.ratio to run
+        return predict.evaluate(self.rate[:1500], calibration=100, horizon=50)
 
     @functools.cached_property
     def elw(self) -> Any:

@@ -185,6 +185,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
         "leaves",
         (
             "gyrobias._validation",
+            "gyrobias._cnames",
             "gyrobias.units",
             "gyrobias._files",
             "gyrobias._generics",

@@ -84,6 +84,13 @@ def atomic_write(path: str | os.PathLike[str], text: str) -> Path:
     """
     if not isinstance(text, str):
         raise TypeError(f"text must be a str, got {type(text).__name__}")
+    try:
+        data = text.encode("utf-8")  # before the temporary file exists
+    except UnicodeEncodeError as exc:
+        raise ValueError(
+            f"text must be valid Unicode text: a lone surrogate U+{ord(text[exc.start]):04X} at "
+            f"position {exc.start} cannot be written as UTF-8"
+        ) from None
     with atomic_binary(path) as fh:
-        fh.write(text.encode("utf-8"))
+        fh.write(data)
     return Path(os.fspath(path))

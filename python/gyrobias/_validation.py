@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import re
 import secrets
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 import numpy as np
@@ -69,7 +70,18 @@ def real(name: str, value: Any) -> float:
     """
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
-    return float(value)
+    return _float(name, value)
+
+
+def _float(name: str, value: Any) -> float:
+    """``float(value)``; an integer beyond float64's range is a ``ValueError`` naming ``name``
+    (Python raises ``OverflowError``)."""
+    try:
+        return float(value)
+    except OverflowError:
+        raise ValueError(
+            f"{name} must be finite in float64, got an integer of {int(value).bit_length()} bits"
+        ) from None
 
 
 def sample_rate(value: Any) -> float:
@@ -117,10 +129,77 @@ def axis_names(value: Any, n_axes: int) -> Any:
 
     The one check that ``axis_names`` fits the data (a shape check): every public function
     taking ``axis_names`` calls it, and wrappers (``fleet``) leave it to the function they call.
+    Each name is :func:`text` (it reaches estimator files, plots and reports).
     """
-    if value is not None and len(value) != n_axes:
-        raise ValueError(f"axis_names has {len(value)} names for {n_axes} axes")
+    if value is None:
+        return None
+    # a string names one axis per character (axis_names="xyz"), as documented
+    names = list(value) if isinstance(value, str) else sequence("axis_names", value)
+    if len(names) != n_axes:
+        raise ValueError(f"axis_names has {len(names)} names for {n_axes} axes")
+    for i, item in enumerate(names):
+        text(f"axis_names[{i}]", item)
     return value
+
+
+#: Longest free text (a name, a title, a label) gyrobias accepts, in characters.
+TEXT_LIMIT = 200
+
+
+def _shown(value: str) -> str:
+    """``repr`` of ``value`` cut to a readable length (for messages)."""
+    return repr(value) if len(value) <= 60 else repr(value[:60]) + f"... ({len(value)} characters)"
+
+
+def text(name: str, value: Any, *, limit: int = TEXT_LIMIT) -> str:
+    """``value`` if it is one line of printable text of at most ``limit`` characters, else an
+    error naming ``name``.
+
+    The one check of every user string that can reach a written file or a page (axis, channel
+    and column names, topics, titles, labels): ``TypeError`` for a non-string; ``ValueError``
+    for a line break of any kind (``\\n``, ``\\r``, ``\\x85``, ``\\u2028``, …), another control
+    or format character, a lone surrogate (it cannot be encoded) or a text longer than
+    ``limit``. Printable is Python's :meth:`str.isprintable` (Unicode letters, marks, numbers,
+    punctuation, symbols and the ASCII space): non-ASCII names such as ``"Gyro-Ä"`` or ``"ω_z"``
+    are accepted.
+    """
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be a string, got {type(value).__name__}")
+    if len(value) > limit:
+        raise ValueError(f"{name} must be at most {limit} characters, got {_shown(value)}")
+    for i, ch in enumerate(value):
+        if not ch.isprintable():
+            raise ValueError(
+                f"{name} must be one line of printable text, got {_shown(value)} "
+                f"(character U+{ord(ch):04X} at position {i})"
+            )
+    return value
+
+
+def names(name: str, value: Any) -> list[str]:
+    """``value`` as a list of strings: one string (one name) or a :func:`sequence` of them,
+    each :func:`string`; else ``TypeError``/``ValueError`` naming ``name`` (the one parser of
+    name lists such as ``terms``; which names are valid is the caller's check)."""
+    items = [value] if isinstance(value, str) else sequence(name, value)
+    return [string(name, item) for item in items]
+
+
+def optional_text(name: str, value: Any, *, limit: int = TEXT_LIMIT) -> str | None:
+    """:func:`text`, or ``None`` for ``None``."""
+    return None if value is None else text(name, value, limit=limit)
+
+
+def sequence(name: str, value: Any) -> list[Any]:
+    """``value`` as a list if it is a sequence of items (list, tuple, array, any iterable but a
+    string or a mapping), else ``TypeError`` naming ``name``.
+
+    The one check of sequence arguments: ``None``, a number, a string (a sequence of
+    characters, never meant as one) or a mapping given where items are expected is a
+    ``TypeError`` saying so, not Python's ``'int' object is not iterable`` from deeper down.
+    """
+    if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, Iterable):
+        raise TypeError(f"{name} must be a sequence (list or tuple), got {type(value).__name__}")
+    return list(value)
 
 
 def boolean(name: str, value: Any) -> bool:
@@ -149,7 +228,7 @@ def positive_float(name: str, value: Any) -> float:
     """``value`` as a finite positive float, else ``ValueError``/``TypeError`` naming ``name``."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
-    v = float(value)
+    v = _float(name, value)
     if not np.isfinite(v) or v <= 0.0:
         raise ValueError(f"{name} must be finite and > 0, got {value!r}")
     return v
@@ -203,6 +282,7 @@ def ros_topic(name: str, value: Any) -> str:
     """
     if not isinstance(value, str):
         raise TypeError(f"{name} must be a ROS topic name (a string), got {type(value).__name__}")
+    text(name, value)  # one printable line of bounded length, like every name
     if not _ROS_NAME.fullmatch(value):
         raise ValueError(
             f"{name} must be a ROS topic name (letters, digits, '_' and '/', starting with a "
@@ -214,7 +294,8 @@ def ros_topic(name: str, value: Any) -> str:
 def choice(name: str, value: Any, options: tuple[str, ...]) -> str:
     """``value`` if it is one of ``options``, else ``ValueError`` listing them."""
     if not isinstance(value, str) or value not in options:
-        raise ValueError(f"{name} must be one of {', '.join(map(repr, options))}; got {value!r}")
+        shown = _shown(value) if isinstance(value, str) else repr(value)
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, options))}; got {shown}")
     return value
 
 
@@ -226,4 +307,18 @@ def string(name: str, value: Any) -> str:
     """
     if not isinstance(value, str):
         raise TypeError(f"{name} must be a string, got {type(value).__name__}")
+    return encodable(name, value)
+
+
+def encodable(name: str, value: str) -> str:
+    """``value`` if it can be encoded as UTF-8 (no lone surrogate such as ``"\\udcff"``,
+    which a file name decoded with ``surrogateescape`` can hold), else ``ValueError`` naming
+    ``name`` — not the ``UnicodeEncodeError`` of the core's string conversion or of a write."""
+    try:
+        value.encode("utf-8")
+    except UnicodeEncodeError as exc:
+        raise ValueError(
+            f"{name} must be valid Unicode text, got {_shown(value)} (a lone surrogate "
+            f"U+{ord(value[exc.start]):04X} at position {exc.start} cannot be encoded)"
+        ) from None
     return value

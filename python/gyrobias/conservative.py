@@ -32,6 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _core, _generics
+from gyrobias._validation import names, real
 from gyrobias.noise._types import NoiseCoefficients, Term
 
 __all__ = ["ConservativeCoefficients", "conservative"]
@@ -198,10 +199,7 @@ def conservative(
             "coefficients: a conservative set needs the measured Allan curve; these coefficients "
             f"({coefficients.method}) carry none — fit them with gyrobias.noise.fit(allan_result)"
         )
-    if isinstance(confidence, bool) or not isinstance(
-        confidence, (int, float, np.integer, np.floating)
-    ):
-        raise TypeError(f"confidence must be a real number, got {type(confidence).__name__}")
+    confidence = real("confidence", confidence)  # the range is the core's check
     reference = coefficients._squared_base()
     # A bounded N or K (a term the estimator files need that the log does not show) enters at
     # its upper bound: the conservative set assumes as much of it as the data allow.
@@ -216,7 +214,7 @@ def conservative(
             raise ValueError("coefficients: no term is present to inflate (pass terms=)")
     else:
         # The symbols are parsed by the core (noise::parse_terms), whose message names terms.
-        allowed = [str(t) for t in ([terms] if isinstance(terms, str) else terms)]
+        allowed = names("terms", terms)
     lo, hi = coefficients.tau_range
     tau_range = (float(lo), float(hi)) if np.isfinite(lo) and np.isfinite(hi) and hi > lo else None
     raw = _core.noise.conservative(

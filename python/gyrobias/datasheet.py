@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from gyrobias import _core, _generics
-from gyrobias._validation import choice, real, string
+from gyrobias._validation import choice, optional_text, real, string
 from gyrobias.noise._types import TERM_NAMES, NoiseCoefficients, Term
 from gyrobias.units import CUSTOMARY, _parse_unit, base_unit, sensor_kind
 
@@ -162,7 +162,7 @@ def _split_value(
             f"{name} must be a string with a unit or a number with units=, got {type(value).__name__}"
         )
     else:
-        number = float(value)
+        number = real(name, value)
         if isinstance(units, Mapping):
             if name not in units:
                 raise ValueError(
@@ -272,6 +272,7 @@ def from_datasheet(
     >>> round(g.N.value, 3), g.N.unit, round(g.B.value, 2)
     (0.339, 'deg/√h', 12.04)
     """
+    optional_text("axis", axis)  # written into estimator files and reports
     density = string("density", density)  # the names are parsed by the core
     bias_instability_is = string("bias_instability_is", bias_instability_is)
     data_units = {"gyro": gyro_unit, "accel": accel_unit}
@@ -283,6 +284,8 @@ def from_datasheet(
             found = sensor_kind(unit)
         except ValueError as exc:
             raise ValueError(f"{label}: {exc}") from None
+        except TypeError:
+            raise TypeError(f"{label} must be a unit string, got {type(unit).__name__}") from None
         if found != kind:
             raise ValueError(
                 f"{label}: {unit!r} is not {'an angular rate' if kind == 'gyro' else 'an acceleration'}"

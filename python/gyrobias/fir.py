@@ -325,6 +325,12 @@ def apply(
     try:
         out = _core.fir.filter_rows(h, rows, bool(zero_phase), padtype, padlen)
     except ValueError as exc:
+        if str(exc).startswith("x is too short") and padlen is not None and zero_phase:
+            # an explicit padlen longer than the signal: name the argument the caller gave
+            raise ValueError(
+                f"padlen must be less than the length of x along axis={axis} "
+                f"({shape[-1]} samples), got {padlen} ({exc})"
+            ) from None
         if str(exc).startswith("x is too short") and arr.ndim > 1:
             # the core sees rows: say which axis of the caller's array was too short
             raise ValueError(

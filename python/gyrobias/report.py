@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from gyrobias import _core
-from gyrobias._validation import choice, pair, real, string
+from gyrobias._validation import choice, optional_text, pair, real
 from gyrobias.exports import DEFAULT_FILENAMES, FORMATS, atomic_write, export
 
 if TYPE_CHECKING:
@@ -473,8 +473,7 @@ def build_report(
     )
     if rate is not None:
         _core.validate.positive("rate", real("rate", rate))
-    if title is not None:
-        string("title", title)
+    optional_text("title", title)
     k = len(log.columns)
     if units is None:
         per_channel: list[str | None] = list(log.units) if log.units else [None] * k

@@ -34,7 +34,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core
-from gyrobias._validation import as_float_array, boolean, integer, real, sample_rate, string
+from gyrobias._validation import (
+    as_float_array,
+    boolean,
+    integer,
+    real,
+    sample_rate,
+    sequence,
+    string,
+)
 from gyrobias.units import checked_units
 
 __all__ = [
@@ -235,6 +243,10 @@ class TemperatureModel:
             params[name] = v[order].copy()
         object.__setattr__(self, "temperatures", st.copy())
         object.__setattr__(self, "parameters", params)
+        if not isinstance(self.units, Mapping):
+            raise TypeError(
+                f"units must be a mapping parameter name -> unit, got {type(self.units).__name__}"
+            )
         object.__setattr__(self, "units", dict(self.units))
         object.__setattr__(self, "degree", degree)
 
@@ -344,9 +356,12 @@ class TemperatureModel:
         cls, analyses: Iterable[ThermalAnalysis], *, method: str = "pchip", degree: int = 2
     ) -> TemperatureModel:
         """Model of the scalar parameters of per-temperature :class:`ThermalAnalysis` results."""
-        items = list(analyses)
+        items = sequence("analyses", analyses)
         if not items:
             raise ValueError("analyses is empty")
+        for i, a in enumerate(items):
+            if not isinstance(a, ThermalAnalysis):
+                raise TypeError(f"analyses[{i}] must be a ThermalAnalysis, got {type(a).__name__}")
         names = list(items[0].parameters())
         params = {n: np.array([a.parameters()[n] for a in items]) for n in names}
         return cls(
@@ -494,12 +509,9 @@ def analyse_log(
 
     arr = as_float_array("x", x)
     fs = sample_rate(fs)  # the core checks fs before round(fs) and m/fs
-    if isinstance(temperature, bool) or not isinstance(
-        temperature, (int, float, np.integer, np.floating)
-    ):
-        raise TypeError(f"temperature must be a real number, got {type(temperature).__name__}")
+    temperature = real("temperature", temperature)  # a real number (10**400 included)
     try:  # finite: the core's check (of a set of temperatures, here one)
-        _core.thermal.check_temperatures(np.array([float(temperature)]))
+        _core.thermal.check_temperatures(np.array([temperature]))
     except ValueError:
         raise ValueError(f"temperature must be finite, got {temperature!r}") from None
     units = checked_units("units", units)
@@ -559,7 +571,13 @@ def analyse_logs(
 
     Raises ``ValueError`` if two logs carry the same temperature.
     """
-    pairs = list(logs.items()) if isinstance(logs, Mapping) else list(logs)
+    pairs = list(logs.items()) if isinstance(logs, Mapping) else sequence("logs", logs)
+    for i, pair in enumerate(pairs):
+        if isinstance(pair, (str, bytes)) or not isinstance(pair, (tuple, list)) or len(pair) != 2:
+            raise TypeError(
+                "logs must be a mapping temperature -> samples or a sequence of (temperature, "
+                f"samples) pairs; item {i} is {type(pair).__name__}"
+            )
     if not pairs:
         raise ValueError("logs is empty")
     temps = [real("temperature", t) for t, _ in pairs]

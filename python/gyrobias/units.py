@@ -37,6 +37,8 @@ import re
 from dataclasses import dataclass
 from fractions import Fraction
 
+from gyrobias._validation import text as _text
+
 __all__ = [
     "CUSTOMARY",
     "SYMBOLS",
@@ -147,7 +149,13 @@ def parse_unit(text: str) -> Unit:
 
 
 def _named(name: str, text: str) -> Unit:
-    """:func:`_parse_unit` with the argument's ``name`` in front of its message."""
+    """:func:`_parse_unit` with the argument's ``name`` in front of its message.
+
+    The text is checked first (:func:`gyrobias._validation.text`: a string, one printable line,
+    bounded length — which also bounds the parser's nesting depth); a unit whose factor leaves
+    float64 (``deg^99999``) is a ``ValueError`` like any other unparsable unit.
+    """
+    _text(name, text)
     try:
         return _parse_unit(text)
     except ValueError as exc:
@@ -157,16 +165,39 @@ def _named(name: str, text: str) -> Unit:
 def _parse_unit(text: str) -> Unit:
     """:func:`parse_unit` without naming the argument (for callers that name it themselves).
 
-    Parsed once per string (a :class:`Unit` is immutable): converting a fit's coefficients
-    parses the same few units for every term, channel and redraw."""
+    Parsed once per string (a :class:`Unit` is immutable; errors are not cached): converting
+    a fit's coefficients parses the same few units for every term, channel and redraw.
+    Every unit string goes through here: a text that is not one printable line of at most
+    200 characters (which also bounds the parser's nesting depth) or whose factor to SI leaves
+    float64 (``deg^99999``) is a ``ValueError`` like any other unparsable unit.
+    """
     if isinstance(text, str):
         return _parse_cached(text)
     return _parse_text(text)
 
 
 def _parse_text(text: str) -> Unit:
+    """:func:`_parse_unit` without the cache."""
     if not isinstance(text, str) or not text.strip():
         raise ValueError(_valid_units_message(str(text)))
+    if len(text) > 200 or not text.isprintable():
+        shown = repr(text[:60]) + ("..." if len(text) > 60 else "")
+        raise ValueError(
+            f"unknown unit {shown}: a unit is one printable line of at most 200 characters"
+        )
+    try:
+        unit = _parse_checked(text)
+    except (OverflowError, ZeroDivisionError, RecursionError):
+        raise ValueError(_valid_units_message(text)) from None
+    if not (math.isfinite(unit.factor) and unit.factor > 0.0):
+        raise ValueError(
+            f"the unit {text!r} has a factor of {unit.factor!r} to SI, outside float64's range"
+        )
+    return unit
+
+
+def _parse_checked(text: str) -> Unit:
+    """The recursive-descent parser of :func:`_parse_unit` (its input already checked)."""
     tokens: list[str] = []
     pos = 0
     while pos < len(text):

@@ -175,12 +175,24 @@ pub fn riccati_gain(q_omega: f64, q_b: f64, r_d: f64, iterations: usize) -> Resu
     let identity = Matrix2::identity();
     let mut p = Matrix2::zeros();
     let mut k = Vector2::zeros();
+    // The gain depends on P only through the observable direction, which converges: once a
+    // step returns exactly the previous gain and the observable part of P (h P hᵀ, P hᵀ) has
+    // stopped changing, every further step returns it too, so a huge `iterations` costs no
+    // more than convergence does.
+    let mut observable = (f64::NAN, Vector2::zeros());
     for _ in 0..iterations {
         let p_prior = p + q; // eq. 9 with Φ = I
         let innovation = (h * p_prior * h.transpose())[(0, 0)] + r_d;
-        k = p_prior * h.transpose() / innovation; // eq. 10
-        let i_kh = identity - k * h;
-        p = i_kh * p_prior * i_kh.transpose() + k * r_d * k.transpose(); // eq. 11
+        let k_next = p_prior * h.transpose() / innovation; // eq. 10
+        let i_kh = identity - k_next * h;
+        p = i_kh * p_prior * i_kh.transpose() + k_next * r_d * k_next.transpose(); // eq. 11
+        let observable_next = (innovation, p_prior * h.transpose());
+        let fixed = k_next == k && observable_next == observable;
+        k = k_next;
+        observable = observable_next;
+        if fixed {
+            break;
+        }
     }
     if !(k[0].is_finite() && k[1].is_finite()) {
         return Err(Error::Singular {

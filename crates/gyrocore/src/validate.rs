@@ -97,6 +97,71 @@ pub fn allocatable<T>(name: &'static str, count: usize) -> Result<()> {
     reserved.map_err(|_| too_large)
 }
 
+/// `value²` if it is finite, else an error naming `name`: a standard deviation or amplitude
+/// above `sqrt(f64::MAX)` ≈ 1.34e154 has a variance float64 cannot hold (the Allan variance
+/// of such a term would be `inf` at every τ), which no rescaling of the result can represent.
+pub fn finite_square(name: &'static str, value: f64) -> Result<f64> {
+    let square = value * value;
+    if square.is_finite() {
+        Ok(square)
+    } else {
+        Err(Error::invalid(
+            name,
+            format!(
+                "must be at most {:.4e} (its square, a variance, must be finite in float64), \
+                 got {value}",
+                f64::MAX.sqrt()
+            ),
+        ))
+    }
+}
+
+/// The exponent `e` with `max |x| · 2^−e` in `[1, 2)` (0 for all-zero data): dividing the data
+/// by `2^e` is exact and brings it to the scale where squares and sums of squares neither
+/// overflow (data near 1e155) nor underflow (subnormal data); a variance computed from the
+/// scaled data is multiplied back by `2^2e` ([`times_pow2`]).
+pub fn pow2_exponent(x: &[f64]) -> i32 {
+    let peak = x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    if peak == 0.0 || !peak.is_finite() {
+        return 0;
+    }
+    // log2 of a finite non-zero f64 lies in [-1074, 1024): the floor fits an i32.
+    #[allow(clippy::cast_possible_truncation)]
+    let e = peak.log2().floor() as i32;
+    // log2 may round up across a power of two: settle the exponent exactly.
+    if times_pow2(peak, -e) < 1.0 { e - 1 } else { e }
+}
+
+/// `v · 2^e`, exact unless the result over- or underflows (in two steps, so that `2^e` itself
+/// need not be representable: `e` may reach ±2148 for a variance of scaled data).
+pub fn times_pow2(v: f64, e: i32) -> f64 {
+    let mut out = v;
+    let mut rest = e;
+    while rest != 0 {
+        let step = rest.clamp(-1000, 1000);
+        out *= 2.0_f64.powi(step);
+        rest -= step;
+    }
+    out
+}
+
+/// Most worker threads a caller may ask for (`n_threads`): far beyond any machine's cores,
+/// far below what would exhaust the operating system's thread limit.
+pub const MAX_THREADS: usize = 1024;
+
+/// Fails unless `n_threads` (0 = every core) is at most [`MAX_THREADS`]: a thread pool of
+/// 2^40 threads is a request for resources that cannot exist, refused before any is spawned.
+pub fn threads(n_threads: usize) -> Result<()> {
+    if n_threads <= MAX_THREADS {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            "n_threads",
+            format!("must be from 0 (every core) to {MAX_THREADS}, got {n_threads}"),
+        ))
+    }
+}
+
 /// `a·b` element count for the argument `name`, or [`Error::Allocation`] when the product
 /// overflows `usize` (then it cannot be allocated either).
 pub fn product(name: &'static str, a: usize, b: usize) -> Result<usize> {

@@ -18,6 +18,8 @@ import sys
 from pathlib import Path
 from typing import NoReturn
 
+from gyrobias._cnames import reserved_c_name
+
 __all__ = [
     "TERMS",
     "Parser",
@@ -205,13 +207,18 @@ def c_identifier(value: str) -> str:
     """A C identifier (``[A-Za-z_][A-Za-z0-9_]*``): written into generated C as a prefix."""
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", value):
         _fail("a C identifier ([A-Za-z_][A-Za-z0-9_]*)", value)
+    reserved = reserved_c_name(value)
+    if reserved is not None:
+        _fail(f"a C identifier that is no standard header or reserved name ({reserved})", value)
     return value
 
 
 def text(value: str) -> str:
-    """Free text that ends up in files (a topic, a name): one line, no control characters."""
-    if not value or any(ord(c) < 32 or ord(c) == 127 for c in value):
-        _fail("non-empty text on one line without control characters", value)
+    """Free text that ends up in files (a topic, a name): one line of printable text (the
+    library's rule, :func:`gyrobias._validation.text`: no line break of any kind — ``\\x85``
+    and ``\\u2028`` included — no control or format character, no lone surrogate)."""
+    if not value or not value.isprintable() or len(value) > 200:
+        _fail("non-empty printable text on one line (at most 200 characters)", value)
     return value
 
 

@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from gyrobias import _core
+from gyrobias._cnames import reserved_c_name
 from gyrobias._validation import real
 from gyrobias._version import __version__
 
@@ -46,6 +47,9 @@ def check_name(name: object) -> str:
         raise ValueError(f"name must not be a C keyword, got {name!r}")
     if name.startswith("__") or (name.startswith("_") and name[1:2].isupper()):
         raise ValueError(f"name must not be a reserved C identifier (__x, _X), got {name!r}")
+    reserved = reserved_c_name(name)
+    if reserved is not None:
+        raise ValueError(f"name must not be a C standard header or reserved identifier: {reserved}")
     if len(name) > MAX_NAME:
         raise ValueError(
             f"name must have at most {MAX_NAME} characters (C99 guarantees 31 significant "
@@ -69,6 +73,9 @@ def check_directory(path: object) -> Path:
     """The output directory: existing and writable, or creatable (its parent writable)."""
     if not isinstance(path, (str, os.PathLike)):
         raise TypeError(f"path must be a directory path, got {type(path).__name__}")
+    if not os.fspath(path):
+        # Path("") is ".": an empty string would write into the current directory
+        raise ValueError("path must be a directory path, got an empty string")
     p = Path(path)
     if p.exists():
         if not p.is_dir():

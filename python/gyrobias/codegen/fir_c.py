@@ -51,6 +51,11 @@ def emit(
     name, dtype, directory, fs_units = check_arguments(name, dtype, path, full_scale)
     taps = np.asarray(f.taps, dtype=np.float64)
     n = taps.size
+    if taps.ndim != 1 or n == 0:
+        # a zero-length delay line would make the generated step index an empty array
+        raise ValueError(
+            f"taps must be a non-empty 1-D array to generate C, got shape {taps.shape}"
+        )
     if not np.all(np.isfinite(taps)):
         raise ValueError("taps must be finite")
     info: dict[str, Any] = {}

@@ -14,7 +14,8 @@ from typing import Any
 
 from gyrobias import _core
 from gyrobias._files import atomic_write
-from gyrobias._validation import choice, real, ros_topic
+from gyrobias._validation import choice, real, ros_topic, sequence
+from gyrobias.exports import _yaml
 from gyrobias.exports.discretisation import discrete
 from gyrobias.noise._types import NoiseCoefficients
 
@@ -46,7 +47,7 @@ _NAMES = {"N": "white noise N", "K": "random walk K", "B": "bias instability B"}
 def _group(name: str, value: Any, kind: str) -> list[NoiseCoefficients]:
     if value is None:
         return []
-    items = [value] if isinstance(value, NoiseCoefficients) else list(value)
+    items = [value] if isinstance(value, NoiseCoefficients) else sequence(name, value)
     for c in items:
         if not isinstance(c, NoiseCoefficients):
             raise TypeError(
@@ -66,7 +67,10 @@ def _group(name: str, value: Any, kind: str) -> list[NoiseCoefficients]:
 
 def _split(gyro: Any, accel: Any) -> tuple[list[NoiseCoefficients], list[NoiseCoefficients]]:
     """Sort the arguments into gyro and accel groups (an accel set passed first is accepted)."""
-    first = [gyro] if isinstance(gyro, NoiseCoefficients) else list(gyro or [])
+    if gyro is None:
+        first: list[Any] = []
+    else:
+        first = [gyro] if isinstance(gyro, NoiseCoefficients) else sequence("gyro", gyro)
     if (
         accel is None
         and first
@@ -94,6 +98,10 @@ class _Bounded(float):
 
 #: ``strict=`` of the :func:`export` call being rendered (read by :func:`_value`).
 _STRICT: contextvars.ContextVar[bool] = contextvars.ContextVar("_STRICT", default=False)
+
+
+#: A comment line's text made safe (the YAML writer's escaping; MATLAB comments use it too).
+_comment = _yaml.comment_text
 
 
 def _one_line(text: str) -> str:
@@ -182,12 +190,13 @@ def _fmt(v: float) -> str:
     return f"{v:.6e}"
 
 
-def _yaml_pair(key: str, value: float | None, comment: str, missing: str, indent: str = "") -> str:
+def _yaml_pair(key: str, value: float | None, comment: str, missing: str) -> _yaml.Item:
+    """The entry ``key: value  # comment``, or the comment line ``# key: missing``."""
     if value is None:
-        return f"{indent}# {key}: {missing}"
+        return _yaml.Comment(f"{key}: {missing}")
     if isinstance(value, _Bounded):
         comment = f"{comment}; {value.note}"
-    return f"{indent}{key}: {_fmt(value)}  # {comment}"
+    return _yaml.Pair(key, float(value), _fmt(value), comment)
 
 
 _NOT_MEASURED = "not written: no accelerometer coefficients given"
@@ -205,14 +214,13 @@ def _densities(
     }
 
 
-def _header(
-    fmt: str, g: list[NoiseCoefficients], a: list[NoiseCoefficients], comment: str = "#"
-) -> list[str]:
+def _header(fmt: str, g: list[NoiseCoefficients], a: list[NoiseCoefficients]) -> list[str]:
+    """The header's comment lines (without the comment marker)."""
     # one comment line whatever a hand-made NoiseCoefficients' method holds
     sources = sorted({" ".join(str(c.method).split()) for c in g + a})
     lines = [
-        f"{comment} {fmt} IMU noise model written by gyrobias (from: {', '.join(sources)} coefficients)",
-        f"{comment} N, K: IEEE-952 coefficients (two-sided densities); see the convention table of the gyrobias docs (Estimator parameters).",
+        f"{fmt} IMU noise model written by gyrobias (from: {', '.join(sources)} coefficients)",
+        "N, K: IEEE-952 coefficients (two-sided densities); see the convention table of the gyrobias docs (Estimator parameters).",
     ]
     levels = sorted(
         {
@@ -226,7 +234,7 @@ def _header(
     )
     if levels:
         lines.append(
-            f"{comment} Values marked UPPER BOUND are terms the log does not show: the largest value "
+            f"Values marked UPPER BOUND are terms the log does not show: the largest value "
             f"consistent with it (one-sided confidence {', '.join(levels)}), written in place of "
             "an estimate."
         )
@@ -234,10 +242,10 @@ def _header(
 
 
 def _kalibr_like(
-    g: list[NoiseCoefficients], a: list[NoiseCoefficients], fmt: str, indent: str
-) -> list[str]:
+    g: list[NoiseCoefficients], a: list[NoiseCoefficients], fmt: str
+) -> list[_yaml.Item]:
     v = _densities(g, a, fmt)
-    lines = []
+    lines: list[_yaml.Item] = []
     miss_a = _NOT_MEASURED if not a else ""
     miss_g = _NOT_MEASURED_GYRO if not g else ""
     lines.append(
@@ -246,7 +254,6 @@ def _kalibr_like(
             v["aN"],
             f"m/s^2/sqrt(Hz), continuous{_axes_note(a)}",
             miss_a,
-            indent,
         )
     )
     lines.append(
@@ -255,7 +262,6 @@ def _kalibr_like(
             v["aK"],
             f"m/s^3/sqrt(Hz), continuous{_axes_note(a)}",
             miss_a,
-            indent,
         )
     )
     lines.append(
@@ -264,7 +270,6 @@ def _kalibr_like(
             v["gN"],
             f"rad/s/sqrt(Hz), continuous{_axes_note(g)}",
             miss_g,
-            indent,
         )
     )
     lines.append(
@@ -273,7 +278,6 @@ def _kalibr_like(
             v["gK"],
             f"rad/s^2/sqrt(Hz), continuous{_axes_note(g)}",
             miss_g,
-            indent,
         )
     )
     return lines
@@ -284,22 +288,19 @@ def _render_kalibr(
 ) -> str:
     f = _rate(rate, g + a, "kalibr", True)
     assert f is not None
-    lines = _header("Kalibr", g, a)
-    lines.append(
-        "# Kalibr discretises with update_rate: sigma_d = sigma*sqrt(rate), sigma_bd = sigma_b/sqrt(rate)."
+    header = _header("Kalibr", g, a)
+    header.append(
+        "Kalibr discretises with update_rate: sigma_d = sigma*sqrt(rate), sigma_bd = sigma_b/sqrt(rate)."
     )
-    lines += _kalibr_like(g, a, "kalibr", "")
-    lines.append(f"rostopic: {rostopic}")
-    lines.append(f"update_rate: {f:.6g}  # Hz")
-    return "\n".join(lines) + "\n"
+    items = _kalibr_like(g, a, "kalibr")
+    items.append(_yaml.Pair("rostopic", rostopic))
+    items.append(_yaml.Pair("update_rate", f, f"{f:.6g}", "Hz"))
+    return _yaml.dump(items, header=header)
 
 
-def _identity(n: int, indent: str, zero: bool = False) -> list[str]:
-    rows = []
-    for i in range(n):
-        row = ", ".join("0.0" if zero or i != j else "1.0" for j in range(n))
-        rows.append(f"{indent}- [{row}]")
-    return rows
+def _identity(key: str, n: int, zero: bool = False) -> _yaml.Matrix:
+    rows = [["0.0" if zero or i != j else "1.0" for j in range(n)] for i in range(n)]
+    return _yaml.Matrix(key, rows)
 
 
 def _render_openvins(
@@ -307,25 +308,21 @@ def _render_openvins(
 ) -> str:
     f = _rate(rate, g + a, "openvins", True)
     assert f is not None
-    lines = ["%YAML:1.0", *_header("OpenVINS kalibr_imu_chain.yaml", g, a)]
-    lines.append("# Continuous-time densities (OpenVINS discretises them with the IMU period).")
-    lines.append(
-        "# Intrinsics below are identity/zero: replace them with a calibration if you have one."
+    header = _header("OpenVINS kalibr_imu_chain.yaml", g, a)
+    header.append("Continuous-time densities (OpenVINS discretises them with the IMU period).")
+    header.append(
+        "Intrinsics below are identity/zero: replace them with a calibration if you have one."
     )
-    lines.append("imu0:")
-    lines.append("  T_i_b:")
-    lines += _identity(4, "    ")
-    lines += _kalibr_like(g, a, "openvins", "  ")
-    lines.append(f"  rostopic: {rostopic}")
-    lines.append("  time_offset: 0.0")
-    lines.append(f"  update_rate: {f:.6g}")
-    lines.append('  model: "kalibr"')
+    imu: list[_yaml.Item] = [_identity("T_i_b", 4)]
+    imu += _kalibr_like(g, a, "openvins")
+    imu.append(_yaml.Pair("rostopic", rostopic))
+    imu.append(_yaml.Pair("time_offset", 0.0, "0.0"))
+    imu.append(_yaml.Pair("update_rate", f, f"{f:.6g}"))
+    imu.append(_yaml.Pair("model", "kalibr", quoted=True))
     for key in ("Tw", "R_IMUtoGYRO", "Ta", "R_IMUtoACC"):
-        lines.append(f"  {key}:")
-        lines += _identity(3, "    ")
-    lines.append("  Tg:")
-    lines += _identity(3, "    ", zero=True)
-    return "\n".join(lines) + "\n"
+        imu.append(_identity(key, 3))
+    imu.append(_identity("Tg", 3, zero=True))
+    return _yaml.dump([_yaml.Block("imu0", imu)], header=header, directive="%YAML:1.0")
 
 
 def _render_vins(
@@ -347,21 +344,23 @@ def _render_vins(
         v = float(_core.noise.discrete_random_walk(float(x), None, f)[0])
         return _Bounded(v, x.note) if isinstance(x, _Bounded) else v
 
-    lines = ["%YAML:1.0", *_header("VINS-Mono/VINS-Fusion", g, a)]
-    lines.append(f"# Discrete-time values at the IMU rate {f:.6g} Hz (VINS-Mono issue #280):")
-    lines.append(
-        "#   *_n = N*sqrt(rate) (per-sample noise std), *_w = K/sqrt(rate) (per-step bias random-walk std)."
+    header = _header("VINS-Mono/VINS-Fusion", g, a)
+    header.append(f"Discrete-time values at the IMU rate {f:.6g} Hz (VINS-Mono issue #280):")
+    header.append(
+        "  *_n = N*sqrt(rate) (per-sample noise std), *_w = K/sqrt(rate) (per-step bias random-walk std)."
     )
-    lines.append(
-        "# Merge these keys into your VINS config (g_norm and the extrinsics are not noise parameters)."
+    header.append(
+        "Merge these keys into your VINS config (g_norm and the extrinsics are not noise parameters)."
     )
     miss_a = _NOT_MEASURED if not a else ""
     miss_g = _NOT_MEASURED_GYRO if not g else ""
-    lines.append(_yaml_pair("acc_n", white(v["aN"]), "m/s^2, discrete", miss_a))
-    lines.append(_yaml_pair("gyr_n", white(v["gN"]), "rad/s, discrete", miss_g))
-    lines.append(_yaml_pair("acc_w", walk(v["aK"]), "m/s^2 per step, discrete", miss_a))
-    lines.append(_yaml_pair("gyr_w", walk(v["gK"]), "rad/s per step, discrete", miss_g))
-    return "\n".join(lines) + "\n"
+    items = [
+        _yaml_pair("acc_n", white(v["aN"]), "m/s^2, discrete", miss_a),
+        _yaml_pair("gyr_n", white(v["gN"]), "rad/s, discrete", miss_g),
+        _yaml_pair("acc_w", walk(v["aK"]), "m/s^2 per step, discrete", miss_a),
+        _yaml_pair("gyr_w", walk(v["gK"]), "rad/s per step, discrete", miss_g),
+    ]
+    return _yaml.dump(items, header=header, directive="%YAML:1.0")
 
 
 def _render_orbslam3(
@@ -370,42 +369,45 @@ def _render_orbslam3(
     f = _rate(rate, g + a, "orbslam3", True)
     assert f is not None
     v = _densities(g, a, "orbslam3")
-    lines = ["%YAML:1.0", *_header("ORB-SLAM3", g, a)]
-    lines.append(
-        "# Continuous-time densities (ORB-SLAM3 discretises them with sqrt(IMU.Frequency))."
+    header = _header("ORB-SLAM3", g, a)
+    header.append(
+        "Continuous-time densities (ORB-SLAM3 discretises them with sqrt(IMU.Frequency))."
     )
-    lines.append(
-        "# Merge these keys into your ORB-SLAM3 settings file (IMU.T_b_c1 is not a noise parameter)."
+    header.append(
+        "Merge these keys into your ORB-SLAM3 settings file (IMU.T_b_c1 is not a noise parameter)."
     )
     miss_a = _NOT_MEASURED if not a else ""
     miss_g = _NOT_MEASURED_GYRO if not g else ""
-    lines.append(_yaml_pair("IMU.NoiseGyro", v["gN"], "rad/s/sqrt(Hz)", miss_g))
-    lines.append(_yaml_pair("IMU.NoiseAcc", v["aN"], "m/s^2/sqrt(Hz)", miss_a))
-    lines.append(_yaml_pair("IMU.GyroWalk", v["gK"], "rad/s^2/sqrt(Hz)", miss_g))
-    lines.append(_yaml_pair("IMU.AccWalk", v["aK"], "m/s^3/sqrt(Hz)", miss_a))
-    lines.append(f"IMU.Frequency: {f:.6g}  # Hz")
-    return "\n".join(lines) + "\n"
+    items = [
+        _yaml_pair("IMU.NoiseGyro", v["gN"], "rad/s/sqrt(Hz)", miss_g),
+        _yaml_pair("IMU.NoiseAcc", v["aN"], "m/s^2/sqrt(Hz)", miss_a),
+        _yaml_pair("IMU.GyroWalk", v["gK"], "rad/s^2/sqrt(Hz)", miss_g),
+        _yaml_pair("IMU.AccWalk", v["aK"], "m/s^3/sqrt(Hz)", miss_a),
+        _yaml.Pair("IMU.Frequency", f, f"{f:.6g}", "Hz"),
+    ]
+    return _yaml.dump(items, header=header, directive="%YAML:1.0")
 
 
 def _render_liosam(
     g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str
 ) -> str:
     v = _densities(g, a, "liosam")
-    lines = _header("LIO-SAM params.yaml", g, a)
-    lines.append(
-        "# Continuous-time densities (GTSAM preintegration covariances; bias sigmas scaled by sqrt(dt))."
+    header = _header("LIO-SAM params.yaml", g, a)
+    header.append(
+        "Continuous-time densities (GTSAM preintegration covariances; bias sigmas scaled by sqrt(dt))."
     )
-    lines.append(
-        "# Merge into config/params.yaml (imuGravity, imuRPYWeight and extrinsics are not noise parameters)."
+    header.append(
+        "Merge into config/params.yaml (imuGravity, imuRPYWeight and extrinsics are not noise parameters)."
     )
     miss_a = _NOT_MEASURED if not a else ""
     miss_g = _NOT_MEASURED_GYRO if not g else ""
-    lines.append("lio_sam:")
-    lines.append(_yaml_pair("imuAccNoise", v["aN"], "m/s^2/sqrt(Hz)", miss_a, "  "))
-    lines.append(_yaml_pair("imuGyrNoise", v["gN"], "rad/s/sqrt(Hz)", miss_g, "  "))
-    lines.append(_yaml_pair("imuAccBiasN", v["aK"], "m/s^3/sqrt(Hz)", miss_a, "  "))
-    lines.append(_yaml_pair("imuGyrBiasN", v["gK"], "rad/s^2/sqrt(Hz)", miss_g, "  "))
-    return "\n".join(lines) + "\n"
+    items = [
+        _yaml_pair("imuAccNoise", v["aN"], "m/s^2/sqrt(Hz)", miss_a),
+        _yaml_pair("imuGyrNoise", v["gN"], "rad/s/sqrt(Hz)", miss_g),
+        _yaml_pair("imuAccBiasN", v["aK"], "m/s^3/sqrt(Hz)", miss_a),
+        _yaml_pair("imuGyrBiasN", v["gK"], "rad/s^2/sqrt(Hz)", miss_g),
+    ]
+    return _yaml.dump([_yaml.Block("lio_sam", items)], header=header)
 
 
 def _gauss_markov(group: list[NoiseCoefficients]) -> list[Any]:
@@ -421,7 +423,7 @@ def _render_matlab(
     g: list[NoiseCoefficients], a: list[NoiseCoefficients], rate: float | None, rostopic: str
 ) -> str:
     f = _rate(rate, g + a, "matlab", False)
-    lines = _header("MATLAB imuSensor", g, a, comment="%")
+    lines = [f"% {_comment(h)}" for h in _header("MATLAB imuSensor", g, a)]
     lines.append(
         "% NoiseDensity = N, BiasInstability = B, RandomWalk = K (MathWorks' Allan-variance example)."
     )
@@ -438,7 +440,7 @@ def _render_matlab(
         density = _value(group, "N", kind, "matlab") or 0.0
         props = [f"'NoiseDensity', {_fmt(density)}"]
         if isinstance(density, _Bounded):
-            lines.append(f"% {kind} NoiseDensity: {density.note}")
+            lines.append(f"% {kind} NoiseDensity: {_comment(density.note)}")
         gm = _gauss_markov(group)
         # With a Gauss–Markov bias and no identified B, the GM term is imuSensor's bias
         # instability (below), not B's upper bound.
@@ -452,7 +454,7 @@ def _render_matlab(
             else:
                 props.append(f"'{prop}', {_fmt(value)}")
                 if isinstance(value, _Bounded):
-                    lines.append(f"% {kind} {prop}: {value.note}")
+                    lines.append(f"% {kind} {prop}: {_comment(value.note)}")
         if gm and f is not None and not b_identified:
             # First-order Gauss–Markov bias as imuSensor's bias-instability filter.
             t = gm[0]
@@ -617,6 +619,10 @@ def export(
     """
     fmt = choice("fmt", fmt, FORMATS)
     ros_topic("rostopic", rostopic)  # written verbatim into YAML: a ROS name, nothing else
+    if rate is not None:
+        # every format's numeric option checked here, once, whether the format writes it or
+        # not (LIO-SAM has no rate key and wrote rate=nan without a word): the core's check
+        rate = _core.noise.discrete_rate(real("rate", rate))
     if not isinstance(strict, bool):
         raise TypeError(f"strict must be a bool, got {type(strict).__name__}")
     g, a = _split(gyro, accel)

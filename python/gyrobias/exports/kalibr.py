@@ -7,7 +7,7 @@ import os
 from collections.abc import Sequence
 
 from gyrobias import _generics
-from gyrobias._validation import positive_float
+from gyrobias._validation import positive_float, sequence
 from gyrobias.exports.formats import export
 from gyrobias.noise._types import NoiseCoefficients
 
@@ -57,8 +57,8 @@ def write_kalibr(
     """
     if update_rate is not None:
         update_rate = positive_float("update_rate", update_rate)
-    gyro = list(gyro)
-    accel = list(accel)
+    gyro = sequence("gyro", gyro)
+    accel = sequence("accel", accel)
     if not gyro and not accel:
         raise ValueError("gyro and accel: write_kalibr needs gyro and/or accel coefficients")
     return export(

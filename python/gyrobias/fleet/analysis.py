@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike, NDArray
 from gyrobias import _core, allan, cleaning, io, noise
 from gyrobias._validation import as_float_array, callback, pair, positive_float, real
 from gyrobias._validation import axis_names as check_axis_names
+from gyrobias._validation import names as name_list
 from gyrobias.fleet.spread import OUT_OF_FAMILY_THRESHOLD, _finish
 from gyrobias.fleet.table import GM_PARAMETERS, DataFrame, _require
 from gyrobias.units import base_unit, sensor_kind
@@ -537,7 +538,7 @@ def analyse(
         confidence = real("confidence", confidence)
     term_tuple = None
     if terms is not None:
-        term_tuple = (terms,) if isinstance(terms, str) else tuple(terms)
+        term_tuple = tuple(name_list("terms", terms))
     threshold = positive_float("threshold", threshold)
     callback("progress", progress)
     first = io.parse_time_bound(start, name="start")

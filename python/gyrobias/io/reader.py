@@ -13,7 +13,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from gyrobias._validation import callback, choice, count, sample_rate
+from gyrobias._validation import callback, choice, count, sample_rate, sequence, text
 from gyrobias.io import _bag
 from gyrobias.io._store import Store
 from gyrobias.io._types import GyroLog
@@ -39,6 +39,16 @@ from gyrobias.io.timestamps import (
 
 _REPAIRS = ("sort", "dedup")
 _STAMPS = ("header", "receive")
+
+
+def _column_spec(name: str, value: Any) -> None:
+    """A column named by its header (one line of printable text) or by its index."""
+    if isinstance(value, str):
+        text(name, value)
+    elif isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(
+            f"{name} must be a column name or integer index, got {type(value).__name__}"
+        )
 
 
 def load(
@@ -187,9 +197,15 @@ def load(
         if not columns:
             raise ValueError("columns is empty")
     elif columns is not None:
-        columns = list(columns)
+        columns = sequence("columns", columns)
         if not columns:
             raise ValueError("columns is empty")
+    for i, spec in enumerate(columns or ()):
+        _column_spec(f"columns[{i}]", spec)
+    if time_column is not None and time_column is not False:
+        _column_spec("time_column", time_column)
+    if topic is not None:
+        text("topic", topic)
     store = Store(
         None if spill is None else bool(spill), None if spill_dir is None else os.fspath(spill_dir)
     )

@@ -18,6 +18,7 @@ from gyrobias._validation import (
     choice,
     count,
     integer,
+    names,
     pair,
     real,
     sample_rate,
@@ -156,7 +157,9 @@ def _line_item(
                 f"lines: a (frequency, half_width) pair must have 2 numbers, got {len(x)}: {x!r}"
             )
         return (real("lines", x[0]), real("lines", x[1])), None
-    f = real("lines", x)
+    # finite and > 0 before it is compared with the detected lines (inf was within ±1 % of
+    # every line and snapped to one): the core's check, naming lines
+    f = _core.validate.positive("lines", real("lines", x))
     # A bare frequency is a seed. The periodogram of the rate (``allan.lines``) pins a line to
     # a small fraction of its resolution fs/n; the Allan curve only to about 0.01 Hz on a 2 h
     # log (its χ² hardly changes with f₀ below that): a detected line within the seed's window
@@ -437,7 +440,7 @@ def fit(
             f"allan must be an Allan-deviation result (kind 'adev'); the five-term model does not "
             f"hold for kind {result.kind!r}"
         )
-    term_list_in = [str(t) for t in terms] if not isinstance(terms, str) else [terms]
+    term_list_in = names("terms", terms)
     want_sine = "S" in term_list_in
     line_windows, detected, held_uncertainty = _line_windows(result, lines)
     if want_sine and not line_windows:

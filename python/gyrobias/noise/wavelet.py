@@ -15,6 +15,7 @@ from gyrobias._validation import (
     as_float_array,
     boolean,
     integer,
+    names,
     real,
     sample_rate,
 )
@@ -139,7 +140,7 @@ def gmwm(
     """
     arr = as_float_array("data", data, ndims=(1, 2))
     fs = sample_rate(fs)  # the core checks fs before t0 = 1/fs is formed
-    term_in = [str(t) for t in terms] if not isinstance(terms, str) else [terms]
+    term_in = names("terms", terms)
     want_sine = "S" in term_in
     term_list = [t for t in term_in if t != "S"]
     # The symbols are parsed by the core (noise::parse_model_terms), whose message names terms.
@@ -148,6 +149,7 @@ def gmwm(
     replicates = integer("bootstrap", bootstrap)
     seed_number = seed_value("seed", seed)
     bound_confidence = real("bound_confidence", bound_confidence)  # (0, 1): the core's check
+    units = checked_units("units", units)
     sensor = sensor_kind(units) if units is not None else None
     matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
     n_axes = matrix.shape[1]

@@ -6,7 +6,7 @@ import os
 from typing import Any
 
 from gyrobias._files import atomic_binary
-from gyrobias._validation import integer, positive_float
+from gyrobias._validation import integer, optional_text, positive_float, sequence, text
 
 _SYMBOL = {"adev": "σ(τ)", "mdev": "Mod σ(τ)", "hdev": "Hadamard σ(τ)", "totdev": "Tot σ(τ)"}
 _NAME = {"adev": "Allan", "mdev": "modified Allan", "hdev": "Hadamard", "totdev": "total"}
@@ -82,3 +82,13 @@ def _save_atomically(fig: Any, path: str | os.PathLike[str], dpi: int) -> None:
     suffix = os.path.splitext(os.fspath(path))[1][1:].lower()
     with atomic_binary(path) as fh:
         fig.savefig(fh, dpi=dpi, format=suffix or None)
+
+
+def check_texts(title: object = None, labels: object = None, label: object = None) -> None:
+    """The free text a plot shows (``title``, ``labels``, ``label``): one printable line each
+    (:func:`gyrobias._validation.text`), checked before anything is drawn."""
+    optional_text("title", title)
+    optional_text("label", label)
+    if labels is not None:
+        for i, item in enumerate(sequence("labels", labels)):
+            text(f"labels[{i}]", item)

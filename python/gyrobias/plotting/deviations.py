@@ -15,6 +15,7 @@ from gyrobias.plotting._common import (
     _require_matplotlib,
     _save_atomically,
     _sensor_title,
+    check_texts,
 )
 from gyrobias.plotting.models import plot_noise_model
 
@@ -77,6 +78,7 @@ def plot_allan(
     The y label carries the deviation's unit (``σ(τ) [deg/s]``) when all results share it,
     the x label is ``τ [s]``; the legend title states the confidence level of the bars.
     """
+    check_texts(title=title, labels=labels)
     items = _as_list(results)
     _require_matplotlib()
     if labels is not None and len(labels) != len(items):
@@ -105,6 +107,7 @@ def save_allan_plot(
     Uses a standalone ``matplotlib.figure.Figure`` (Agg canvas for raster formats), so no
     display and no pyplot state are involved.
     """
+    check_texts(title=title, labels=labels)
     items = _as_list(results)
     _require_matplotlib()
     from matplotlib.figure import Figure
@@ -185,6 +188,7 @@ def plot_dynamic_allan(
     >>> ax.get_ylabel()
     'τ [s]'
     """
+    check_texts(title=title)
     _require_matplotlib()
     from matplotlib.colors import LogNorm
 

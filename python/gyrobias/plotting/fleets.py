@@ -12,6 +12,7 @@ from gyrobias.fleet.table import term_columns
 from gyrobias.plotting._common import (
     _require_matplotlib,
     _save_atomically,
+    check_texts,
 )
 
 
@@ -69,6 +70,7 @@ def plot_fleet(table: Any, fig: Any = None, *, title: str | None = None) -> Any:
     value of each unit with its 1σ uncertainty, per axis; outliers (``out_of_family_terms``
     names the term) are red crosses labelled with their source file.
     """
+    check_texts(title=title)
     _require_matplotlib()
     ok = table[table["error"].isna()]
     if ok.empty:
@@ -85,6 +87,7 @@ def save_fleet_plot(
     table: Any, path: str | os.PathLike[str], *, title: str | None = None, dpi: int = 150
 ) -> None:
     """Render :func:`plot_fleet` to an image file through a pyplot-free ``Figure`` (headless)."""
+    check_texts(title=title)
     _require_matplotlib()
     from matplotlib.figure import Figure
 

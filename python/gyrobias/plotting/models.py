@@ -12,6 +12,7 @@ from gyrobias.noise._types import NoiseCoefficients, WaveletVariance
 from gyrobias.plotting._common import (
     _require_matplotlib,
     _save_atomically,
+    check_texts,
 )
 
 
@@ -133,6 +134,7 @@ def save_noise_model_plot(
 
     The file is written atomically (a temporary file renamed over ``path``).
     """
+    check_texts(title=title)
     _require_matplotlib()
     from matplotlib.figure import Figure
 

@@ -14,6 +14,7 @@ from gyrobias.plotting._common import (
     _check_dpi,
     _require_matplotlib,
     _save_atomically,
+    check_texts,
 )
 
 
@@ -46,6 +47,7 @@ def save_prediction_plot(
     std : ndarray of shape (h,), optional
         Standard deviation of the first forecast.
     """
+    check_texts(title=title)
     section = as_float_array("section", section)
     fs = sample_rate(fs)
     calibration = integer("calibration", calibration)
@@ -108,6 +110,7 @@ def save_comparison_plot(
 
     ``before[i]`` and ``after[i]`` share a colour; the file is written atomically.
     """
+    check_texts(title=title, labels=labels)
     _require_matplotlib()
     from matplotlib.figure import Figure
 

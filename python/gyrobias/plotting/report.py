@@ -10,6 +10,7 @@ from gyrobias.allan._types import AllanResult
 from gyrobias.plotting._common import (
     _check_inches,
     _require_matplotlib,
+    check_texts,
 )
 from gyrobias.plotting.deviations import _as_list, _draw
 
@@ -44,6 +45,7 @@ def allan_report_svg(
         A standalone ``<svg>`` element; text is drawn as paths (no font files needed) and ids
         are deterministic.
     """
+    check_texts(title=title)
     items = _as_list(result)
     width = _check_inches("width", width)
     height = _check_inches("height", height)

@@ -432,7 +432,15 @@ pub fn scale_exponent(max_abs: f64) -> i32 {
         return 0;
     }
     let e = binary_exponent(max_abs);
-    if e.abs() <= SAFE_EXPONENT { 0 } else { e }
+    // Clamped to ±1022 so that the factor 2^-k is a normal number ([`pow2`]): subnormal data
+    // (e < -1022; 2^1074 is not representable, and the bit pattern of 2^-(-1030) wrapped to a
+    // tiny negative number, making every deviation 0) are scaled by 2^1022 to at least 2^-52,
+    // data in [2^1023, 2^1024) by 2^-1022 to below 4: both well inside the safe range.
+    if e.abs() <= SAFE_EXPONENT {
+        0
+    } else {
+        e.clamp(-1022, 1022)
+    }
 }
 
 /// Sample periods `t0` with `|⌊log2 t0⌋| ≤ PERIOD_EXPONENT` are used as given (every rate from

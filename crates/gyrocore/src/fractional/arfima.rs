@@ -76,9 +76,11 @@ pub fn arfima(
         return Err(Error::invalid("d", format!("must be finite, got {d}")));
     }
     crate::validate::positive("sigma", sigma)?;
-    let total = crate::validate::product("n", n, rows)?;
+    // A size too large to allocate is named after the larger of its two factors.
+    let name = if rows > n { "size" } else { "n" };
+    let total = crate::validate::product(name, n, rows)?;
     // Innovations, output and the transform buffers of about twice the length.
-    crate::validate::allocatable::<f64>("n", crate::validate::product("n", total, 4)?)?;
+    crate::validate::allocatable::<f64>(name, crate::validate::product(name, total, 4)?)?;
     match kind {
         Kind::TypeII => {
             let mut w = vec![0.0; total];

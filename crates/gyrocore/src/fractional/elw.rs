@@ -354,9 +354,24 @@ pub fn objective(x: &[f64], ds: &[f64], m: Option<usize>, level: Level) -> Resul
     let s = Settings { level, ..s };
     validate::finite("x", x)?;
     validate::finite("d", ds)?;
+    if x.iter().all(|&v| v == x[0]) {
+        // the periodogram is zero at every Fourier frequency: R(d) = ln 0 = −inf, not a value
+        return Err(Error::invalid(
+            "x",
+            "is constant: the ELW objective is undefined (the periodogram is zero)",
+        ));
+    }
+    // Data of extreme magnitude (the periodogram's squares over- or underflow) are analysed
+    // scaled by 2^-e (exact): R(d) of c·x is R(d) of x plus ln c², added back below. Ordinary
+    // data (|e| <= 400) are used as given.
+    let e = validate::pow2_exponent(x);
+    let e = if e.abs() > 400 { e } else { 0 };
+    let scaled: Option<Vec<f64>> =
+        (e != 0).then(|| x.iter().map(|v| validate::times_pow2(*v, -e)).collect());
+    let shift = 2.0 * f64::from(e) * std::f64::consts::LN_2;
     let plans = Plans::new(&s);
-    let mut obj = Objective::new(s, &plans, x);
-    Ok(ds.iter().map(|&d| obj.eval(d)).collect())
+    let mut obj = Objective::new(s, &plans, scaled.as_deref().unwrap_or(x));
+    Ok(ds.iter().map(|&d| obj.eval(d) + shift).collect())
 }
 
 /// The asymptotic normal interval `d̂ ∓ z·se` at the two-sided `confidence` level for each

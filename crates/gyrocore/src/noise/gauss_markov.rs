@@ -93,7 +93,7 @@ pub fn allan_variance_curve(sigma: f64, correlation_time: f64, taus: &[f64]) -> 
             format!("must be finite and > 0, got {bad}"),
         ));
     }
-    let q2 = sigma * sigma;
+    let q2 = validate::finite_square("sigma", sigma)?;
     Ok(taus
         .iter()
         .map(|&tau| allan_variance(q2, correlation_time, tau))

@@ -75,6 +75,7 @@ use super::simulate::{Ar1, NoiseSpec, simulate_axis};
 use super::sinusoid;
 use super::wavelet::{WaveletVariance, haar};
 use crate::random::NormalStream;
+use crate::validate;
 use crate::{Error, Result};
 
 /// Options of [`gmwm`].
@@ -420,6 +421,9 @@ fn symbols(enabled: [bool; 5], n_gm: usize) -> Vec<String> {
 
 /// GMWM estimate of the noise model of one rate series (period `t0`); see the module docs.
 pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
+    // The bootstrap keeps one estimate vector per replicate: a size from the caller, checked
+    // before anything is fitted.
+    validate::allocatable::<Vec<f64>>("bootstrap", options.bootstrap)?;
     if options.gauss_markov > 2 {
         return Err(Error::invalid(
             "terms",
@@ -574,6 +578,7 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
         options.bound_confidence,
     );
     label_dropped(&mut fit, options.enabled, enabled, n_gm, criterion);
+    check_line_amplitudes(&fit, rate)?;
     Ok(GmwmFit {
         fit,
         selected: (enabled, n_gm),
@@ -582,6 +587,36 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
         bootstrap: options.bootstrap,
         wavelet: wv,
     })
+}
+
+/// Refuses a fitted sinusoid larger than the data allow: a sine of amplitude `Ω₀` alone has
+/// the variance `Ω₀²/2`, so `Ω₀ ≤ √(2·var(data))` for any data holding it (the other terms only
+/// add variance). An estimate beyond that (a line the scales cannot separate from the other
+/// terms) is refused with the reason rather than returned with a passing goodness of fit.
+fn check_line_amplitudes(fit: &super::fit::JointFit, rate: &[f64]) -> Result<()> {
+    let n = rate.len() as f64;
+    let mean = validate::neumaier_sum(rate.iter().copied()) / n;
+    let variance = validate::neumaier_sum(rate.iter().map(|v| (v - mean) * (v - mean))) / n;
+    let limit = (2.0 * variance).sqrt();
+    for line in &fit.lines {
+        if let Some(amplitude) = line.amplitude {
+            // 1e-9 relative slack: a pure sine's own estimate may round above its bound
+            if amplitude > limit * (1.0 + 1e-9) {
+                return Err(Error::invalid(
+                    "lines",
+                    format!(
+                        "the sinusoid at {:.6} Hz was estimated with amplitude {amplitude:.4e}, \
+                         more than the data allow (a sine's variance is Ω₀²/2, so \
+                         Ω₀ <= √(2·var(data)) = {limit:.4e}): the wavelet variance cannot \
+                         separate this line from the other terms; pass lines=None, or the \
+                         frequency as a (frequency, 0) pair to hold it",
+                        line.frequency
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The scales used and the excluded τ ranges with their reasons.

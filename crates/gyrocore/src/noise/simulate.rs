@@ -231,9 +231,11 @@ pub fn simulate(n: usize, fs: f64, spec: &NoiseSpec, axes: usize, seed: u64) -> 
     if axes == 0 {
         return Err(Error::invalid("axes", "must be >= 1"));
     }
-    let total = validate::product("n", n, axes)?;
+    // A size too large to allocate is named after the larger of its two factors.
+    let name = if axes > n { "axes" } else { "n" };
+    let total = validate::product(name, n, axes)?;
     // One column per axis and the interleaved output.
-    validate::allocatable::<f64>("n", validate::product("n", total, 2)?)?;
+    validate::allocatable::<f64>(name, validate::product(name, total, 2)?)?;
     let t0 = 1.0 / fs;
     let columns: Vec<Vec<f64>> = (0..axes)
         .into_par_iter()

@@ -117,7 +117,7 @@ pub fn avar_curve(
     if let Some(bad) = taus.iter().find(|t| **t <= 0.0) {
         return Err(Error::invalid("taus", format!("must be > 0, got {bad}")));
     }
-    let a2 = amplitude * amplitude;
+    let a2 = validate::finite_square("amplitude", amplitude)?;
     Ok(taus
         .iter()
         .map(|&tau| match t0 {

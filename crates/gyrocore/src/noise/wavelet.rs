@@ -32,6 +32,64 @@ pub struct WaveletVariance {
     pub n_coefficients: Vec<usize>,
 }
 
+/// The prefix sums of the mean-removed data divided by a power of two `2^e` (exact), and `e`
+/// ([`validate::pow2_exponent`]): the sums of squares of the wavelet coefficients then neither
+/// overflow (data near 1e155) nor underflow (subnormal data). Ordinary data (`|e| <= 400`) are
+/// used as given, so their variances are bit-identical to the unscaled computation.
+fn scaled_prefix(rate: &[f64]) -> (Vec<f64>, i32) {
+    let n = rate.len();
+    let e = validate::pow2_exponent(rate);
+    let e = if e.abs() > 400 { e } else { 0 };
+    let value = |v: f64| {
+        if e == 0 {
+            v
+        } else {
+            validate::times_pow2(v, -e)
+        }
+    };
+    let mean = rate.iter().map(|v| value(*v)).sum::<f64>() / n as f64;
+    let mut prefix = Vec::with_capacity(n + 1);
+    prefix.push(0.0);
+    let mut acc = 0.0;
+    for v in rate {
+        acc += value(*v) - mean;
+        prefix.push(acc);
+    }
+    (prefix, e)
+}
+
+/// Variances of data scaled by `2^-e` ([`scaled_prefix`]) brought back to the data's scale
+/// (times `4^e`), or an error naming `data` when float64 cannot hold them.
+fn unscaled(variance: Vec<f64>, e: i32) -> Result<Vec<f64>> {
+    if e == 0 {
+        return Ok(variance);
+    }
+    let scaled_nonzero = variance.iter().any(|v| *v != 0.0);
+    let variance: Vec<f64> = variance
+        .into_iter()
+        .map(|v| validate::times_pow2(v, 2 * e))
+        .collect();
+    if variance.iter().any(|v| !v.is_finite()) {
+        return Err(Error::invalid(
+            "data",
+            format!(
+                "the wavelet variance of data this large (max |x| ≈ 2^{e}) exceeds float64's \
+                 range (about 1.8e308): rescale the data (another unit)"
+            ),
+        ));
+    }
+    if scaled_nonzero && variance.iter().all(|v| *v == 0.0) {
+        return Err(Error::invalid(
+            "data",
+            format!(
+                "the wavelet variance of data this small (max |x| ≈ 2^{e}) is below float64's \
+                 smallest number: rescale the data (another unit)"
+            ),
+        ));
+    }
+    Ok(variance)
+}
+
 /// Haar wavelet variance of `rate` (period `t0`) at every dyadic scale with
 /// `n / m ≥ min_blocks` (`m` the half-width), at least two scales.
 pub fn haar(rate: &[f64], t0: f64, min_blocks: usize) -> Result<WaveletVariance> {
@@ -52,14 +110,7 @@ pub fn haar(rate: &[f64], t0: f64, min_blocks: usize) -> Result<WaveletVariance>
             got: n,
         });
     }
-    let mean = rate.iter().sum::<f64>() / n as f64;
-    let mut prefix = Vec::with_capacity(n + 1);
-    prefix.push(0.0);
-    let mut acc = 0.0;
-    for v in rate {
-        acc += v - mean;
-        prefix.push(acc);
-    }
+    let (prefix, e) = scaled_prefix(rate);
     let variance: Vec<f64> = m
         .par_iter()
         .map(|&h| {
@@ -73,6 +124,7 @@ pub fn haar(rate: &[f64], t0: f64, min_blocks: usize) -> Result<WaveletVariance>
             sum / count as f64
         })
         .collect();
+    let variance = unscaled(variance, e)?;
     if variance.iter().all(|v| *v == 0.0) {
         return Err(Error::invalid(
             "data",
@@ -361,14 +413,7 @@ pub fn wvar(
             ));
         }
     };
-    let mean = rate.iter().sum::<f64>() / n as f64;
-    let mut prefix = Vec::with_capacity(n + 1);
-    prefix.push(0.0);
-    let mut acc = 0.0;
-    for v in rate {
-        acc += v - mean;
-        prefix.push(acc);
-    }
+    let (prefix, e) = scaled_prefix(rate);
     let levels: Vec<usize> = (1..=j_count).collect();
     let m: Vec<usize> = levels.iter().map(|&j| 1usize << (j - 1)).collect();
     let variance: Vec<f64> = m
@@ -385,6 +430,7 @@ pub fn wvar(
             }
         })
         .collect();
+    let variance = unscaled(variance, e)?;
     if variance.iter().all(|v| *v == 0.0) {
         return Err(Error::invalid(
             "data",

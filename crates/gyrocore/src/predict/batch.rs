@@ -92,11 +92,20 @@ pub struct Compiled {
 impl Compiled {
     /// Precomputes `W`, `w0` and the standard deviations (O(n·k) memory, O(h·k²) time).
     pub fn new(model: &Model, k: usize, horizon: usize, n_threads: usize) -> Result<Self> {
+        validate::threads(n_threads)?;
         validate::min_len("calibration_length", k, 2)?;
         check_window(&[0.0, 0.0], horizon)?;
         let n = k.saturating_add(horizon);
-        // L (n × k) plus the weights W (h × k).
-        validate::allocatable::<f64>("horizon", validate::product("horizon", 2 * n, k)?)?;
+        // L (n × k) plus the weights W (h × k), named after the larger of the two sizes.
+        let name = if k >= horizon {
+            "calibration_length"
+        } else {
+            "horizon"
+        };
+        validate::allocatable::<f64>(
+            name,
+            validate::product(name, validate::product(name, 2, n)?, k)?,
+        )?;
         let mut l = Mat::<f64>::zeros(n, k);
         let cond: Conditional = schur::condition(model, None, k, horizon, |i, col| {
             for (m, v) in col.iter().enumerate() {
@@ -284,6 +293,7 @@ impl Compiled {
         n_columns: usize,
         n_threads: usize,
     ) -> Result<BatchPrediction> {
+        validate::threads(n_threads)?;
         if n_columns != self.calibration_length {
             return Err(Error::ShapeMismatch {
                 name: "batch",

@@ -123,6 +123,15 @@ pub fn sections(len: usize, row_width: Option<usize>, k: usize, h: usize) -> Res
         .ok_or_else(|| Error::invalid("horizon", "calibration + horizon overflows"))?;
     match row_width {
         None => {
+            // A calibration or horizon longer than the log by itself names that argument.
+            for (name, size) in [("calibration", k), ("horizon", h)] {
+                if size >= len {
+                    return Err(Error::invalid(
+                        name,
+                        format!("must be shorter than the log ({len} samples), got {size} samples"),
+                    ));
+                }
+            }
             let count = len / width;
             if count == 0 {
                 return Err(Error::TooShort {
@@ -258,6 +267,7 @@ pub fn evaluate(
     model: &Model,
     n_threads: usize,
 ) -> Result<Vec<Scores>> {
+    validate::threads(n_threads)?;
     let count = sections(log.len(), row_width, k, h)?;
     let width = k + h;
     let used = &log[..count * width];
@@ -366,6 +376,8 @@ pub fn bootstrap_ratio(
     if n < MIN_BOOTSTRAP_SECTIONS {
         return Ok((value, f64::NAN));
     }
+    // One ratio kept per resample: the count is the caller's, so it is checked before use.
+    validate::allocatable::<f64>("resamples", resamples)?;
     let mut rng = NormalStream::new(seed);
     let mut idx = vec![0_usize; n];
     let mut ratios = Vec::with_capacity(resamples);

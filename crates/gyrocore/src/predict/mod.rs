@@ -293,6 +293,7 @@ pub fn fractional_kalman_rows(
     algorithm: Algorithm,
     n_threads: usize,
 ) -> Result<BatchPrediction> {
+    validate::threads(n_threads)?;
     let rows = batch::check_rows("calibration", data, k)?;
     check_window(&data[..k], horizon)?;
     validate::allocatable::<f64>("horizon", validate::product("horizon", rows, horizon)?)?;

@@ -65,7 +65,16 @@ pub fn welch(
             format!("must be >= 2, got {nperseg}"),
         ));
     }
-    validate::min_len("x", x.len(), nperseg)?;
+    if nperseg > x.len() {
+        return Err(Error::invalid(
+            "nperseg",
+            format!(
+                "must be at most the length of x ({} samples), got {nperseg} (x is too short: \
+                 {nperseg} samples needed)",
+                x.len()
+            ),
+        ));
+    }
     if noverlap >= nperseg {
         return Err(Error::invalid(
             "noverlap",
@@ -123,6 +132,15 @@ pub fn welch(
             p * scale * one_sided
         })
         .collect();
+    if psd.iter().any(|p| !p.is_finite()) {
+        // |X|² of data near 1e154 and above (or at a tiny fs) leaves float64: refused with
+        // the reason rather than returned as inf
+        return Err(Error::invalid(
+            "x",
+            "gives a power spectral density beyond float64's range (data of this magnitude \
+             square to more than 1.8e308): rescale the data (another unit)",
+        ));
+    }
     let freqs = (0..nbins).map(|k| k as f64 * fs / nperseg as f64).collect();
     Ok((freqs, psd))
 }
