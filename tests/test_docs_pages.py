@@ -168,9 +168,7 @@ def test_readme_first_command_is_what_ci_runs_first() -> None:
     ci = [ln.strip() for ln in (ROOT / ".ci" / "run").read_text(encoding="utf-8").splitlines()]
     runs = [i for i, ln in enumerate(ci) if ln == "bash scripts/first-command"]
     assert len(runs) == 1, "the README's first command is not run by .ci/run"
-    later = [
-        i for i, ln in enumerate(ci) if ln.startswith(("step \"cargo", "make wheel", "cargo "))
-    ]
+    later = [i for i, ln in enumerate(ci) if ln.startswith(('step "cargo', "make wheel", "cargo "))]
     assert later and runs[0] < min(later)
     # scripts/first-command: a fresh clone and venv, the extracted command, nothing exported.
     runner = (ROOT / "scripts" / "first-command").read_text(encoding="utf-8")

@@ -15,6 +15,7 @@ from gyrobias._core import noise as noise
 from gyrobias._core import predict as predict
 from gyrobias._core import random as random
 from gyrobias._core import spectral as spectral
+from gyrobias._core import stationarity as stationarity
 from gyrobias._core import stats as stats
 from gyrobias._core import thermal as thermal
 from gyrobias._core import timestamps as timestamps
