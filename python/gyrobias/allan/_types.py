@@ -8,6 +8,7 @@ types are registered by :mod:`gyrobias.plotting`.
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any, Literal, overload
@@ -466,6 +467,16 @@ def _seconds(t: float) -> str:
     return f"{t:.6g}"
 
 
+def _offset(value: Any) -> float:
+    """A time offset: a finite real number of seconds (``ValueError``/``TypeError`` naming it)."""
+    from gyrobias._validation import real
+
+    offset = real("offset_s", value)
+    if not math.isfinite(offset):
+        raise ValueError(f"offset_s must be finite, got {offset}")
+    return offset
+
+
 def _span(seconds: float) -> str:
     if seconds >= 7200.0:
         return f"{seconds / 3600.0:.3g} h"
@@ -530,6 +541,7 @@ class Disturbance:
 
     def shifted(self, offset_s: float) -> Disturbance:
         """The same disturbance with its times ``offset_s`` later (e.g. in the log as read)."""
+        offset_s = _offset(offset_s)
         return replace(
             self,
             start_s=self.start_s + offset_s,
@@ -668,6 +680,7 @@ class Stationarity:
 
     def shifted(self, offset_s: float) -> Stationarity:
         """Times ``offset_s`` later: in the log as read, for data selected from it."""
+        offset_s = _offset(offset_s)
         return replace(
             self,
             disturbances=tuple(d.shifted(offset_s) for d in self.disturbances),
