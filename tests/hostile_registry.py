@@ -66,7 +66,18 @@ REGISTRY: dict[str, str] = {
     "allan.AllanResult.__init__": "taus:field avar:field n_terms:field fs:field data_type:field "
     "kind:field overlapping:field unit:field confidence:field edf:field alpha:field "
     "ci_low:field ci_high:field axis:field noise_type:field factors:field deviation:field "
-    "lines:field",
+    "lines:field stationarity:field",
+    "allan.Disturbance.__init__": "kind:field start_s:field stop_s:field at_s:field size:field "
+    "unit:field z:field threshold:field block_s:field",
+    "allan.Disturbance.describe": "",
+    "allan.Disturbance.shifted": "offset_s:real",
+    "allan.Disturbance.to_dict": "",
+    "allan.Stationarity.__init__": "disturbances:field checked:field n_samples:field fs:field "
+    "quiet_s:field axis:field unit:field total_s:field",
+    "allan.Stationarity.advice": "",
+    "allan.Stationarity.shifted": "offset_s:real",
+    "allan.Stationarity.to_dict": "",
+    "allan.stationarity": "data:array fs:pos units:unit? axis_names:text?",
     "allan.AllanResult.plot": "ax:object? label:text? fit:object? kwargs:forwarded",
     "allan.AllanResult.table": "",
     "allan.AllanResult.to_dict": "",

@@ -154,6 +154,15 @@ BASE: dict[str, Callable[[], tuple[Callable[..., Any], dict[str, Any]]]] = {
         allan.dynamic_adev,
         {"data": FX.rate, "fs": 100.0, "window": 1000, "step": 500},
     ),
+    "allan.stationarity": lambda: (allan.stationarity, {"data": FX.rate, "fs": 100.0}),
+    "allan.Disturbance.shifted": lambda: (
+        allan.Disturbance("step", 1.0, 2.0, 1.5, 0.8, "deg/s", 100.0, 7.0, 0.5).shifted,
+        {"offset_s": 10.0},
+    ),
+    "allan.Stationarity.shifted": lambda: (
+        allan.stationarity(FX.rate, 100.0).shifted,
+        {"offset_s": 10.0},
+    ),
     "codegen.emit_fir": lambda: (
         gyrobias.codegen.emit_fir,
         {"f": FX.lowpass, "path": _tmp() / "cfir"},

@@ -76,6 +76,10 @@ def _analyse(
             out.append(ChannelReport(name, unit, None, errors=(f"Allan analysis failed: {exc}",)))
             continue
         assert not isinstance(r, tuple)
+        check = r.stationarity
+        if check is not None and log.selection is not None and log.selection.start_s:
+            # times in the log as read (the fit's warnings repeat them)
+            object.__setattr__(r, "stationarity", check.shifted(log.selection.start_s))
         fit = cons = None
         try:
             fit = noise.fit(r, method=method, bound_confidence=bound_confidence, **fit_options)
@@ -292,6 +296,14 @@ def _channel_section(ch: ChannelReport, index: int) -> str:
     parts = [
         f'<section class="channel" id="ch{index}"><h2>{_e(ch.name)} ({_e(sensor)}{_e(unit)})</h2>'
     ]
+    check = ch.allan.stationarity if ch.allan is not None else None
+    not_static = check.warnings if check is not None else ()
+    if not_static:
+        parts.append(
+            '<ul class="warnings not-static">'
+            + "".join(f"<li><strong>Not a static log.</strong> {_e(w)}</li>" for w in not_static)
+            + "</ul>"
+        )
     if ch.allan is not None and not np.any(np.asarray(ch.allan.avar) > 0.0):
         parts.append(
             '<p class="error">No plot: the Allan deviation is zero at every τ (constant data).</p>'
@@ -310,6 +322,7 @@ def _channel_section(ch: ChannelReport, index: int) -> str:
             parts.append(f'<p class="error">No plot: {_e(exc)}</p>')
     if ch.fit is not None:
         quality, warnings = _fit_quality(ch.fit)
+        warnings = [w for w in warnings if w not in not_static]  # shown above
         parts.append(f"<h3>Noise coefficients (IEEE 952)</h3><p>{_e(quality)}</p>")
         parts.append(_coefficient_table(ch.fit))
         if warnings:

@@ -153,6 +153,11 @@ fn to_dict(py: Python<'_>, r: allan::AllanAnalysis) -> PyResult<Bound<'_, PyDict
         d.set_item("deviation_low", low.into_pyarray(py))?;
         d.set_item("deviation_high", high.into_pyarray(py))?;
     }
+    if let Some(b) = r.blocks {
+        d.set_item("block_means", b.means.into_pyarray(py))?;
+        d.set_item("block_length", b.length)?;
+        d.set_item("block_samples", b.n)?;
+    }
     Ok(d)
 }
 

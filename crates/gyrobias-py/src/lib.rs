@@ -30,6 +30,7 @@ mod noise;
 mod predict;
 mod random;
 mod spectral;
+mod stationarity;
 mod stats;
 mod text;
 mod thermal;
@@ -95,6 +96,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     submodule(m, "stats", stats::register)?;
     submodule(m, "fleet", fleet::register)?;
     submodule(m, "timestamps", timestamps::register)?;
+    submodule(m, "stationarity", stationarity::register)?;
     submodule(m, "random", random::register)?;
     submodule(m, "validate", validate::register)?;
     submodule(m, "bags", bags::register)?;

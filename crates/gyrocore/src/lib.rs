@@ -18,6 +18,7 @@
 //! | [`kalman`] | fixed-gain 2-state [rate, bias] Kalman filter: steady-state gain, discrete fixed-gain form, bandwidth design, streaming | \[NR\] eqs. 4–18, SPEC §6 |
 //! | [`stats`] | chi-square quantiles and the special functions behind them | — |
 //! | [`fleet`] | robust z-scores of a unit within its fleet, weighted χ² homogeneity test and Birge ratio | Rousseeuw & Croux (1993), Birge (1932) |
+//! | [`stationarity`] | is a log static: rate steps, motion segments and warm-up trends against the record's own noise at several scales | Hampel (1974) |
 //! | [`timestamps`] | sampling analysis of a log's timestamps: rate, jitter, gaps, repeated and out-of-order stamps, gap filling | — |
 //! | [`bags`] | bulk decoding of `sensor_msgs/Imu` from ROS1 bag chunks, MCAP chunks and CDR messages | REP 103, ROS bag format 2.0, MCAP spec, OMG CDR |
 //! | [`cleaning`] | outlier removal by the robust (MAD) z-score, least-squares drift removal (Legendre basis), min/max envelope of long logs | NIST SP 1065 §6.2, Stable32 |
@@ -43,6 +44,7 @@ pub mod predict;
 pub mod random;
 pub mod simd;
 pub mod spectral;
+pub mod stationarity;
 pub mod stats;
 pub mod text;
 pub mod thermal;

@@ -17,6 +17,7 @@ from gyrobias._core import noise as noise
 from gyrobias._core import predict as predict
 from gyrobias._core import random as random
 from gyrobias._core import spectral as spectral
+from gyrobias._core import stationarity as stationarity
 from gyrobias._core import stats as stats
 from gyrobias._core import text as text
 from gyrobias._core import thermal as thermal

@@ -33,6 +33,11 @@ class Analysis(TypedDict):
     high: NotRequired[NDArray[np.float64]]
     deviation_low: NotRequired[NDArray[np.float64]]
     deviation_high: NotRequired[NDArray[np.float64]]
+    # the stationarity check's block means (gyrocore::stationarity), not from the gap-aware
+    # or out-of-core kernels
+    block_means: NotRequired[NDArray[np.float64]]
+    block_length: NotRequired[int]
+    block_samples: NotRequired[int]
 
 def analyse(
     data: NDArray[np.float64],

@@ -44,11 +44,11 @@ from numpy.typing import ArrayLike, NDArray
 from gyrobias import _core
 from gyrobias._line_detection import detect_lines
 from gyrobias._spectral_lines import MIN_SAMPLES, SpectralLine
-from gyrobias._validation import as_float_array, asarray, callback, choice, string
+from gyrobias._validation import as_float_array, asarray, callback, choice, sample_rate, string
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias.allan import stream as _stream
 from gyrobias.allan._options import _axis_units, _options
-from gyrobias.allan._types import AllanResult, Kind
+from gyrobias.allan._types import AllanResult, Kind, Stationarity
 from gyrobias.allan.family import _analyse_family
 from gyrobias.units import checked_units
 
@@ -603,3 +603,62 @@ def totdev(
         progress,
         gaps,
     )
+
+
+def stationarity(
+    data: ArrayLike,
+    fs: float,
+    *,
+    units: str | None = None,
+    axis_names: Sequence[str] | None = None,
+) -> Stationarity | tuple[Stationarity, ...]:
+    """Is a rate log static? Steps, motion segments and warm-up trends beyond its own noise.
+
+    The check behind :attr:`AllanResult.stationarity`, on samples (one pass over them, in the
+    core: ``gyrocore::stationarity``; NaN samples are skipped). See :class:`Stationarity` for
+    the test and its threshold.
+
+    Parameters
+    ----------
+    data : array_like, shape (n,) or (n, axes)
+        Rate samples (a memory-mapped array is read in place).
+    fs : float
+        Sample rate in Hz.
+    units : str, optional
+        Rate unit, for the messages.
+    axis_names : sequence of str, optional
+        One name per column.
+
+    Returns
+    -------
+    Stationarity or tuple of Stationarity
+        One per column (a 1-D input gives one).
+
+    Raises
+    ------
+    ValueError, TypeError
+        Data that are not a 1-D or 2-D numeric array, ``fs`` not finite and > 0, an unknown
+        unit, a wrong number of axis names.
+
+    Examples
+    --------
+    >>> import numpy as np, gyrobias
+    >>> rate = gyrobias.noise.simulate(360_000, 100.0, arw=0.2 / 60, seed=1)  # 1 h, deg/s
+    >>> rate[180_000:183_000] += 10.0  # a 30 s rotation at 10 deg/s in the middle
+    >>> check = gyrobias.allan.stationarity(rate, 100.0, units="deg/s")
+    >>> check.static, [d.kind for d in check.disturbances]
+    (False, ['segment'])
+    >>> print(check.disturbances[0])  # located to a block (0.88 s) each side
+    motion or disturbance from 1798.72 s to 1831.28 s (rate off its level by up to +10 deg/s)
+    """
+    arr = as_float_array("data", data, ndims=(1, 2))
+    fs = sample_rate(fs)
+    units = checked_units("units", units)
+    matrix = arr.reshape(-1, 1) if arr.ndim == 1 else arr
+    check_axis_names(axis_names, matrix.shape[1])
+    raws = _core.stationarity.check_matrix(matrix)
+    out = tuple(
+        Stationarity._from_core(raw, fs, None if axis_names is None else str(axis_names[i]), units)
+        for i, raw in enumerate(raws)
+    )
+    return out[0] if arr.ndim == 1 else out

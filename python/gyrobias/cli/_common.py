@@ -24,6 +24,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -42,6 +43,7 @@ __all__ = [
     "clean_log",
     "cleaning_options",
     "load_options",
+    "not_static_warnings",
     "progress_bar",
     "read_log",
     "require_fs",
@@ -428,3 +430,25 @@ def selection_note(log: io.GyroLog) -> str | None:
     """``"τ computed on 0.5–2.3 h of 2.8 h (samples 18000–82800 of 100800)"`` after
     ``--start``/``--stop``, else ``None``."""
     return None if log.selection is None else f"τ computed on {log.selection}"
+
+
+def not_static_warnings(log: io.GyroLog, results: Sequence[Any]) -> list[Any]:
+    """Each result's stationarity check (times in the log as read, also after ``--start``:
+    the results' checks are moved there), with a stderr warning for each axis that is not
+    static; ``None`` where there is no check."""
+    offset = 0.0
+    if log.selection is not None and log.selection.start_s is not None:
+        offset = log.selection.start_s
+    checks = []
+    for r in results:
+        check = getattr(r, "stationarity", None)
+        if check is not None and offset:
+            check = check.shifted(offset)
+            # the command's own result, placed in the log as read: the fit's warnings then
+            # give the same times as this one
+            object.__setattr__(r, "stationarity", check)
+        checks.append(check)
+        if check is not None:
+            for w in check.warnings:
+                warn(w)
+    return checks

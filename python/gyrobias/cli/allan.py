@@ -28,6 +28,7 @@ from gyrobias.cli._common import (
     add_read_arguments,
     clean_log,
     describe_source,
+    not_static_warnings,
     read_log,
     require_fs,
     selection_note,
@@ -225,6 +226,8 @@ def run(args: argparse.Namespace) -> int:
         )
         print(r.table())
 
+    checks = not_static_warnings(log, results)
+
     noise_cli.run_fit(args, results)
 
     if args.json is not None:
@@ -248,6 +251,7 @@ def run(args: argparse.Namespace) -> int:
             "fit_options": _fit_options_json(args),
             "timing_s": {"read": t_read, "analysis": t_run},
             "axes": [r.to_dict() for r in results],
+            "stationarity": [None if c is None else c.to_dict() for c in checks],
         }
         if args.noise_coefficients:
             doc["noise_coefficients"] = [c.to_dict() for c in args.noise_coefficients]

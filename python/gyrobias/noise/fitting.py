@@ -4,6 +4,7 @@ the IEEE read-off (:func:`fit`), and the Gauss–Markov Allan variance."""
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import replace
 from typing import TYPE_CHECKING, Any, overload
 
 import numpy as np
@@ -534,7 +535,7 @@ def fit(
             [],
             sum(v > 0.0 for v in read),
         )
-    return NoiseCoefficients._from_core(
+    coefficients = NoiseCoefficients._from_core(
         raw,
         diagnostics_raw,
         taus,
@@ -548,3 +549,14 @@ def fit(
         detected=detected if method == "joint" else (),
         line_uncertainties=held_uncertainty if method == "joint" else (),
     )
+    return _with_stationarity(coefficients, result)
+
+
+def _with_stationarity(c: NoiseCoefficients, result: AllanResult) -> NoiseCoefficients:
+    """The fit with the Allan result's not-static warnings first in its diagnostics (a step,
+    a motion or a warm-up makes the Allan curve describe that event, not the sensor's noise)."""
+    check = result.stationarity
+    if check is None or check.static or c.diagnostics is None:
+        return c
+    d = c.diagnostics
+    return replace(c, diagnostics=replace(d, warnings=(*check.warnings, *d.warnings)))

@@ -351,7 +351,7 @@ impl<'a> Column<'a> {
 
     /// Sample `i` (no bounds beyond the slice's own).
     #[inline]
-    fn get(&self, i: usize) -> f64 {
+    pub(crate) fn get(&self, i: usize) -> f64 {
         self.data[self.offset + i * self.stride]
     }
 }
@@ -732,6 +732,7 @@ fn unscale(
         confidence,
         deviation,
         deviation_bounds,
+        blocks: None,
     }
 }
 
@@ -968,6 +969,9 @@ pub struct AllanAnalysis {
     pub deviation: Vec<f64>,
     /// Confidence bounds `(low, high)` of the deviation, when asked for (as [`Self::deviation`]).
     pub deviation_bounds: Option<(Vec<f64>, Vec<f64>)>,
+    /// Block means of the rate for the stationarity check
+    /// ([`crate::stationarity::check`]); `None` from the gap-aware and out-of-core kernels.
+    pub blocks: Option<crate::stationarity::BlockMeans>,
 }
 
 /// Where the averaging factors come from.
@@ -1263,7 +1267,10 @@ pub fn analyse_column(
         None => None,
     };
     let k = k + period_correction(config.data_type, e, false);
-    Ok(unscale(ms, &variance, n_terms, confidence, k))
+    let mut result = unscale(ms, &variance, n_terms, confidence, k);
+    // The block means of the stationarity check, read off the angle series: O(4096).
+    result.blocks = Some(crate::stationarity::block_means_from_angle(x, t0, k));
+    Ok(result)
 }
 
 /// [`analyse`] for every column of a row-major (samples × axes) buffer, axes in parallel.
