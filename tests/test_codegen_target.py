@@ -21,7 +21,8 @@ semihosting) and run under ``qemu-system-arm`` (see ``tests/_target_harness.py``
 
 Images are built once per session, two at a time (2 cores), each running all its jobs in one
 emulator run. Skipped when the cross toolchain or QEMU is missing, unless
-``GYROBIAS_REQUIRE_CORTEX_M=1`` (CI sets it: there a missing tool is a failure).
+``GYROBIAS_REQUIRE_CORTEX_M=1`` (then a missing tool is a failure; `.ci/run` instead installs
+the tools and fails if it cannot, so the tests run there).
 """
 
 from __future__ import annotations
