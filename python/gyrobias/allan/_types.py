@@ -312,6 +312,29 @@ class AllanResult:
             out["noise_type"] = list(self.noise_type)
         return out
 
+    def in_log_time(self, offset_s: float) -> AllanResult:
+        """The same result with its times in the log as read, for data selected from a log.
+
+        The stationarity check (:attr:`stationarity`) counts time from the first sample of the
+        data analysed; for ``log.select(start=...)`` that is ``offset_s`` =
+        ``log.selection.start_s`` seconds into the log as read, where its advice
+        (``--start``/``--stop``, ``select(...)``) must point. ``gyrobias allan --start`` and the
+        explorer place their results this way. Returns a shallow copy; ``self`` is unchanged.
+
+        >>> import numpy as np
+        >>> from gyrobias import allan
+        >>> r = allan.adev(np.random.default_rng(0).normal(size=40_000), 100.0)
+        >>> r.in_log_time(60.0).stationarity.total_s - r.stationarity.total_s
+        60.0
+        """
+        import copy
+
+        out = copy.copy(self)
+        check = self.stationarity
+        if check is not None and offset_s:
+            object.__setattr__(out, "stationarity", check.shifted(offset_s))
+        return out
+
     def to_json(self, **kwargs: Any) -> str:
         """:meth:`to_dict` as a JSON string."""
         return json.dumps(self.to_dict(), **kwargs)

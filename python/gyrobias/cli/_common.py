@@ -24,7 +24,6 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -432,7 +431,7 @@ def selection_note(log: io.GyroLog) -> str | None:
     return None if log.selection is None else f"τ computed on {log.selection}"
 
 
-def not_static_warnings(log: io.GyroLog, results: Sequence[Any]) -> list[Any]:
+def not_static_warnings(log: io.GyroLog, results: list[Any]) -> list[Any]:
     """Each result's stationarity check (times in the log as read, also after ``--start``:
     the results' checks are moved there), with a stderr warning for each axis that is not
     static; ``None`` where there is no check."""
@@ -440,13 +439,12 @@ def not_static_warnings(log: io.GyroLog, results: Sequence[Any]) -> list[Any]:
     if log.selection is not None and log.selection.start_s is not None:
         offset = log.selection.start_s
     checks = []
-    for r in results:
-        check = getattr(r, "stationarity", None)
-        if check is not None and offset:
-            check = check.shifted(offset)
+    for i, r in enumerate(results):
+        if offset and getattr(r, "stationarity", None) is not None:
             # the command's own result, placed in the log as read: the fit's warnings then
             # give the same times as this one
-            object.__setattr__(r, "stationarity", check)
+            r = results[i] = r.in_log_time(offset)
+        check = getattr(r, "stationarity", None)
         checks.append(check)
         if check is not None:
             for w in check.warnings:

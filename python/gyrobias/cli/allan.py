@@ -202,7 +202,7 @@ def run(args: argparse.Namespace) -> int:
     finally:
         if bar is not None:
             bar.close()
-    results = tuple(by_column[c] for c in range(len(log.columns)))
+    results = [by_column[c] for c in range(len(log.columns))]
     t_run = time.perf_counter() - t_run
     args.rostopic = log.topic
 

@@ -435,6 +435,11 @@ class Session:
             lambda: self._deviation(s.deviation),
         )
 
+    def _selection_start_s(self) -> float:
+        """Seconds from the log's start to the selection's first sample (0 without one)."""
+        sel = self.selection().selection
+        return 0.0 if sel is None or sel.start_s is None else float(sel.start_s)
+
     def _deviation(self, kind: str) -> tuple[Any, ...]:
 
         from gyrobias import allan, noise
@@ -462,7 +467,12 @@ class Session:
             if kind == "adev":
                 kw["taus"] = "octave"
             out = getattr(allan, kind)(data, self.fs, **kw)
-            return tuple(out) if isinstance(out, tuple) else (out,)
+            results = tuple(out) if isinstance(out, tuple) else (out,)
+            offset = self._selection_start_s()
+            if offset:
+                # times in the log as read, as `gyrobias allan --start` gives them
+                results = tuple(r.in_log_time(offset) for r in results)
+            return results
         if gaps:
             raise ValueError(
                 "the wavelet variance needs contiguous samples: switch the outlier "
@@ -629,6 +639,11 @@ class Session:
                 f'    results = allan.adev(data[:, cols], log.fs, taus="octave", '
                 f"confidence={CONFIDENCE!r}, units=unit, axis_names=names{gaps})"
             )
+            if s.start is not None:
+                lines.append("    # times (the stationarity advice) in the log as read")
+                lines.append(
+                    "    results = [r.in_log_time(log.selection.start_s) for r in results]"
+                )
             extra = "".join(f", {k}={v!r}" for k, v in self.fit_options().items())
             lines.append(
                 f"    fits += noise.fit(results, method={s.method!r}, "
