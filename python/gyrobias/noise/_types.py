@@ -1016,8 +1016,10 @@ class NoiseCoefficients:
         For the read-off, the model is built from the identified coefficients (missing terms
         count as zero). When the fit modelled a sensor filter
         (:attr:`FitDiagnostics.filter_correlation_time`), the total includes its
-        ``−3N²τ_c/τ²`` (it has no asymptote of its own in ``parts``; below τ = 3τ_c, inside
-        the filter's length where that law has no meaning, the total is 0).
+        ``−3N²τ_c/τ²`` (it has no asymptote of its own in ``parts``); below τ = 3τ_c, inside
+        the filter's length where that law has no meaning, the total is NaN, so a plotted
+        model line stops where the model stops being valid (matplotlib and Bokeh leave a gap
+        at NaN) instead of plunging towards zero.
         """
         # τ finite and > 0 (the curves have no value at τ ≤ 0): the core's check
         t = as_float_array("taus", np.atleast_1d(asarray("taus", taus)), ndims=(1,))
