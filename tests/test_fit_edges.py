@@ -146,3 +146,50 @@ def test_the_gallery_fit_figure_does_not_plunge(monkeypatch: pytest.MonkeyPatch)
         assert ns["good"].diagnostics.filter_correlation_time is not None
     finally:
         plt.close("all")
+
+
+def _with_line(f: float) -> np.ndarray:
+    rate = _log(1, MA4)
+    return rate + 0.01 * np.sin(2 * np.pi * f * np.arange(rate.size) / FS)
+
+
+def _check_line_band(c: noise.NoiseCoefficients, taus: np.ndarray, f: float) -> None:
+    # Band where the line's Allan bump A²/2·sin⁴(πfτ)/(πfτ)² is above half its peak, solved here.
+    x = np.linspace(0.01, 0.99, 200_001)
+    g = np.sin(np.pi * x) ** 4 / (np.pi * x) ** 2
+    inside = x[g >= g.max() / 2]
+    lo_band, hi_band = inside[0] / f, inside[-1] / f
+    assert c.diagnostics is not None
+    ex = c.diagnostics.excluded
+    line = [e for e in ex if e[2].startswith(f"σ shaped by the spectral line at {f:.4g} Hz")]
+    assert len(line) == 1, ex
+    assert lo_band * 0.999 <= line[0][0] <= line[0][1] <= hi_band * 1.001, (line, lo_band, hi_band)
+    # No other reason covers a τ point of the band (the filter's run used to swallow it).
+    band_pts = taus[(taus >= lo_band) & (taus <= hi_band)]
+    for a, b, r in ex:
+        if r != line[0][2]:
+            assert not np.any((band_pts >= a) & (band_pts <= b)), (a, b, r)
+
+
+@pytest.mark.parametrize("lines", ["auto", None, "explicit"])
+def test_a_line_band_is_excluded_under_the_line_reason(lines: str | None) -> None:
+    # A 5 Hz line (bump at τ ≈ 0.074 s) on a log through a 4-tap moving average: the automatic
+    # range drops the short τ as the filter's transition, and the line's band with them.
+    f = 5.0
+    a = gyrobias.allan.avar(_with_line(f), FS, units="deg/s")
+    assert [round(x.frequency, 3) for x in a.lines] == [f]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        c = noise.fit(a, terms=("N", "B", "K"), lines=[f] if lines == "explicit" else lines)
+    _check_line_band(c, np.asarray(a.taus), f)
+
+
+def test_gmwm_excludes_a_line_band_under_the_line_reason() -> None:
+    f = 10.0
+    rate = _with_line(f)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        c = noise.gmwm(rate, FS, terms=("N", "B", "K"), units="deg/s")
+    assert c.diagnostics is not None
+    taus = np.asarray(gyrobias.allan.avar(rate, FS, units="deg/s").taus)
+    _check_line_band(c, taus, f)
