@@ -270,6 +270,55 @@ pub fn model_with_lines(
             .sum::<f64>()
 }
 
+/// Where a point lies against the model, for an exclusion's reason: `σ² − model` at `tau`.
+/// Below 3τ_c a modelled filter's `N²/τ·(1 − 3τ_c/τ)` is negative and has no meaning (module
+/// docs, "Sensor filter"); there the model without the filter's `1/τ²` term is the reference,
+/// the white-noise line the filter bends the curve below.
+pub(crate) fn side(
+    variance: f64,
+    c: &[f64; 5],
+    gm: &[(f64, f64)],
+    lines: &[(f64, f64)],
+    t0: f64,
+    tau: f64,
+) -> f64 {
+    let mut c = *c;
+    if c[0] < 0.0 && c[1] * tau + 3.0 * c[0] < 0.0 {
+        c[0] = 0.0;
+    }
+    variance - model_with_lines(&c, gm, lines, t0, tau)
+}
+
+/// The sides of the used points for [`trim_ends`]' reason: the standardised residuals `z`,
+/// except where a modelled filter's law is invalid (τ < 3τ_c, see [`side`]), where the point
+/// counts as departing (±∞) on its side of the model without the filter term.
+pub(crate) fn sides(
+    curve: &Curve<'_>,
+    used: &[usize],
+    c: &[f64; 5],
+    gm: &[(f64, f64)],
+    lines: &[(f64, f64)],
+    z: &[f64],
+) -> Vec<f64> {
+    let t0 = curve_t0(curve);
+    used.iter()
+        .zip(z)
+        .map(|(&i, &v)| {
+            let tau = curve.taus[i];
+            if c[0] < 0.0 && c[1] * tau + 3.0 * c[0] < 0.0 {
+                let d = side(curve.variance[i], c, gm, lines, t0, tau);
+                if d > 0.0 {
+                    f64::INFINITY
+                } else {
+                    f64::NEG_INFINITY
+                }
+            } else {
+                v
+            }
+        })
+        .collect()
+}
+
 /// Digamma ψ(x) for x > 0 (recurrence to x ≥ 6, then the asymptotic series; error < 1e-13).
 pub(crate) fn digamma(mut x: f64) -> f64 {
     let mut acc = 0.0;
@@ -1269,7 +1318,8 @@ pub(crate) fn exclude(list: &mut Vec<(f64, f64, String)>, lo: f64, hi: f64, reas
 }
 
 /// One step of the automatic τ-range selection shared by the joint fit and GMWM: drops the
-/// `lead` shortest used points (filtered first scales, [`SHORT_REASON`]) or else the trailing
+/// `lead` shortest used points (filtered first scales, [`SHORT_REASON`] or its siblings, from
+/// `sides`: [`sides`] of the used points) or else the trailing
 /// run of standardised residuals `z` above +2 (drift, [`LONG_REASON`]), as long as `min_keep`
 /// points remain; records the excluded τ band. Returns `false` when nothing could be dropped.
 pub(crate) fn trim_ends(
@@ -1279,10 +1329,11 @@ pub(crate) fn trim_ends(
     z: &[f64],
     lead: usize,
     min_keep: usize,
+    sides: &[f64],
 ) -> bool {
     let trail = z.iter().rev().take_while(|v| **v > 2.0).count();
     if lead > 0 && used.len() - lead >= min_keep {
-        let (above, below) = departures(&z[..lead]);
+        let (above, below) = departures(&sides[..lead]);
         exclude_short(excluded, taus[used[0]], taus[used[lead - 1]], above, below);
         used.drain(..lead);
     } else if trail > 0 && used.len() - trail >= min_keep {
@@ -1444,7 +1495,16 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
                 lead = transition(&z);
             }
             let first = used[0];
-            if !trim_ends(&mut used, &mut excluded, curve.taus, &z, lead, min_keep) {
+            let at = sides(curve, &used, &inner.c, &inner.gm, &inner.lines, &z);
+            if !trim_ends(
+                &mut used,
+                &mut excluded,
+                curve.taus,
+                &z,
+                lead,
+                min_keep,
+                &at,
+            ) {
                 break;
             }
             if used[0] != first && q == InverseSquare::Quantization {
@@ -1470,18 +1530,15 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
                     &mut CorrelationMemo::default(),
                 )?;
                 let i = used[0];
-                let mu = model_with_lines(
+                let r0 = side(
+                    curve.variance[i],
                     &inner.c,
                     &inner.gm,
                     &inner.lines,
                     curve_t0(curve),
                     curve.taus[i],
                 );
-                Some((
-                    inner.c[Term::AngleRandomWalk.index()],
-                    cov[(k, k)],
-                    curve.variance[i] - mu,
-                ))
+                Some((inner.c[Term::AngleRandomWalk.index()], cov[(k, k)], r0))
             };
             let before = used.len();
             hausman_trim(&mut used, &mut excluded, curve.taus, min_keep, white);
@@ -1878,6 +1935,31 @@ pub fn diagnose(
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn below_three_filter_times_the_side_is_against_the_white_line() {
+        // N² = 1e-4, a filter with τ_c = 0.01 s (3c_Q = −3N²τ_c): at τ = 0.01 s < 3τ_c the
+        // filtered model is negative (−0.02); a point at half the white line (0.005) lies below
+        // the model the user sees, not above the negative value.
+        let c = [-1e-6, 1e-4, 0.0, 0.0, 0.0];
+        assert!(model_with_lines(&c, &[], &[], 0.01, 0.01) < 0.0);
+        assert!(side(0.005, &c, &[], &[], 0.01, 0.01) < 0.0);
+        // Beyond 3τ_c the filter's law is the reference: N²/τ·(1 − 3τ_c/τ) at 0.1 s is 7e-4.
+        assert!((side(7e-4, &c, &[], &[], 0.01, 0.1)).abs() < 1e-15);
+        let taus = [0.01, 0.1];
+        let variance = [0.005, 1e-3];
+        let m = [1, 10];
+        let curve = Curve {
+            taus: &taus,
+            variance: &variance,
+            m: &m,
+            n_terms: &[100, 90],
+            overlapping: true,
+            edf: None,
+        };
+        let at = sides(&curve, &[0, 1], &c, &[], &[], &[5.0, 0.3]);
+        assert_eq!(at, [f64::NEG_INFINITY, 0.3]);
+    }
+
     #[test]
     fn short_exclusions_say_where_the_points_lay() {
         // Points that depart from the model say which side; points on it count only alone.

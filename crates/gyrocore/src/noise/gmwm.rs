@@ -703,7 +703,8 @@ fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result
             // leading run of negative residuals is excluded instead (while the test rejects).
             lead = z.iter().take(z.len() / 2).take_while(|v| **v < 0.0).count();
         }
-        if !trim_ends(&mut used, &mut excluded, full.taus, &z, lead, min_keep) {
+        let at = super::fit::sides(&full, &used, &inner.c, &inner.gm, &inner.lines, &z);
+        if !trim_ends(&mut used, &mut excluded, full.taus, &z, lead, min_keep, &at) {
             break;
         }
         seen |= signature;
@@ -721,14 +722,14 @@ fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result
                 .iter()
                 .position(|p| matches!(p, super::fit::Param::Linear(Term::AngleRandomWalk)))?;
             let cov = asymptotic_covariance(&curve, &inner, &l, &terms)?;
-            let r0 = curve.variance[0]
-                - super::fit::model_with_lines(
-                    &inner.c,
-                    &inner.gm,
-                    &inner.lines,
-                    super::fit::curve_t0(&curve),
-                    curve.taus[0],
-                );
+            let r0 = super::fit::side(
+                curve.variance[0],
+                &inner.c,
+                &inner.gm,
+                &inner.lines,
+                super::fit::curve_t0(&curve),
+                curve.taus[0],
+            );
             Some((inner.c[Term::AngleRandomWalk.index()], cov[(k, k)], r0))
         };
         super::fit::hausman_trim(&mut used, &mut excluded, full.taus, min_keep, white);
