@@ -531,7 +531,9 @@ class FitDiagnostics:
     tau_range : (float, float)
         τ range (s) of the points used.
     excluded : tuple of (float, float, str)
-        Excluded τ ranges (s) with the reason.
+        Excluded τ ranges (s) with the reason. Excluded points in a spectral line's τ band
+        (where its Allan-variance bump is above half its peak, ``0.182/f ≤ τ ≤ 0.581/f``; a
+        line of the data, modelled or not) carry the line's reason, whatever rule dropped them.
     warnings : tuple of str
         Plain sentences about anything to know before trusting the numbers.
     lines : tuple of SpectralLine
@@ -630,6 +632,72 @@ def _tau_span(a: float, b: float) -> str:
     """``a–b`` to 3 significant digits, or one value when both print the same (a single τ)."""
     lo, hi = f"{a:.3g}", f"{b:.3g}"
     return lo if lo == hi else f"{lo}–{hi}"
+
+
+#: A sinusoid's Allan variance ``A²/2·sin⁴(πfτ)/(πfτ)²`` (IEEE 952 C.1) is a bump that peaks at
+#: ``fτ = 0.371`` and stays above half its peak for ``0.182 ≤ fτ ≤ 0.581``: a line's τ band.
+_LINE_BAND = (0.1821198903, 0.5814472107)
+_EDF_REASON = "fewer than 3 equivalent degrees of freedom"
+
+
+def _line_reason(f: float) -> str:
+    return (
+        f"σ shaped by the spectral line at {f:.4g} Hz (its Allan-variance bump, above half its "
+        f"peak for τ = {_LINE_BAND[0] / f:.3g}–{_LINE_BAND[1] / f:.3g} s)"
+    )
+
+
+def _line_exclusions(
+    excluded: Sequence[tuple[float, float, str]],
+    taus: NDArray[np.float64],
+    frequencies: Iterable[float],
+) -> tuple[tuple[float, float, str], ...]:
+    """``excluded`` with the excluded τ points that lie in a spectral line's τ band (where its
+    Allan-variance bump is above half its peak, :data:`_LINE_BAND`) moved under the line's
+    reason: the automatic range selection sees a line's bump as a misfit at short τ (a filter's
+    transition) or long τ (drift), but the cause is the line, modelled or not. Ranges of too
+    few equivalent degrees of freedom keep their reason."""
+    freqs = sorted({float(f) for f in frequencies if f is not None and np.isfinite(f) and f > 0})
+    if not freqs or not excluded:
+        return tuple(excluded)
+    t = np.asarray(taus, dtype=np.float64)
+    out: list[tuple[float, float, str]] = []
+    moved: dict[float, list[float]] = {}
+    for a, b, r in excluded:
+        pts = t[(t >= a * (1 - 1e-9)) & (t <= b * (1 + 1e-9))]
+        if r == _EDF_REASON or pts.size == 0:
+            out.append((a, b, r))
+            continue
+        keep = np.ones(pts.size, dtype=bool)
+        for f in freqs:
+            band = keep & (pts >= _LINE_BAND[0] / f) & (pts <= _LINE_BAND[1] / f)
+            if band.any():
+                moved.setdefault(f, []).extend(pts[band].tolist())
+                keep &= ~band
+        if keep.all():
+            out.append((a, b, r))
+            continue
+        # the rest keeps its reason, one range per run of consecutive points (a range must
+        # not span the line's band)
+        edges = np.flatnonzero(np.diff(np.concatenate(([0], keep.astype(np.int8), [0]))))
+        for i, j in zip(edges[::2], edges[1::2]):
+            out.append((float(pts[i]), float(pts[j - 1]), r))
+    for f, p in moved.items():
+        out.append((min(p), max(p), _line_reason(f)))
+    return tuple(out)
+
+
+def _line_bands(
+    diagnostics: FitDiagnostics, taus: NDArray[np.float64], frequencies: Iterable[Any]
+) -> FitDiagnostics:
+    """The diagnostics with each spectral line's excluded τ points under the line's reason
+    (:func:`_line_exclusions`)."""
+    excluded = _line_exclusions(
+        diagnostics.excluded, taus, [f for f in frequencies if f is not None]
+    )
+    return (
+        diagnostics if excluded == diagnostics.excluded else replace(diagnostics, excluded=excluded)
+    )
 
 
 def _with_lines(
@@ -795,7 +863,15 @@ class NoiseCoefficients:
                 for k, g in enumerate(raw.get("gauss_markov", ()))
             ),
             diagnostics=_with_lines(
-                FitDiagnostics._from_core(diagnostics, taus), detected, method, sinusoids
+                _line_bands(
+                    FitDiagnostics._from_core(diagnostics, taus),
+                    taus,
+                    [w.frequency.value for w in sinusoids]
+                    + [x.frequency for x in (detected or getattr(allan, "lines", None) or ())],
+                ),
+                detected,
+                method,
+                sinusoids,
             ),
             sinusoids=sinusoids,
         )
@@ -1016,8 +1092,10 @@ class NoiseCoefficients:
         For the read-off, the model is built from the identified coefficients (missing terms
         count as zero). When the fit modelled a sensor filter
         (:attr:`FitDiagnostics.filter_correlation_time`), the total includes its
-        ``−3N²τ_c/τ²`` (it has no asymptote of its own in ``parts``; below τ = 3τ_c, inside
-        the filter's length where that law has no meaning, the total is 0).
+        ``−3N²τ_c/τ²`` (it has no asymptote of its own in ``parts``); below τ = 3τ_c, inside
+        the filter's length where that law has no meaning, the total is NaN, so a plotted
+        model line stops where the model stops being valid (matplotlib and Bokeh leave a gap
+        at NaN) instead of plunging towards zero.
         """
         # τ finite and > 0 (the curves have no value at τ ≤ 0): the core's check
         t = as_float_array("taus", np.atleast_1d(asarray("taus", taus)), ndims=(1,))

@@ -270,6 +270,55 @@ pub fn model_with_lines(
             .sum::<f64>()
 }
 
+/// Where a point lies against the model, for an exclusion's reason: `σ² − model` at `tau`.
+/// Below 3τ_c a modelled filter's `N²/τ·(1 − 3τ_c/τ)` is negative and has no meaning (module
+/// docs, "Sensor filter"); there the model without the filter's `1/τ²` term is the reference,
+/// the white-noise line the filter bends the curve below.
+pub(crate) fn side(
+    variance: f64,
+    c: &[f64; 5],
+    gm: &[(f64, f64)],
+    lines: &[(f64, f64)],
+    t0: f64,
+    tau: f64,
+) -> f64 {
+    let mut c = *c;
+    if c[0] < 0.0 && c[1] * tau + 3.0 * c[0] < 0.0 {
+        c[0] = 0.0;
+    }
+    variance - model_with_lines(&c, gm, lines, t0, tau)
+}
+
+/// The sides of the used points for [`trim_ends`]' reason: the standardised residuals `z`,
+/// except where a modelled filter's law is invalid (τ < 3τ_c, see [`side`]), where the point
+/// counts as departing (±∞) on its side of the model without the filter term.
+pub(crate) fn sides(
+    curve: &Curve<'_>,
+    used: &[usize],
+    c: &[f64; 5],
+    gm: &[(f64, f64)],
+    lines: &[(f64, f64)],
+    z: &[f64],
+) -> Vec<f64> {
+    let t0 = curve_t0(curve);
+    used.iter()
+        .zip(z)
+        .map(|(&i, &v)| {
+            let tau = curve.taus[i];
+            if c[0] < 0.0 && c[1] * tau + 3.0 * c[0] < 0.0 {
+                let d = side(curve.variance[i], c, gm, lines, t0, tau);
+                if d > 0.0 {
+                    f64::INFINITY
+                } else {
+                    f64::NEG_INFINITY
+                }
+            } else {
+                v
+            }
+        })
+        .collect()
+}
+
 /// Digamma ψ(x) for x > 0 (recurrence to x ≥ 6, then the asymptotic series; error < 1e-13).
 pub(crate) fn digamma(mut x: f64) -> f64 {
     let mut acc = 0.0;
@@ -1183,16 +1232,18 @@ pub(crate) fn gross(chi2: f64, dof: usize, z: &[f64]) -> bool {
 /// Nyquist: −2 % at m = 8). Under the law, dropping the first point changes the estimate of `N²`
 /// by `d` with `Var(d) = Var(N²_without) − Var(N²_with)` (Hausman, Econometrica 46 (1978) 1251,
 /// for an efficient estimator); while `|d| > 2√Var(d)` the first point is dropped. `white`
-/// returns `(c_N, Var c_N)` of a fit on the given points.
+/// returns `(c_N, Var c_N, r₀)` of a fit on the given points, `r₀` the first point's residual
+/// (σ² − model: the exclusion's reason says whether it lay above or below the model).
 pub(crate) fn hausman_trim(
     used: &mut Vec<usize>,
     excluded: &mut Vec<(f64, f64, String)>,
     taus: &[f64],
     min_keep: usize,
-    white: impl Fn(&[usize]) -> Option<(f64, f64)>,
+    white: impl Fn(&[usize]) -> Option<(f64, f64, f64)>,
 ) {
     while used.len() > min_keep {
-        let (Some((kept, v_kept)), Some((dropped, v_dropped))) = (white(used), white(&used[1..]))
+        let (Some((kept, v_kept, _)), Some((dropped, v_dropped, _))) =
+            (white(used), white(&used[1..]))
         else {
             return;
         };
@@ -1200,9 +1251,60 @@ pub(crate) fn hausman_trim(
         if !(var > 0.0 && (dropped - kept).abs() > 2.0 * var.sqrt()) {
             return;
         }
-        exclude(excluded, taus[used[0]], taus[used[0]], SHORT_REASON);
+        let above = white(used).is_some_and(|w| w.2 > 0.0);
+        exclude_short(excluded, taus[used[0]], taus[used[0]], above, !above);
         used.remove(0);
     }
+}
+
+/// Records shortest-τ points excluded as a filter's transition, with the reason that says where
+/// they lay: above the model, below it, or both (`above`/`below`: whether any of the new points
+/// did); merged with the shortest-τ band already excluded, whose reason then covers both.
+pub(crate) fn exclude_short(
+    list: &mut Vec<(f64, f64, String)>,
+    lo: f64,
+    hi: f64,
+    above: bool,
+    below: bool,
+) {
+    let (mut above, mut below) = (above, below);
+    if let Some(k) = list.iter().position(|e| is_short_reason(&e.2)) {
+        let e = list.remove(k);
+        above |= e.2 != SHORT_REASON;
+        below |= e.2 != SHORT_ABOVE_REASON;
+        exclude(list, e.0.min(lo), e.1.max(hi), short_reason(above, below));
+    } else {
+        exclude(list, lo, hi, short_reason(above, below));
+    }
+}
+
+/// Whether excluded points lay above and/or below the model, from their standardised residuals
+/// `z`: the points that depart from it (`|z| > 2`) say so; points on it (`|z| ≤ 2`, such as the
+/// first point of a [`leading_run`]) do not count, unless none departs, when the sign of their
+/// mean does.
+pub(crate) fn departures(z: &[f64]) -> (bool, bool) {
+    let above = z.iter().any(|v| *v > 2.0);
+    let below = z.iter().any(|v| *v < -2.0);
+    if above || below {
+        return (above, below);
+    }
+    let mean: f64 = z.iter().sum::<f64>();
+    (mean > 0.0, mean <= 0.0)
+}
+
+/// The reason for shortest-τ points excluded as a filter's transition, from whether they lay
+/// above and/or below the model.
+pub(crate) fn short_reason(above: bool, below: bool) -> &'static str {
+    match (above, below) {
+        (true, true) => SHORT_MIXED_REASON,
+        (true, false) => SHORT_ABOVE_REASON,
+        _ => SHORT_REASON,
+    }
+}
+
+/// Whether an exclusion reason is one of the shortest-τ (filter transition) reasons.
+pub(crate) fn is_short_reason(reason: &str) -> bool {
+    [SHORT_REASON, SHORT_ABOVE_REASON, SHORT_MIXED_REASON].contains(&reason)
 }
 
 /// Merges a newly excluded τ range into the list (adjacent ranges with the same reason join).
@@ -1216,7 +1318,8 @@ pub(crate) fn exclude(list: &mut Vec<(f64, f64, String)>, lo: f64, hi: f64, reas
 }
 
 /// One step of the automatic τ-range selection shared by the joint fit and GMWM: drops the
-/// `lead` shortest used points (filtered first scales, [`SHORT_REASON`]) or else the trailing
+/// `lead` shortest used points (filtered first scales, [`SHORT_REASON`] or its siblings, from
+/// `sides`: [`sides`] of the used points) or else the trailing
 /// run of standardised residuals `z` above +2 (drift, [`LONG_REASON`]), as long as `min_keep`
 /// points remain; records the excluded τ band. Returns `false` when nothing could be dropped.
 pub(crate) fn trim_ends(
@@ -1226,10 +1329,12 @@ pub(crate) fn trim_ends(
     z: &[f64],
     lead: usize,
     min_keep: usize,
+    sides: &[f64],
 ) -> bool {
     let trail = z.iter().rev().take_while(|v| **v > 2.0).count();
     if lead > 0 && used.len() - lead >= min_keep {
-        exclude(excluded, taus[used[0]], taus[used[lead - 1]], SHORT_REASON);
+        let (above, below) = departures(&sides[..lead]);
+        exclude_short(excluded, taus[used[0]], taus[used[lead - 1]], above, below);
         used.drain(..lead);
     } else if trail > 0 && used.len() - trail >= min_keep {
         let cut = used.len() - trail;
@@ -1248,6 +1353,12 @@ pub(crate) fn trim_ends(
 
 pub(crate) const SHORT_REASON: &str = "σ below the model at the shortest τ with correlated residuals \
                             (typically the sensor's anti-alias/decimation filter)";
+pub(crate) const SHORT_ABOVE_REASON: &str = "σ above the model at the shortest τ with correlated \
+                            residuals (a sensor filter's transition, or noise the requested terms do \
+                            not describe, such as quantisation)";
+pub(crate) const SHORT_MIXED_REASON: &str = "σ above and below the model at the shortest τ with \
+                            correlated residuals (typically the transition of the sensor's \
+                            anti-alias/decimation filter)";
 pub(crate) const LONG_REASON: &str = "σ above the model at the longest τ (drift or non-stationarity the \
                            requested terms do not describe)";
 pub(crate) const EDF_REASON: &str = "fewer than 3 equivalent degrees of freedom";
@@ -1384,7 +1495,16 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
                 lead = transition(&z);
             }
             let first = used[0];
-            if !trim_ends(&mut used, &mut excluded, curve.taus, &z, lead, min_keep) {
+            let at = sides(curve, &used, &inner.c, &inner.gm, &inner.lines, &z);
+            if !trim_ends(
+                &mut used,
+                &mut excluded,
+                curve.taus,
+                &z,
+                lead,
+                min_keep,
+                &at,
+            ) {
                 break;
             }
             if used[0] != first && q == InverseSquare::Quantization {
@@ -1395,7 +1515,7 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
             inner = refit(&used, &terms, q)?;
         }
         if q != InverseSquare::Quantization {
-            let white = |used: &[usize]| -> Option<(f64, f64)> {
+            let white = |used: &[usize]| -> Option<(f64, f64, f64)> {
                 let inner = refit(used, &terms, q).ok()?;
                 let params =
                     active_params(&terms, &inner.c, &inner.gm, &inner.lines, &inner.windows);
@@ -1409,7 +1529,16 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
                     &params,
                     &mut CorrelationMemo::default(),
                 )?;
-                Some((inner.c[Term::AngleRandomWalk.index()], cov[(k, k)]))
+                let i = used[0];
+                let r0 = side(
+                    curve.variance[i],
+                    &inner.c,
+                    &inner.gm,
+                    &inner.lines,
+                    curve_t0(curve),
+                    curve.taus[i],
+                );
+                Some((inner.c[Term::AngleRandomWalk.index()], cov[(k, k)], r0))
             };
             let before = used.len();
             hausman_trim(&mut used, &mut excluded, curve.taus, min_keep, white);
@@ -1807,6 +1936,60 @@ pub fn diagnose(
 #[cfg(test)]
 mod tests {
     #[test]
+    fn below_three_filter_times_the_side_is_against_the_white_line() {
+        // N² = 1e-4, a filter with τ_c = 0.01 s (3c_Q = −3N²τ_c): at τ = 0.01 s < 3τ_c the
+        // filtered model is negative (−0.02); a point at half the white line (0.005) lies below
+        // the model the user sees, not above the negative value.
+        let c = [-1e-6, 1e-4, 0.0, 0.0, 0.0];
+        assert!(model_with_lines(&c, &[], &[], 0.01, 0.01) < 0.0);
+        assert!(side(0.005, &c, &[], &[], 0.01, 0.01) < 0.0);
+        // Beyond 3τ_c the filter's law is the reference: N²/τ·(1 − 3τ_c/τ) at 0.1 s is 7e-4.
+        assert!((side(7e-4, &c, &[], &[], 0.01, 0.1)).abs() < 1e-15);
+        let taus = [0.01, 0.1];
+        let variance = [0.005, 1e-3];
+        let m = [1, 10];
+        let curve = Curve {
+            taus: &taus,
+            variance: &variance,
+            m: &m,
+            n_terms: &[100, 90],
+            overlapping: true,
+            edf: None,
+        };
+        let at = sides(&curve, &[0, 1], &c, &[], &[], &[5.0, 0.3]);
+        assert_eq!(at, [f64::NEG_INFINITY, 0.3]);
+    }
+
+    #[test]
+    fn short_exclusions_say_where_the_points_lay() {
+        // Points that depart from the model say which side; points on it count only alone.
+        assert_eq!(departures(&[0.5, 2.5, 3.0]), (true, false));
+        assert_eq!(departures(&[1.0, -2.5, -3.0]), (false, true));
+        assert_eq!(departures(&[-1.0, 2.5, -3.0]), (true, true));
+        assert_eq!(departures(&[1.5, 0.2]), (true, false));
+        assert_eq!(departures(&[-1.5, 0.2]), (false, true));
+        let mut list = Vec::new();
+        exclude_short(&mut list, 0.01, 0.02, true, false);
+        assert_eq!(list, [(0.01, 0.02, SHORT_ABOVE_REASON.to_string())]);
+        exclude_short(&mut list, 0.04, 0.04, true, false);
+        assert_eq!(list, [(0.01, 0.04, SHORT_ABOVE_REASON.to_string())]);
+        // A later run below the model: one band, above and below.
+        exclude(&mut list, 100.0, 200.0, LONG_REASON);
+        exclude_short(&mut list, 0.08, 0.08, false, true);
+        assert_eq!(list.len(), 2);
+        assert!(list.contains(&(0.01, 0.08, SHORT_MIXED_REASON.to_string())));
+        let mut list = Vec::new();
+        exclude_short(&mut list, 0.01, 0.02, false, true);
+        assert_eq!(list, [(0.01, 0.02, SHORT_REASON.to_string())]);
+        assert!(
+            [SHORT_REASON, SHORT_ABOVE_REASON, SHORT_MIXED_REASON]
+                .iter()
+                .all(|r| is_short_reason(r))
+        );
+        assert!(!is_short_reason(LONG_REASON));
+    }
+
+    #[test]
     fn leading_run_follows_a_filter_not_a_lone_low_point() {
         // A filtered start: below the model from the second point on, ending at z < −2.
         assert_eq!(
@@ -1921,7 +2104,12 @@ mod tests {
         assert!(u.is_finite());
         assert!((fit.squared[1] / truth[1] - 1.0).abs() < 1e-8);
         assert!(fit.squared[0] == 0.0, "a filter is not quantisation noise");
-        assert!(fit.diagnostics.excluded.iter().any(|e| e.2 == SHORT_REASON));
+        assert!(
+            fit.diagnostics
+                .excluded
+                .iter()
+                .any(|e| is_short_reason(&e.2))
+        );
         assert!(
             fit.used[0] >= 2,
             "the points inside the filter's length are not used"

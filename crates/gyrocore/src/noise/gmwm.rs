@@ -65,9 +65,9 @@ use rayon::prelude::*;
 use super::covariance::correlation_with;
 use super::curve::{Curve, TermEstimate};
 use super::fit::{
-    CorrelationMemo, CovarianceSource, Inner, InverseSquare, JointFit, REFIT_P, SHORT_REASON,
-    Whitener, active_params, edf_model, finish, goodness, irls, jacobian, leading_run,
-    model_with_lines, profile_times, spectral, trim_ends,
+    CorrelationMemo, CovarianceSource, Inner, InverseSquare, JointFit, REFIT_P, Whitener,
+    active_params, edf_model, finish, goodness, irls, jacobian, leading_run, model_with_lines,
+    profile_times, spectral, trim_ends,
 };
 use super::gauss_markov;
 use super::model::Term;
@@ -662,7 +662,7 @@ fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result
     let min_keep = (n_params + 2).max(full.len().div_ceil(2)).max(3);
     // Once a filter is seen (a leading run the joint fit or a filter's signature here excluded;
     // not the weaker run of negative residuals below), the 1/τ² column models it.
-    let mut seen = excluded.iter().any(|e| e.2 == SHORT_REASON);
+    let mut seen = excluded.iter().any(|e| super::fit::is_short_reason(&e.2));
     let fitted = |seen: bool| {
         if seen {
             InverseSquare::filtered(&requested)
@@ -703,7 +703,8 @@ fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result
             // leading run of negative residuals is excluded instead (while the test rejects).
             lead = z.iter().take(z.len() / 2).take_while(|v| **v < 0.0).count();
         }
-        if !trim_ends(&mut used, &mut excluded, full.taus, &z, lead, min_keep) {
+        let at = super::fit::sides(&full, &used, &inner.c, &inner.gm, &inner.lines, &z);
+        if !trim_ends(&mut used, &mut excluded, full.taus, &z, lead, min_keep, &at) {
             break;
         }
         seen |= signature;
@@ -711,7 +712,7 @@ fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result
         inner = fit_on(&used, &terms, q)?;
     }
     if q != InverseSquare::Quantization {
-        let white = |used: &[usize]| -> Option<(f64, f64)> {
+        let white = |used: &[usize]| -> Option<(f64, f64, f64)> {
             let sub = all.subset(used);
             let curve = sub.curve();
             let (inner, l, _) =
@@ -721,7 +722,15 @@ fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result
                 .iter()
                 .position(|p| matches!(p, super::fit::Param::Linear(Term::AngleRandomWalk)))?;
             let cov = asymptotic_covariance(&curve, &inner, &l, &terms)?;
-            Some((inner.c[Term::AngleRandomWalk.index()], cov[(k, k)]))
+            let r0 = super::fit::side(
+                curve.variance[0],
+                &inner.c,
+                &inner.gm,
+                &inner.lines,
+                super::fit::curve_t0(&curve),
+                curve.taus[0],
+            );
+            Some((inner.c[Term::AngleRandomWalk.index()], cov[(k, k)], r0))
         };
         super::fit::hausman_trim(&mut used, &mut excluded, full.taus, min_keep, white);
     }

@@ -112,12 +112,14 @@ pub fn model_variance(c: &[f64; 5], tau: f64) -> f64 {
 ///
 /// `filter_time` is a sensor filter's correlation time `τ_c` (s, 0 for none; see
 /// [`super::fit`](mod@super::fit), "Sensor filter"): the total then includes its `−3N²τ_c/τ²`,
-/// which has no curve of its own. That law holds only beyond the filter's length; where it would
-/// take the total below zero (τ < 3τ_c) the total is 0.
+/// which has no curve of its own. That law holds only beyond the filter's length: below 3τ_c,
+/// where its white-noise part `N²/τ·(1 − 3τ_c/τ)` would be negative, the model is not valid and
+/// the total is NaN (a plot then leaves a gap there instead of plunging towards zero).
 ///
 /// Every τ must be finite and > 0 (the terms' `τ^-2 … τ^2` are NaN or infinite at τ ≤ 0), and
 /// the squared coefficients `c` and `filter_time` finite and ≥ 0; a τ at which the model
-/// variance overflows float64 is refused too, so the curves never hold NaN or infinity.
+/// variance overflows float64 is refused too, so the curves never hold infinity, nor NaN
+/// other than the total's below 3τ_c.
 pub fn model_curves(
     c: &[f64; 5],
     filter_time: f64,
@@ -140,9 +142,15 @@ pub fn model_curves(
     let filter = 3.0 * c[Term::AngleRandomWalk.index()] * filter_time;
     let total: Vec<f64> = taus
         .iter()
-        .map(|&tau| (model_variance(c, tau) - filter / (tau * tau)).max(0.0))
+        .map(|&tau| {
+            if filter > 0.0 && tau < 3.0 * filter_time {
+                f64::NAN
+            } else {
+                (model_variance(c, tau) - filter / (tau * tau)).max(0.0)
+            }
+        })
         .collect();
-    if let Some(i) = total.iter().position(|v| !v.is_finite()) {
+    if let Some(i) = total.iter().position(|v| v.is_infinite()) {
         return Err(Error::invalid(
             "taus",
             format!(
@@ -226,18 +234,20 @@ mod tests {
 
     #[test]
     fn a_filter_lowers_the_total_only() {
-        // −3N²τ_c/τ² on the total (the filter law), parts unchanged, floored at 0 below 3τ_c.
+        // −3N²τ_c/τ² on the total (the filter law), parts unchanged, NaN below 3τ_c.
         let c = [0.0, 1e-4, 1e-8, 0.0, 0.0];
-        let taus = [0.001, 0.03, 0.5, 10.0];
+        let taus = [0.001, 0.029, 0.03, 0.5, 10.0];
         let tc = 0.01;
         let (plain, parts) = model_curves(&c, 0.0, &taus).unwrap();
         let (total, with) = model_curves(&c, tc, &taus).unwrap();
         assert_eq!(parts, with);
-        for (i, &tau) in taus.iter().enumerate() {
+        for (i, &tau) in taus.iter().enumerate().skip(2) {
             let law = (plain[i] - 3.0 * c[1] * tc / (tau * tau)).max(0.0);
             assert!((total[i] - law).abs() <= 1e-15 * plain[i], "{tau}");
         }
-        assert_eq!(total[0], 0.0);
+        assert!(total[0].is_nan() && total[1].is_nan());
+        // No filter: the total is the plain sum everywhere, never NaN.
+        assert!(plain.iter().all(|v| v.is_finite()));
         for bad in [-1e-3, f64::NAN, f64::INFINITY] {
             assert!(model_curves(&c, bad, &taus).is_err());
         }
