@@ -159,6 +159,10 @@ BASE: dict[str, Callable[[], tuple[Callable[..., Any], dict[str, Any]]]] = {
         allan.Disturbance("step", 1.0, 2.0, 1.5, 0.8, "deg/s", 100.0, 7.0, 0.5).shifted,
         {"offset_s": 10.0},
     ),
+    "allan.AllanResult.in_log_time": lambda: (
+        allan.adev(FX.rate, 100.0).in_log_time,
+        {"offset_s": 10.0},
+    ),
     "allan.Stationarity.shifted": lambda: (
         allan.stationarity(FX.rate, 100.0).shifted,
         {"offset_s": 10.0},

@@ -112,7 +112,7 @@ def test_sdist_contains_what_a_build_needs() -> None:
     meta = Parser().parsestr(files["PKG-INFO"].decode())
     assert meta["Name"] == "gyrobias" and meta["Version"] == VERSION
     base = [r for r in meta.get_all("Requires-Dist", []) if "extra ==" not in r]
-    assert sorted(re.split(r"[<>=;\[ ]", r)[0] for r in base) == ["numpy", "tqdm"]
+    assert sorted(re.split(r"[<>=;\[ ]", r)[0] for r in base) == ["numpy", "ruamel-yaml", "tqdm"]
 
 
 def test_sdist_lock_file_matches_its_workspace() -> None:

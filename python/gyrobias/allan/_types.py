@@ -329,6 +329,7 @@ class AllanResult:
         """
         import copy
 
+        offset_s = _offset(offset_s)
         out = copy.copy(self)
         check = self.stationarity
         if check is not None and offset_s:

@@ -370,7 +370,7 @@ def resolve_selection(
     if n == 0:
         raise ValueError(f"{start_name}: the log has no samples to select from")
     if time is not None and len(time) != n:
-        raise ValueError(f"time has {len(time)} values for {n} samples")
+        raise ValueError(f"time has {len(time)} values for n_samples={n}")
     period = 1.0 / fs if fs is not None and fs > 0 and math.isfinite(1.0 / fs) else None
     t0 = float(time[0]) if time is not None else 0.0
     # length of the log in seconds: to the end of the last sample's interval
