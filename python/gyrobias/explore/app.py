@@ -707,7 +707,10 @@ def _diagnostics_html(c: Any) -> str:
     if d.excluded:
         parts.append(
             "<p>Excluded τ:</p><ul>"
-            + "".join(f"<li>{a:.4g}–{b:.4g} s: {html.escape(why)}</li>" for a, b, why in d.excluded)
+            + "".join(
+                f"<li>{f'{a:.4g}' if a == b else f'{a:.4g}–{b:.4g}'} s: {html.escape(why)}</li>"
+                for a, b, why in d.excluded
+            )
             + "</ul>"
         )
     bounds = [t for t in c.to("ieee").terms if t.bounded]
