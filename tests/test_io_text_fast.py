@@ -333,6 +333,20 @@ def test_random_files_read_like_loadtxt(
     assert fast == previous == loadtxt
 
 
+@pytest.mark.parametrize("cell", ["'3'", 'a"b', "x'y\"z", "'"])
+def test_bad_cell_with_quotes_is_named_alike(tmp_path: Path, cell: str) -> None:
+    """numpy quotes a bad cell with ``repr`` (double quotes around a single quote): every path
+    still names the cell, its column and line (found by the random-file test above)."""
+    path = tmp_path / "log.csv"
+    path.write_text(f"0.5\n{cell}\n")
+    fast, previous, loadtxt, _ = _three_ways(
+        path, {"fs": 100.0, "time_column": False}, pytest.MonkeyPatch()
+    )
+    assert fast == previous == loadtxt
+    assert fast[:2] == ("error", "ValueError") and f"'{cell}' (not a number)" in fast[2]
+    assert "line 2" in fast[2]
+
+
 def test_core_path_needs_no_pyarrow(tmp_path: Path) -> None:
     """CSV reading needs no extra: with pyarrow unimportable the core still reads the file."""
     import subprocess

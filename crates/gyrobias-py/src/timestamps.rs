@@ -153,6 +153,54 @@ fn analyse(py: Python<'_>, intervals: PyReadonlyArray1<'_, f64>) -> PyResult<PyS
     Ok(PySampling { inner })
 }
 
+/// Rate, jitter, gaps and repeated stamps from raw stamps in time order, the intervals formed
+/// on the fly (`gyrocore::timestamps::analyse_stamps`).
+#[pyfunction]
+#[pyo3(signature = (stamps, per_second))]
+fn analyse_stamps(
+    py: Python<'_>,
+    stamps: &Bound<'_, PyAny>,
+    per_second: f64,
+) -> PyResult<PySampling> {
+    let inner = match Stamps::extract(stamps)? {
+        Stamps::Int(a) => {
+            let s = c_order(&a);
+            core(py.detach(|| timestamps::analyse_stamps(&s, per_second)))?
+        }
+        Stamps::Float(a) => {
+            let s = c_order(&a);
+            core(py.detach(|| timestamps::analyse_stamps(&s, per_second)))?
+        }
+    };
+    Ok(PySampling { inner })
+}
+
+/// Overwrites raw stamps (int64 or float64, writable) with their seconds since `first`
+/// (`gyrocore::timestamps::seconds_in_place_int` / `seconds_in_place_float`); an int64 buffer
+/// then holds the bits of float64 values.
+#[pyfunction]
+#[pyo3(signature = (stamps, first, per_second))]
+fn seconds_in_place(
+    py: Python<'_>,
+    stamps: &Bound<'_, PyAny>,
+    first: &Bound<'_, PyAny>,
+    per_second: f64,
+) -> PyResult<()> {
+    if let Ok(mut a) = stamps.extract::<PyReadwriteArray1<'_, i64>>() {
+        let first: i64 = first.extract()?;
+        let s = c_order_mut("stamps", &mut a)?;
+        return core(py.detach(|| timestamps::seconds_in_place_int(s, first, per_second)));
+    }
+    if let Ok(mut a) = stamps.extract::<PyReadwriteArray1<'_, f64>>() {
+        let first: f64 = first.extract()?;
+        let s = c_order_mut("stamps", &mut a)?;
+        return core(py.detach(|| timestamps::seconds_in_place_float(s, first, per_second)));
+    }
+    Err(PyTypeError::new_err(
+        "stamps must be a writable 1-D int64 or float64 array",
+    ))
+}
+
 /// Missing samples in a gap (`gyrocore::timestamps::missing_in_gap`).
 #[pyfunction]
 #[pyo3(signature = (gap, median))]
@@ -188,6 +236,8 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(backward_rows, m)?)?;
     m.add_function(wrap_pyfunction!(repeated_rows, m)?)?;
     m.add_function(wrap_pyfunction!(analyse, m)?)?;
+    m.add_function(wrap_pyfunction!(analyse_stamps, m)?)?;
+    m.add_function(wrap_pyfunction!(seconds_in_place, m)?)?;
     m.add_function(wrap_pyfunction!(missing_in_gap, m)?)?;
     m.add_function(wrap_pyfunction!(fill_time_into, m)?)
 }

@@ -23,10 +23,15 @@
 //! filled with `t_a + (t_b − t_a)·j/(c + 1)`, `j = 1..c`.
 //!
 //! Raw stamps may be integers (`i64`, exact epoch nanoseconds) or floats; intervals are
-//! floats in seconds. Every scan is one pass without full-length temporaries, except the median,
-//! which needs a copy of the positive intervals (`select_nth_unstable`, O(n)).
+//! floats in seconds. Every scan is one pass without full-length temporaries; the median too:
+//! it is selected exactly from the IEEE-754 bits of the positive intervals (a positive double's
+//! bits order like its value), 16 bits per pass over the data with a 2¹⁶-bin histogram
+//! (five passes in all), so a log of any length is analysed in O(1) extra memory. The
+//! intervals can be formed on the fly from the raw stamps ([`analyse_stamps`]): the loader
+//! never holds a full-length array of them.
 
-use crate::stats;
+use rayon::prelude::*;
+
 use crate::validate;
 use crate::{Error, Result};
 
@@ -65,18 +70,105 @@ impl Stamp for f64 {
     }
 }
 
-/// Median of the positive steps `t_i − t_{i−1}` of raw stamps (0 if none is positive).
-pub fn median_positive_step<T: Stamp>(stamps: &[T]) -> f64 {
-    let mut positive: Vec<f64> = stamps
-        .windows(2)
-        .map(|w| w[1].step_from(w[0]))
-        .filter(|s| *s > 0.0)
-        .collect();
-    if positive.is_empty() {
-        0.0
-    } else {
-        stats::median_in_place(&mut positive)
+/// Median of the positive steps `t_i − t_{i−1}` of raw stamps (0 if none is positive), in
+/// O(1) extra memory (module docs).
+pub fn median_positive_step<T: Stamp + Sync>(stamps: &[T]) -> f64 {
+    let n = stamps.len().saturating_sub(1);
+    median_positive(n, |i| stamps[i + 1].step_from(stamps[i])).unwrap_or(0.0)
+}
+
+/// Bins of one radix-selection pass (16 bits of a double's bit pattern).
+const RADIX_BINS: usize = 1 << 16;
+/// Values per parallel task of a selection pass (each task has its own histogram).
+const RADIX_TASK: usize = 1 << 18;
+
+/// Histogram of the 16 bits below `shift + 16` of every positive value `value(i)`, `i < n`,
+/// whose bits above `shift + 16` equal `prefix`.
+fn radix_histogram(
+    n: usize,
+    value: &(impl Fn(usize) -> f64 + Sync),
+    shift: u32,
+    prefix: u64,
+) -> Vec<u64> {
+    let tasks = n.div_ceil(RADIX_TASK);
+    (0..tasks)
+        .into_par_iter()
+        .fold(
+            || vec![0_u64; RADIX_BINS],
+            |mut hist, t| {
+                for i in t * RADIX_TASK..((t + 1) * RADIX_TASK).min(n) {
+                    let v = value(i);
+                    if v > 0.0 {
+                        let bits = v.to_bits();
+                        let high = bits.checked_shr(shift + 16).unwrap_or(0);
+                        if high == prefix {
+                            hist[((bits >> shift) & 0xFFFF) as usize] += 1;
+                        }
+                    }
+                }
+                hist
+            },
+        )
+        .reduce(
+            || vec![0_u64; RADIX_BINS],
+            |mut a, b| {
+                for (x, y) in a.iter_mut().zip(b) {
+                    *x += y;
+                }
+                a
+            },
+        )
+}
+
+/// The `k`-th smallest (0-based) positive value of `value(0..n)`, exactly, by radix selection
+/// on the bit patterns (four 16-bit passes); `first` is the histogram of the first pass.
+fn kth_positive(n: usize, value: &(impl Fn(usize) -> f64 + Sync), first: &[u64], k: u64) -> f64 {
+    let mut prefix = 0_u64;
+    let mut rank = k;
+    let mut owned;
+    let mut hist = first;
+    for shift in [48_u32, 32, 16, 0] {
+        if shift != 48 {
+            owned = radix_histogram(n, value, shift, prefix);
+            hist = &owned;
+        }
+        let mut bin = 0;
+        for (b, &c) in hist.iter().enumerate() {
+            if rank < c {
+                bin = b;
+                break;
+            }
+            rank -= c;
+        }
+        prefix = (prefix << 16) | bin as u64;
     }
+    f64::from_bits(prefix)
+}
+
+/// Median of the positive values among `value(0..n)` (`None` if there is none): the middle
+/// one, or the mean of the two middle ones (`f64::midpoint`, NumPy's `median`), selected
+/// exactly in O(1) extra memory (module docs).
+fn median_positive(n: usize, value: impl Fn(usize) -> f64 + Sync) -> Option<f64> {
+    let first = radix_histogram(n, &value, 48, 0);
+    let count: u64 = first.iter().sum();
+    if count == 0 {
+        return None;
+    }
+    let mid = count / 2;
+    let upper = kth_positive(n, &value, &first, mid);
+    if count % 2 == 1 {
+        return Some(upper);
+    }
+    // The value just below the middle: `upper` itself when fewer than `mid` values are smaller.
+    let (smaller, largest_below) = (0..n)
+        .into_par_iter()
+        .with_min_len(RADIX_TASK)
+        .map(&value)
+        .filter(|v| *v > 0.0 && *v < upper)
+        .fold(|| (0_u64, 0.0_f64), |(c, m), v| (c + 1, m.max(v)))
+        .reduce(|| (0, 0.0), |a, b| (a.0 + b.0, a.1.max(b.1)));
+    let lower = if smaller >= mid { largest_below } else { upper };
+    Some(f64::midpoint(lower, upper))
 }
 
 /// The unit of stamps whose median positive step is `median_step` when no unit is stated:
@@ -153,35 +245,57 @@ pub fn missing_in_gap(gap: f64, median: f64) -> u64 {
 /// does not advance).
 pub fn analyse(intervals: &[f64]) -> Result<Sampling> {
     validate::finite("intervals", intervals)?;
-    if let Some(i) = intervals.iter().position(|v| *v < 0.0) {
+    analyse_by(intervals.len(), |i| intervals[i])
+}
+
+/// [`analyse`] of the intervals `(t_{i+1} − t_i)/per_second` of raw stamps in time order,
+/// formed on the fly (the same values, bit for bit, as dividing the differences
+/// [`Stamp::step_from`] by `per_second`): no full-length array of intervals is made.
+///
+/// # Errors
+/// As [`analyse`]; `per_second` not finite and positive.
+pub fn analyse_stamps<T: Stamp + Sync>(stamps: &[T], per_second: f64) -> Result<Sampling> {
+    validate::positive("per_second", per_second)?;
+    let n = stamps.len().saturating_sub(1);
+    let interval = |i: usize| stamps[i + 1].step_from(stamps[i]) / per_second;
+    if let Some(index) = (0..n).find(|&i| !interval(i).is_finite()) {
+        return Err(Error::NonFinite {
+            name: "intervals",
+            index,
+        });
+    }
+    analyse_by(n, interval)
+}
+
+/// [`analyse`] of the finite intervals `interval(0..n)`.
+#[allow(clippy::cast_precision_loss)]
+fn analyse_by(n: usize, interval: impl Fn(usize) -> f64 + Sync) -> Result<Sampling> {
+    if let Some(i) = (0..n).find(|&i| interval(i) < 0.0) {
         return Err(Error::invalid(
             "intervals",
             format!(
                 "must be >= 0 (timestamps in order), got {} at row {}",
-                intervals[i],
+                interval(i),
                 i + 1
             ),
         ));
     }
-    let mut positive: Vec<f64> = intervals.iter().copied().filter(|v| *v > 0.0).collect();
-    if positive.is_empty() {
+    let Some(median) = median_positive(n, &interval) else {
         return Err(Error::invalid(
             "time",
             format!(
                 "the time column does not advance ({} samples, all with the same timestamp)",
-                intervals.len() + 1
+                n + 1
             ),
         ));
-    }
-    let mean_positive = validate::neumaier_sum(positive.iter().copied()) / positive.len() as f64;
-    let median = stats::median_in_place(&mut positive);
-    drop(positive);
+    };
     let limit = GAP_FACTOR * median;
     let mut gap_rows = Vec::new();
     let mut gap_durations = Vec::new();
     let mut duplicate_rows = Vec::new();
     let (mut sum, mut comp, mut n_regular) = (0.0, 0.0, 0_usize);
-    for (i, &v) in intervals.iter().enumerate() {
+    for i in 0..n {
+        let v = interval(i);
         if v > limit {
             gap_rows.push(i + 1);
             gap_durations.push(v);
@@ -194,14 +308,19 @@ pub fn analyse(intervals: &[f64]) -> Result<Sampling> {
     }
     let regular = |v: f64| v > 0.0 && v <= limit;
     let (fs_estimated, jitter) = if n_regular == 0 {
-        (nine_digits(1.0 / mean_positive), 0.0)
+        // Unreachable for finite intervals (the median itself is regular); kept total.
+        let positive = (0..n).map(&interval).filter(|v| *v > 0.0);
+        let count = positive.clone().count();
+        (
+            nine_digits(count as f64 / validate::neumaier_sum(positive)),
+            0.0,
+        )
     } else {
         let mean = (sum + comp) / n_regular as f64;
         let jitter = if n_regular > 1 {
             let ss = validate::neumaier_sum(
-                intervals
-                    .iter()
-                    .copied()
+                (0..n)
+                    .map(&interval)
                     .filter(|v| regular(*v))
                     .map(|v| (v - mean) * (v - mean)),
             );
@@ -224,6 +343,39 @@ pub fn analyse(intervals: &[f64]) -> Result<Sampling> {
         missing_samples,
         duplicate_rows,
     })
+}
+
+/// Overwrites integer stamps with their times in seconds since `first`:
+/// `((t − first) as f64) / per_second`, the difference wrapping like NumPy's `int64`
+/// subtraction, stored as the bits of the `f64` (the caller views the buffer as `float64`).
+/// The loader's own copy of the stamps becomes the time vector, with no second column.
+///
+/// # Errors
+/// `per_second` not finite and positive.
+#[allow(clippy::cast_precision_loss)]
+pub fn seconds_in_place_int(stamps: &mut [i64], first: i64, per_second: f64) -> Result<()> {
+    validate::positive("per_second", per_second)?;
+    stamps.par_chunks_mut(RADIX_TASK).for_each(|chunk| {
+        for t in chunk {
+            let seconds = (t.wrapping_sub(first) as f64) / per_second;
+            *t = i64::from_ne_bytes(seconds.to_ne_bytes());
+        }
+    });
+    Ok(())
+}
+
+/// Overwrites float stamps with their times in seconds since `first`: `(t − first)/per_second`.
+///
+/// # Errors
+/// `per_second` not finite and positive.
+pub fn seconds_in_place_float(stamps: &mut [f64], first: f64, per_second: f64) -> Result<()> {
+    validate::positive("per_second", per_second)?;
+    stamps.par_chunks_mut(RADIX_TASK).for_each(|chunk| {
+        for t in chunk {
+            *t = (*t - first) / per_second;
+        }
+    });
+    Ok(())
 }
 
 /// Writes the time vector with the gaps filled: the `n` times of `time` moved to their new
@@ -361,5 +513,99 @@ mod tests {
         assert!(s.gap_rows.is_empty());
         assert_eq!(nine_digits(100.000_000_000_002_13), 100.0);
         assert_eq!(missing_in_gap(0.025, 0.01), 1); // 2.5 rounds to 2 (ties to even)
+    }
+
+    /// The sort-based median the radix selection replaces (NumPy's `median` of the positives).
+    fn median_by_sorting(values: &[f64]) -> Option<f64> {
+        let mut p: Vec<f64> = values.iter().copied().filter(|v| *v > 0.0).collect();
+        if p.is_empty() {
+            return None;
+        }
+        p.sort_by(f64::total_cmp);
+        let m = p.len() / 2;
+        Some(if p.len() % 2 == 1 {
+            p[m]
+        } else {
+            f64::midpoint(p[m - 1], p[m])
+        })
+    }
+
+    #[test]
+    fn radix_median_is_the_sorted_median() {
+        // xorshift: deterministic values with ties, zeros, negatives, subnormals and a wide range.
+        let mut state = 0x9E37_79B9_7F4A_7C15_u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for len in [0_usize, 1, 2, 3, 4, 5, 10, 101, 1000, 300_001] {
+            for kind in 0..5 {
+                let v: Vec<f64> = (0..len)
+                    .map(|_| {
+                        let r = next();
+                        match kind {
+                            0 => (r % 7) as f64 * 0.01,                     // ties and zeros
+                            1 => f64::from_bits(r >> 2) - 1e-300,           // any positive double
+                            2 => 0.01 + (r % 1000) as f64 * 1e-9,           // jittered 100 Hz
+                            3 => (r as i64 as f64) * 1e-12,                 // half negative
+                            _ => f64::from_bits(r % 1000) * (r % 3) as f64, // subnormals
+                        }
+                    })
+                    .collect();
+                let want = median_by_sorting(&v);
+                let got = median_positive(v.len(), |i| v[i]);
+                assert_eq!(
+                    got.map(f64::to_bits),
+                    want.map(f64::to_bits),
+                    "len {len} kind {kind}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn stamps_analysed_like_their_intervals() {
+        // Integer nanoseconds at 200 Hz with jitter, a gap and a repeated stamp.
+        let mut t: Vec<i64> = Vec::new();
+        let mut now = 1_700_000_000_000_000_000_i64;
+        for i in 0..20_000_i64 {
+            now += 5_000_000 + (i * 7919 % 2001) - 1000;
+            if i == 9000 {
+                now += 40_000_000;
+            }
+            t.push(now);
+            if i == 12_000 {
+                t.push(now);
+            }
+        }
+        let iv: Vec<f64> = t.windows(2).map(|w| w[1].step_from(w[0]) / 1e9).collect();
+        assert_eq!(analyse_stamps(&t, 1e9).unwrap(), analyse(&iv).unwrap());
+        let f: Vec<f64> = t.iter().map(|v| (v - t[0]) as f64 * 1e-6).collect();
+        let ivf: Vec<f64> = f.windows(2).map(|w| (w[1] - w[0]) / 1e3).collect();
+        assert_eq!(analyse_stamps(&f, 1e3).unwrap(), analyse(&ivf).unwrap());
+        assert_eq!(
+            median_positive_step(&t),
+            median_by_sorting(
+                &t.windows(2)
+                    .map(|w| w[1].step_from(w[0]))
+                    .collect::<Vec<_>>()
+            )
+            .unwrap()
+        );
+        assert!(analyse_stamps(&[1.0, -f64::MAX, f64::MAX], 1.0).is_err());
+        assert!(analyse_stamps(&t, 0.0).is_err());
+        // Seconds in place, as NumPy computes them.
+        let mut s = t.clone();
+        seconds_in_place_int(&mut s, t[0], 1e9).unwrap();
+        for (a, b) in s.iter().zip(&t) {
+            assert_eq!(f64::from_bits(*a as u64), ((b - t[0]) as f64) / 1e9);
+        }
+        let mut g = f.clone();
+        seconds_in_place_float(&mut g, 2.5, 1e3).unwrap();
+        for (a, b) in g.iter().zip(&f) {
+            assert_eq!(*a, (b - 2.5) / 1e3);
+        }
     }
 }

@@ -13,12 +13,14 @@ __all__ = [
     "US_THRESHOLD",
     "Sampling",
     "analyse",
+    "analyse_stamps",
     "backward_rows",
     "fill_time_into",
     "guess_unit",
     "median_positive_step",
     "missing_in_gap",
     "repeated_rows",
+    "seconds_in_place",
 ]
 
 GAP_FACTOR: float
@@ -49,6 +51,12 @@ def guess_unit(median_step: float) -> str: ...
 def backward_rows(stamps: NDArray[np.int64] | NDArray[np.float64]) -> NDArray[np.int64]: ...
 def repeated_rows(stamps: NDArray[np.int64] | NDArray[np.float64]) -> NDArray[np.int64]: ...
 def analyse(intervals: NDArray[np.float64]) -> Sampling: ...
+def analyse_stamps(
+    stamps: NDArray[np.int64] | NDArray[np.float64], per_second: float
+) -> Sampling: ...
+def seconds_in_place(
+    stamps: NDArray[np.int64] | NDArray[np.float64], first: int | float, per_second: float
+) -> None: ...
 def missing_in_gap(gap: float, median: float) -> int: ...
 def fill_time_into(
     time: NDArray[np.float64],

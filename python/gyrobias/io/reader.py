@@ -301,14 +301,14 @@ def load(
     else:
         assert t_name is not None
         t_raw, table, fixes = _repair(p, t_raw, table, t_name, repairs, line_of, store)
-        time, intervals, time_start, unit_used, guessed = _time_seconds(
+        time, sampling, time_start, unit_used, guessed = _time_seconds(
             p, t_raw, t_name, time_unit, line_of, store
         )
         t_raw = None  # the raw stamps are no longer needed (long logs: free them now)
         report = _sampling_report(
             len(table),
             time,
-            intervals,
+            sampling,
             unit_used,
             fs,
             unit_guessed=guessed,
@@ -316,7 +316,6 @@ def load(
             source_format=fmt,
             filling=fill_gaps,
         )
-        del intervals
         if fill_gaps and report.n_gaps:
             table, time, report = _fill_gaps(table, time, report, store)
     return GyroLog(

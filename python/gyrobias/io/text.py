@@ -5,6 +5,7 @@ errors name the line and column."""
 
 from __future__ import annotations
 
+import ast
 import bz2
 import gzip
 import lzma
@@ -28,7 +29,10 @@ _DECOMPRESSORS: dict[str, Any] = {
     ".xz": lzma.LZMAFile,
 }
 _INT_RE = re.compile(r"^[+-]?\d+$")
-_LOADTXT_CELL = re.compile(r"could not convert string '(.*)' to \w+ at row (\d+), column (\d+)")
+#: numpy quotes the cell with ``repr`` (double quotes when it holds a single quote).
+_LOADTXT_CELL = re.compile(
+    r"could not convert string ('.*'|\".*\") to \w+ at row (\d+), column (\d+)"
+)
 _LOADTXT_COLS = re.compile(r"number of columns changed from (\d+) to (\d+) at row (\d+)")
 _LOADTXT_INDEX = re.compile(r"invalid column index (\d+) at row (\d+) with (\d+) columns")
 
@@ -555,7 +559,7 @@ def _loadtxt(
         msg = str(exc)
         m = _LOADTXT_CELL.search(msg)
         if m:
-            text, row, col = m.group(1), int(m.group(2)), int(m.group(3))
+            text, row, col = ast.literal_eval(m.group(1)), int(m.group(2)), int(m.group(3))
             # numpy counts data rows from 0 (skipping comments) and file columns from 1
             if int_column is not None and col == int_column + 1 and _is_number(text):
                 raise _NotInteger from None

@@ -39,49 +39,37 @@ _TIME_UNITS = ("auto", "s", "ms", "us", "ns")
 
 def _time_seconds(
     p: Path, t_raw: NDArray[Any], t_name: str, time_unit: str, line_of: Any, store: Store
-) -> tuple[NDArray[np.float64], NDArray[np.float64], float, str, bool]:
+) -> tuple[NDArray[np.float64], Any, float, str, bool]:
     """Timestamps (finite, in order: see :func:`_repair`) → seconds since the first sample.
 
-    Returns ``(time, intervals, start, unit, guessed)``; ``time`` and ``intervals`` are
-    written block by block into arrays spilled with the samples (no full-length temporary).
+    Returns ``(time, sampling, start, unit, guessed)``: ``sampling`` is the core's analysis of
+    the intervals (:func:`gyrobias._core.timestamps.analyse_stamps`, formed on the fly from the
+    raw stamps: no full-length array of intervals). The raw stamps are the loader's own copy
+    and not needed afterwards: the core overwrites them with the seconds in place (an int64
+    buffer then holds float64 bits), so the time vector costs no second column.
     """
     n = len(t_raw)
     unit = time_unit
     guessed = False
+    stamps = _stamps(t_raw)
     if unit == "auto":
         stated = _time_header(t_name)[1]
         if stated is not None:
             unit = stated
         else:
-            median = _core.timestamps.median_positive_step(_stamps(t_raw))
+            median = _core.timestamps.median_positive_step(stamps)
             unit = _core.timestamps.guess_unit(median)
             guessed = True
     per_second = _PER_SECOND[unit]  # dividing by an exact power of ten rounds correctly
-    # Block by block into arrays that are spilled with the samples (store.vector).
-    # The intervals from the raw differences: exact for integer stamps, so a perfectly
-    # regular nanosecond log has exactly zero jitter.
-    first = t_raw[0]
-    intervals = store.vector(max(n - 1, 0))
-    # The raw stamps are the loader's own copy and not needed afterwards: the seconds overwrite
-    # them in place when they are 8-byte numbers (int64 or float64), one column less at peak.
-    in_place = t_raw.dtype in (np.dtype(np.int64), np.dtype(np.float64)) and t_raw.flags.writeable
-    time = t_raw.view(np.float64) if in_place else store.vector(n)
-    previous = None  # the raw stamp before the block (already overwritten in place)
-    for sl in _store.blocks(n):
-        chunk = t_raw[sl]
-        rel = chunk - first  # exact in int64 for integer stamps
-        last = chunk[-1]
-        if previous is not None:
-            intervals[sl.start - 1] = (chunk[0] - previous) / per_second
-        if chunk.size > 1:
-            steps = np.diff(chunk).astype(np.float64)
-            steps /= per_second
-            intervals[sl.start : sl.stop - 1] = steps
-        converted = rel.astype(np.float64) if rel.dtype != np.float64 else rel
-        converted /= per_second
-        time[sl] = converted
-        previous = last
-    return time, intervals, float(first) / per_second, unit, guessed
+    sampling = _core.timestamps.analyse_stamps(stamps, per_second)
+    first = stamps[0].item()
+    if not (stamps.flags.writeable and stamps.flags.c_contiguous):
+        copy = store.vector(n, stamps.dtype.type)  # spilled with the samples
+        for sl in _store.blocks(n):
+            copy[sl] = stamps[sl]
+        stamps = copy
+    _core.timestamps.seconds_in_place(stamps, first, per_second)
+    return stamps.view(np.float64), sampling, float(first) / per_second, unit, guessed
 
 
 def _stamps(t_raw: NDArray[Any]) -> NDArray[Any]:
@@ -94,7 +82,7 @@ def _stamps(t_raw: NDArray[Any]) -> NDArray[Any]:
 def _sampling_report(
     n: int,
     time: NDArray[np.float64] | None,
-    steps: NDArray[np.float64] | None,
+    sampling: Any,
     unit: str | None,
     fs: float | None,
     *,
@@ -104,8 +92,9 @@ def _sampling_report(
     filling: bool = False,
 ) -> SamplingReport:
     """The one constructor of :class:`SamplingReport`: from the timestamps when there are any
-    (``time``, ``steps`` and ``unit`` given), else only the sample count and the given rate."""
-    if time is None or steps is None or unit is None:
+    (``time``, the core's ``sampling`` analysis of them and ``unit`` given), else only the
+    sample count and the given rate."""
+    if time is None or sampling is None or unit is None:
         return SamplingReport(
             n_samples=n,
             fs=fs,
@@ -115,7 +104,7 @@ def _sampling_report(
     fixes = fixes if fixes is not None else _Fixes()
     warnings: list[str] = list(fixes.repairs)
     duration = float(time[-1])
-    stats = _core.timestamps.analyse(steps)  # median, gaps, rate, jitter: the core's
+    stats = sampling  # median, gaps, rate, jitter: the core's
     median = stats.median_interval
     gap_rows = stats.gap_rows
     gap_durations = stats.gap_durations
