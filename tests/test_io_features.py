@@ -298,6 +298,38 @@ def test_sampling_statistics_match_numpy(steps: list[float]) -> None:
     assert got.jitter == pytest.approx(ref["jitter"], rel=1e-12, abs=1e-15)
 
 
+@given(
+    st.lists(st.integers(0, 3_000_000_000), min_size=2, max_size=300),
+    st.sampled_from([1.0, 1e3, 1e6, 1e9]),
+    st.booleans(),
+)
+def test_stamps_analysed_like_their_differences(
+    steps: list[int], per_second: float, as_float: bool
+) -> None:
+    """``analyse_stamps`` (intervals formed on the fly, median by radix selection) gives what
+    ``analyse`` gives on NumPy's ``diff(t) / per_second``, field for field; the median positive
+    step is NumPy's median; the seconds written in place are NumPy's ``(t - t0) / per_second``."""
+    t = np.cumsum(np.asarray(steps, dtype=np.int64)) + 1_600_000_000_000_000_000
+    if as_float:
+        t = t.astype(np.float64) * 1e-6
+    if not np.any(np.diff(t) > 0):
+        with pytest.raises(ValueError, match="does not advance"):
+            _core.timestamps.analyse_stamps(t, per_second)
+        return
+    got = _core.timestamps.analyse_stamps(t, per_second)
+    want = _core.timestamps.analyse(np.diff(t).astype(np.float64) / per_second)
+    for name in ("median_interval", "fs_estimated", "jitter", "missing_samples"):
+        assert getattr(got, name) == getattr(want, name), name
+    for name in ("gap_rows", "gap_durations", "duplicate_rows"):
+        np.testing.assert_array_equal(getattr(got, name), getattr(want, name))
+    d = np.diff(t).astype(np.float64)
+    assert _core.timestamps.median_positive_step(t) == float(np.median(d[d > 0]))
+    seconds = t.copy()
+    _core.timestamps.seconds_in_place(seconds, t[0].item(), per_second)
+    ref = (t - t[0]).astype(np.float64) / per_second
+    np.testing.assert_array_equal(seconds.view(np.float64), ref)
+
+
 def test_auto_spill_threshold() -> None:
     from gyrobias.io._store import Store, physical_memory
 
