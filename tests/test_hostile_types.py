@@ -115,7 +115,8 @@ MORE_BASE: dict[str, Callable[[], tuple[Callable[..., Any], dict[str, Any]]]] = 
     "plotting.plot_wvar": lambda: (gyrobias.plotting.plot_wvar, {"result": _wvar()}),
     "fleet.term_columns": lambda: (gyrobias.fleet.term_columns, {"table": _fleet_table()}),
     "io.GyroLog.select": lambda: (FX.log.select, {"start": "1s", "stop": "10s"}),
-    "io.parse_time_bound": lambda: (gyrobias.io.parse_time_bound, {"value": "1s"}),
+    # messages name the bound by `name` (the caller's argument): here the walked `value`
+    "io.parse_time_bound": lambda: (gyrobias.io.parse_time_bound, {"value": "1s", "name": "value"}),
     "io.topics": lambda: (gyrobias.io.topics, {"path": _bag()}),
     "kalman.FixedGainKalman.estimates": lambda: (
         FX.kalman.estimates,
