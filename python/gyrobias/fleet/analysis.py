@@ -6,6 +6,7 @@ from __future__ import annotations
 import glob
 import math
 import os
+import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -14,7 +15,18 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core, allan, cleaning, io, noise
-from gyrobias._validation import as_float_array, callback, pair, positive_float, real
+from gyrobias._validation import (
+    as_float_array,
+    callback,
+    checked_path,
+    mapping,
+    pair,
+    positive_float,
+    real,
+    sequence,
+    string,
+    text,
+)
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias._validation import names as name_list
 from gyrobias.fleet.spread import OUT_OF_FAMILY_THRESHOLD, _finish
@@ -22,6 +34,8 @@ from gyrobias.fleet.table import GM_PARAMETERS, DataFrame, _require
 from gyrobias.units import base_unit, sensor_kind
 
 _GLOB_CHARS = frozenset("*?[")
+#: A Dask scheduler address: ``host:port`` with an optional protocol (``tcp://``, ``tls://``).
+_ADDRESS = re.compile(r"(?:[a-z][a-z0-9+.-]*://)?[^\s/]+:\d+")
 
 #: Most threads of the local scheduler (a larger count is a mistake, not a machine).
 _MAX_WORKERS = 65536
@@ -315,7 +329,7 @@ def _expand(sources: Any) -> list[str] | NDArray[np.float64]:
             ) from None
     paths: list[str] = []
     for item in items:
-        text = os.fspath(item)
+        text = str(checked_path("sources", item))
         if isinstance(item, str) and _GLOB_CHARS & set(text):
             hits = sorted(glob.glob(text, recursive=True))
             if not hits:
@@ -384,6 +398,11 @@ def _connect(client: Any) -> tuple[Any, bool]:
     if client is None:
         return None, False
     if isinstance(client, str):
+        if not _ADDRESS.fullmatch(text("client", client)):
+            raise ValueError(
+                "client must be a scheduler address such as 'tcp://host:8786' (host:port, "
+                f"optionally with a protocol), got {client!r}"
+            )
         distributed = _require("distributed")
         return distributed.Client(client), True
     if not (hasattr(client, "submit") and hasattr(client, "scatter")):
@@ -532,7 +551,7 @@ def analyse(
     # for fs, confidence, gaps and the τ grid, noise.fit for fit and terms).
     if fs is not None:
         fs = real("fs", fs)
-    if isinstance(units, str) and not set(units) & {",", "="}:
+    if isinstance(units, str) and not set(text("units", units)) & {",", "="}:
         sensor_kind(units)  # an unknown or non-rate unit fails here, once, not in every row
     if confidence is not None:
         confidence = real("confidence", confidence)
@@ -553,10 +572,10 @@ def analyse(
         )
     tau_spec: str | tuple[float, ...]
     if isinstance(taus, str):
-        tau_spec = taus
+        tau_spec = string("taus", taus)
     else:
         tau_spec = tuple(float(t) for t in as_float_array("taus", taus, ndims=(1,)))
-    load = dict(load_options or {})
+    load = dict(mapping("load_options", load_options)) if load_options is not None else {}
     for key in ("path", "fs"):
         if key in load:
             raise ValueError(
@@ -568,7 +587,16 @@ def analyse(
         load["time_column"] = time_column
     if units is not None:
         load["units"] = units
-    names = None if axis_names is None else tuple(str(a) for a in axis_names)
+    names = (
+        None
+        if axis_names is None
+        else tuple(
+            str(a)
+            for a in (
+                axis_names if isinstance(axis_names, str) else sequence("axis_names", axis_names)
+            )
+        )
+    )
     expanded = _expand(sources)
     array_units: tuple[str | None, ...] = ()
     if isinstance(expanded, np.ndarray):
@@ -600,7 +628,11 @@ def analyse(
         outliers=None if outliers is None else real("outliers", outliers),
         detrend=detrend,
         tau_range=None if tau_range is None else pair("tau_range", tau_range),
-        lines=tuple(lines) if lines is not None and not isinstance(lines, str) else lines,
+        lines=(
+            tuple(sequence("lines", lines))
+            if lines is not None and not isinstance(lines, str)
+            else lines
+        ),
     )
     _check_options(opts)
 
