@@ -170,10 +170,40 @@ CROSS_PARAMETER: dict[tuple[str, str, str], str] = {
     "5 Hz: refused naming bandwidth",
     ("kalman.qomega_for_bandwidth", "rrw", "float"): "rrw = 1.5 alone gives a wider bandwidth "
     "than 5 Hz: refused naming bandwidth",
+    ("kalman.qomega_for_bandwidth", "rrw", "huge"): "rrw = 2**200 alone gives a wider "
+    "bandwidth than 5 Hz: refused naming bandwidth",
+    **{
+        ("spectral.lssa", "known_periods", label): "a known period of 1 s (True) or 2**200 s at "
+        "integer times is a constant column: a singular problem (GyroLinAlgError, a ValueError, "
+        "naming the known periods)"
+        for label in ("bool", "huge")
+    },
     ("plotting.save_prediction_plot", "calibration", "int"): "calibration = 1 leaves 149 "
     "samples for forecasts of 50: refused naming forecasts",
     ("spectral.lssa", "known_periods", "int"): "a known period of 1 s at integer times is a "
     "constant column: a singular problem (GyroLinAlgError naming the known constituents)",
+}
+
+#: Members still failing the walk when this pass ended (xfail, strict: they flip to failures
+#: once fixed, so the entry must then be removed), with the reason.
+KNOWN_OPEN: dict[tuple[str, str], str] = {
+    (key, name): "explore's session state (issue 34 §5, not reached in this pass): its Settings "
+    "fields, Source options and Session arguments are converted with float()/tuple unpacking"
+    for key, name in (
+        ("explore.Session.__init__", "log"),
+        ("explore.Session.__init__", "allan"),
+        ("explore.Session.cli_command", "export"),
+        ("explore.Session.conservative", "confidence"),
+        ("explore.Session.python_code", "export"),
+        ("explore.Settings.__init__", "start"),
+        ("explore.Settings.__init__", "stop"),
+        ("explore.Settings.__init__", "outliers"),
+        ("explore.Settings.__init__", "terms"),
+        ("explore.Settings.__init__", "tau_range"),
+        ("explore.Source.from_options", "path"),
+        ("explore.Source.from_options", "options"),
+        ("explore.load_sessions", "paths"),
+    )
 }
 
 #: Messages from inside Python/NumPy that must never reach a user, named or not.
@@ -200,7 +230,12 @@ def _members() -> list[Any]:
             kind, _ = kinds.get(name, ("unclassified", False))
             if kind in NOT_WALKED_KINDS:
                 continue
-            out.append(pytest.param(key, name, id=f"{key}-{name}"))
+            marks = (
+                [pytest.mark.xfail(reason=KNOWN_OPEN[(key, name)], strict=True)]
+                if (key, name) in KNOWN_OPEN
+                else []
+            )
+            out.append(pytest.param(key, name, id=f"{key}-{name}", marks=marks))
     return out
 
 
