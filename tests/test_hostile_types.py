@@ -186,25 +186,7 @@ CROSS_PARAMETER: dict[tuple[str, str, str], str] = {
 
 #: Members still failing the walk when this pass ended (xfail, strict: they flip to failures
 #: once fixed, so the entry must then be removed), with the reason.
-KNOWN_OPEN: dict[tuple[str, str], str] = {
-    (key, name): "explore's session state (issue 34 §5, not reached in this pass): its Settings "
-    "fields, Source options and Session arguments are converted with float()/tuple unpacking"
-    for key, name in (
-        ("explore.Session.__init__", "log"),
-        ("explore.Session.__init__", "allan"),
-        ("explore.Session.cli_command", "export"),
-        ("explore.Session.conservative", "confidence"),
-        ("explore.Session.python_code", "export"),
-        ("explore.Settings.__init__", "start"),
-        ("explore.Settings.__init__", "stop"),
-        ("explore.Settings.__init__", "outliers"),
-        ("explore.Settings.__init__", "terms"),
-        ("explore.Settings.__init__", "tau_range"),
-        ("explore.Source.from_options", "path"),
-        ("explore.Source.from_options", "options"),
-        ("explore.load_sessions", "paths"),
-    )
-}
+KNOWN_OPEN: dict[tuple[str, str], str] = {}
 
 #: Messages from inside Python/NumPy that must never reach a user, named or not.
 _INTERNAL = re.compile(

@@ -71,9 +71,12 @@ def load_sessions(
 
     sessions: list[Session] = []
     errors: list[str] = []
-    for raw in paths:
-        try:
-            files = _expand(Path(os.fspath(raw)))
+    from gyrobias._validation import checked_path, sequence
+
+    items = sequence("paths", paths)  # a list of paths (one string is not a list of them)
+    for i, raw in enumerate(items):
+        try:  # a wrong type is a TypeError naming paths[i]; a bad path string an error listed
+            files = _expand(checked_path(f"paths[{i}]", raw))
         except (ValueError, OSError) as exc:
             errors.append(str(exc))
             continue
