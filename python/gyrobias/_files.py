@@ -121,7 +121,6 @@ def checked_path(name: str, value: Any, what: str = "a file path") -> Path:
     except UnicodeEncodeError as exc:
         raise ValueError(
             f"{name} must be {what} the file system can encode, got {_shown_path(text_)} "
-            f"(character "
-            f"U+{ord(text_[exc.start]):04X} at position {exc.start})"
+            f"(character U+{ord(text_[exc.start]):04X} at position {exc.start})"
         ) from None
     return Path(text_)
