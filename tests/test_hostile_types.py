@@ -72,8 +72,6 @@ NOT_WALKED: dict[str, str] = {
     "explore.app.ExploreApp.show_error": "a widget callback of the Panel application",
     "explore.server.serve": "opens a network port and blocks; its sessions come from "
     "load_sessions, which is walked",
-    "explore.explore": "builds the Panel application (Bokeh document); the data it takes goes "
-    "through load_sessions' and io_from_array's checks, walked via load_sessions",
 }
 
 
@@ -125,6 +123,10 @@ MORE_BASE: dict[str, Callable[[], tuple[Callable[..., Any], dict[str, Any]]]] = 
     "thermal.TemperatureModel.from_dict": lambda: (
         gyrobias.thermal.TemperatureModel.from_dict,
         {"data": FX.model.to_dict()},
+    ),
+    "explore.explore": lambda: (
+        gyrobias.explore.explore,
+        {"obj": FX.rate[:2000], "fs": 100.0, "units": "deg/s"},
     ),
     "explore.load_sessions": lambda: (
         gyrobias.explore.load_sessions,
