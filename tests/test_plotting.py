@@ -127,7 +127,7 @@ def test_save_png(tmp_path: Path) -> None:
 
 
 def test_bad_results() -> None:
-    with pytest.raises(ValueError, match="nothing to plot"):
+    with pytest.raises(ValueError, match="^results is empty"):
         plot_allan([])
     with pytest.raises(TypeError, match="AllanResult"):
         plot_allan([np.ones(3)])  # type: ignore[list-item]

@@ -13,9 +13,13 @@ import stat
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
-from typing import BinaryIO
+from typing import Any, BinaryIO
 
-__all__ = ["atomic_binary", "atomic_write"]
+__all__ = ["atomic_binary", "atomic_write", "checked_path"]
+
+
+def _shown_path(value: str) -> str:
+    return repr(value) if len(value) <= 60 else repr(value[:60]) + f"... ({len(value)} characters)"
 
 
 @contextlib.contextmanager
@@ -29,9 +33,7 @@ def atomic_binary(path: str | os.PathLike[str]) -> Iterator[BinaryIO]:
     that is a device or a FIFO (``/dev/null``) is written in place, never replaced; a directory
     is an ``IsADirectoryError`` naming it.
     """
-    if not isinstance(path, (str, os.PathLike)):
-        raise TypeError(f"path must be a str or os.PathLike, got {type(path).__name__}")
-    target = Path(os.fspath(path))
+    target = checked_path("path", path)
     directory = target.parent if str(target.parent) else Path(".")
     try:
         st_mode = target.stat().st_mode
@@ -94,3 +96,31 @@ def atomic_write(path: str | os.PathLike[str], text: str) -> Path:
     with atomic_binary(path) as fh:
         fh.write(data)
     return Path(os.fspath(path))
+
+
+def checked_path(name: str, value: Any, what: str = "a file path") -> Path:
+    """``value`` as a :class:`~pathlib.Path` if it is a usable path, else an error naming ``name``.
+
+    The one check of every file and directory argument, where it enters: ``TypeError`` for
+    anything but a ``str`` or an ``os.PathLike`` giving one (``None``, a number, bytes);
+    ``ValueError`` for an empty string, a NUL character or text the file system cannot encode
+    (a lone surrogate such as ``"\\ud800"``). What the file system itself refuses (a name too
+    long, a missing directory, no permission) stays its ``OSError``, which names the path.
+    """
+    if isinstance(value, (bytes, bytearray)) or not isinstance(value, (str, os.PathLike)):
+        raise TypeError(f"{name} must be {what} (str or os.PathLike), got {type(value).__name__}")
+    text_ = os.fspath(value)
+    if not isinstance(text_, str):
+        raise TypeError(f"{name} must be {what} (str or os.PathLike), got {type(text_).__name__}")
+    if not text_:
+        raise ValueError(f"{name} must be {what}, got an empty string")
+    if "\x00" in text_:
+        raise ValueError(f"{name} must be {what}, got {_shown_path(text_)} (a NUL character)")
+    try:
+        os.fsencode(text_)
+    except UnicodeEncodeError as exc:
+        raise ValueError(
+            f"{name} must be {what} the file system can encode, got {_shown_path(text_)} "
+            f"(character U+{ord(text_[exc.start]):04X} at position {exc.start})"
+        ) from None
+    return Path(text_)

@@ -11,12 +11,14 @@ from __future__ import annotations
 import re
 import secrets
 from collections.abc import Iterable, Mapping
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from gyrobias import _core
+from gyrobias._files import checked_path as checked_path  # the one path check (a leaf)
 
 
 def asarray(name: str, value: Any) -> NDArray[Any]:
@@ -322,3 +324,44 @@ def encodable(name: str, value: str) -> str:
             f"U+{ord(value[exc.start]):04X} at position {exc.start} cannot be encoded)"
         ) from None
     return value
+
+
+def instance(name: str, value: Any, types: type | tuple[type, ...], what: str) -> Any:
+    """``value`` if it is an instance of ``types``, else ``TypeError`` naming ``name``.
+
+    The one check of arguments that must be a gyrobias object (an ``AllanResult``,
+    ``NoiseCoefficients``, a fleet table, a matplotlib ``Axes``): ``what`` says what is
+    expected (``"an AllanResult"``), so a string or ``None`` given instead is refused where it
+    enters, not with ``'str' object has no attribute 'taus'`` from deeper down.
+    """
+    if not isinstance(value, types):
+        raise TypeError(f"{name} must be {what}, got {type(value).__name__}")
+    return value
+
+
+def optional_instance(name: str, value: Any, types: type | tuple[type, ...], what: str) -> Any:
+    """:func:`instance`, or ``None`` for ``None``."""
+    return None if value is None else instance(name, value, types, what + " or None")
+
+
+def instances(name: str, value: Any, cls: type, what: str) -> list[Any]:
+    """``value`` as a non-empty list of ``cls`` objects: one object, or a :func:`sequence` of
+    them; else ``TypeError``/``ValueError`` naming ``name`` (or ``name[i]`` for an item)."""
+    items = [value] if isinstance(value, cls) else sequence(name, value)
+    if not items:
+        raise ValueError(f"{name} is empty: at least one {cls.__name__} is needed")
+    for i, item in enumerate(items):
+        instance(f"{name}[{i}]", item, cls, what)
+    return items
+
+
+def mapping(name: str, value: Any) -> Mapping[Any, Any]:
+    """``value`` if it is a mapping (a ``dict``), else ``TypeError`` naming ``name``."""
+    if not isinstance(value, Mapping):
+        raise TypeError(f"{name} must be a mapping (dict), got {type(value).__name__}")
+    return value
+
+
+def optional_path(name: str, value: Any, what: str = "a file path") -> Path | None:
+    """:func:`checked_path` (:mod:`gyrobias._files`), or ``None`` for ``None``."""
+    return None if value is None else checked_path(name, value, what)

@@ -69,6 +69,8 @@ def _rows(name: str, x: ArrayLike, axis: int) -> tuple[NDArray[np.float64], tupl
     arr = as_float_array(name, x, ndims=_ANY_NDIM)
     if not isinstance(axis, (int, np.integer)) or isinstance(axis, bool):
         raise TypeError(f"axis must be an integer, got {type(axis).__name__}")
+    if not -arr.ndim <= axis < arr.ndim:
+        raise ValueError(f"axis must be from {-arr.ndim} to {arr.ndim - 1} for {name}, got {axis}")
     moved = np.moveaxis(arr, int(axis), -1)
     shape = moved.shape
     return np.ascontiguousarray(moved).reshape(-1, shape[-1]), shape

@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from gyrobias import _core
-from gyrobias._validation import choice, optional_text, pair, real
+from gyrobias._validation import checked_path, choice, optional_text, pair, real, sequence
 from gyrobias.exports import DEFAULT_FILENAMES, FORMATS, atomic_write, export
 
 if TYPE_CHECKING:
@@ -493,7 +493,7 @@ def build_report(
     elif isinstance(units, str):
         per_channel = [units] * k
     else:
-        per_channel = list(units)
+        per_channel = sequence("units", units)
         if len(per_channel) != k:
             raise ValueError(f"units has {len(per_channel)} entries for {k} channels")
     fit_options: dict[str, Any] = {}
@@ -555,4 +555,5 @@ def build_report(
 
 def write_report(path: str | os.PathLike[str], log: GyroLog, **kwargs: Any) -> Path:
     """:func:`build_report` written atomically to ``path``; returns the path."""
-    return atomic_write(path, build_report(log, **kwargs))
+    target = checked_path("path", path)  # before the report is built
+    return atomic_write(target, build_report(log, **kwargs))

@@ -38,6 +38,7 @@ from gyrobias._validation import (
     as_float_array,
     boolean,
     integer,
+    mapping,
     real,
     sample_rate,
     sequence,
@@ -271,6 +272,7 @@ class TemperatureModel:
                 f"name must be one of {', '.join(map(repr, self.names))}; got {name!r} "
                 "(unknown parameter)"
             )
+        as_float_array("temperature", temperature, ndims=tuple(range(33)))  # type and shape
         at = np.asarray(temperature, dtype=np.float64)
         flat = np.ascontiguousarray(at.reshape(-1))
         if flat.size == 0:
@@ -309,6 +311,7 @@ class TemperatureModel:
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> TemperatureModel:
         """Inverse of :meth:`to_dict`."""
+        mapping("data", data)
         try:
             return cls(
                 temperatures=np.asarray(data["temperatures"], dtype=np.float64),
@@ -526,6 +529,11 @@ def analyse_log(
         astop_db=astop_db,
     )
     m = max(1, int(round(fs)))
+    if 2 * m > len(arr):  # the τ ≈ 1 s read-off this function chooses (adev needs n >= 2m)
+        raise ValueError(
+            f"x is too short for the ARW read-off at τ = 1 s: {len(arr)} samples at fs = {fs:g} "
+            f"Hz hold {len(arr) / fs:.3g} s, at least 2 s ({2 * m} samples) are needed"
+        )
     one = cast("allan.AllanResult", allan.adev(arr, fs, taus=[m / fs], confidence=None))
     oct_ = cast("allan.AllanResult", allan.adev(arr, fs, taus="octave", confidence=None))
     # The IEEE-952 read-off of the noise module, on the regions [TS] reads: N on the −½ line

@@ -50,7 +50,7 @@ def _tau_options(
     explicit: NDArray[np.float64] | None = None
     spec = "octave"
     if isinstance(taus, str):
-        spec = taus  # parsed by the core (Taus::parse), whose ValueError names taus
+        spec = string("taus", taus)  # parsed by the core (Taus::parse), whose ValueError names taus
     else:
         explicit = as_float_array("taus", taus, ndims=(1,))
     return fs, spec, explicit, per_decade, checked

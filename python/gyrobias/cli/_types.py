@@ -147,7 +147,8 @@ def delimiter(value: str) -> str:
     """
     if value in _DELIMITER_NAMES:
         return _DELIMITER_NAMES[value]
-    if len(value) != 1 or value in _DELIMITER_REFUSED:
+    # an ASCII character (the readers split on bytes; pyarrow refuses anything else)
+    if len(value) != 1 or value in _DELIMITER_REFUSED or not value.isascii():
         _fail("one character such as , ; | or tab or whitespace", value)
     return value
 
@@ -165,7 +166,7 @@ def column_list(value: str) -> str:
     for item in items:
         if item.lstrip("-").isdigit() and int(item) < 0:
             _fail("a comma-separated list of column names or 0-based indices (>= 0)", value)
-        if any(c in item for c in "\n\r\t\x00"):
+        if not item.isprintable():  # names reach files: the library's one-line rule
             _fail("a comma-separated list of column names or 0-based indices", value)
     return value
 

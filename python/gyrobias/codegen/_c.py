@@ -14,7 +14,7 @@ import numpy as np
 
 from gyrobias import _core
 from gyrobias._cnames import reserved_c_name
-from gyrobias._validation import real
+from gyrobias._validation import checked_path, real
 from gyrobias._version import __version__
 
 #: C99 keywords (ISO/IEC 9899:1999 §6.4.1) and the C11/C23 ones a newer compiler may reserve.
@@ -71,12 +71,8 @@ def check_dtype(dtype: object) -> str:
 
 def check_directory(path: object) -> Path:
     """The output directory: existing and writable, or creatable (its parent writable)."""
-    if not isinstance(path, (str, os.PathLike)):
-        raise TypeError(f"path must be a directory path, got {type(path).__name__}")
-    if not os.fspath(path):
-        # Path("") is ".": an empty string would write into the current directory
-        raise ValueError("path must be a directory path, got an empty string")
-    p = Path(path)
+    # an empty string is refused (Path("") is "." and would write into the current directory)
+    p = checked_path("path", path, "a directory path")
     if p.exists():
         if not p.is_dir():
             raise ValueError(f"path must be a directory, got the file {str(p)!r}")

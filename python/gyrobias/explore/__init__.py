@@ -71,9 +71,12 @@ def load_sessions(
 
     sessions: list[Session] = []
     errors: list[str] = []
-    for raw in paths:
-        try:
-            files = _expand(Path(os.fspath(raw)))
+    from gyrobias._validation import checked_path, sequence
+
+    items = sequence("paths", paths)  # a list of paths (one string is not a list of them)
+    for i, raw in enumerate(items):
+        try:  # a wrong type is a TypeError naming paths[i]; a bad path string an error listed
+            files = _expand(checked_path(f"paths[{i}]", raw))
         except (ValueError, OSError) as exc:
             errors.append(str(exc))
             continue
@@ -97,8 +100,6 @@ def load_sessions(
 
 
 def _sessions_of(obj: Any, fs: float | None, units: Any, options: dict[str, Any]) -> Any:
-    import numpy as np
-
     from gyrobias.io import GyroLog
 
     if isinstance(obj, (str, os.PathLike)):
@@ -116,7 +117,9 @@ def _sessions_of(obj: Any, fs: float | None, units: Any, options: dict[str, Any]
         return [Session(None, Source(None, (), "Allan result"), allan=list(obj))], []
     if isinstance(obj, Sequence) and obj and all(isinstance(p, (str, os.PathLike)) for p in obj):
         return load_sessions(list(obj), fs=fs, units=units, **options)
-    data = np.asarray(obj, dtype=np.float64)
+    from gyrobias._validation import as_float_array
+
+    data = as_float_array("obj", obj, ndims=(1, 2))
     if fs is None:
         raise ValueError("an array needs its sample rate: gyrobias.explore(data, fs=...)")
     log = io_from_array(data, fs, units)
@@ -125,18 +128,23 @@ def _sessions_of(obj: Any, fs: float | None, units: Any, options: dict[str, Any]
 
 def io_from_array(data: Any, fs: float, units: Any = None) -> Any:
     """A :class:`gyrobias.io.GyroLog` of an in-memory array (columns ``col0``, ...)."""
-    import numpy as np
-
+    from gyrobias._validation import as_float_array, sample_rate, sequence
     from gyrobias.io import GyroLog
     from gyrobias.io._types import SamplingReport
+    from gyrobias.units import checked_units
 
-    matrix = np.asarray(data, dtype=np.float64)
+    fs = sample_rate(fs)
+    matrix = as_float_array("data", data, ndims=(1, 2))
     if matrix.ndim == 1:
         matrix = matrix[:, None]
     if matrix.ndim != 2 or matrix.shape[0] < 2:
         raise ValueError(f"data must have shape (samples, channels), got {matrix.shape}")
     k = matrix.shape[1]
-    per = (units,) * k if isinstance(units, str) or units is None else tuple(units)
+    per = (
+        (checked_units("units", units),) * k
+        if isinstance(units, str) or units is None
+        else tuple(checked_units(f"units[{i}]", u) for i, u in enumerate(sequence("units", units)))
+    )
     if len(per) != k:
         raise ValueError(f"units has {len(per)} entries for {k} channels")
     report = SamplingReport(n_samples=matrix.shape[0], fs=float(fs), fs_source="user")

@@ -100,31 +100,35 @@ class Settings:
     lines: str | tuple[float, ...] = "auto"
 
     def __post_init__(self) -> None:
+        from gyrobias._validation import names, pair, real
+
         for name in ("start", "stop", "outliers"):
             value = getattr(self, name)
-            if value is not None and not (float(value) == float(value)):  # NaN
+            if value is not None and not (real(name, value) == real(name, value)):  # NaN
                 raise ValueError(f"{name} must be a number, got NaN")
         if self.start is not None and self.start < 0:
             raise ValueError(f"start must be ≥ 0 s, got {self.start}")
         if self.start is not None and self.stop is not None and self.stop <= self.start:
             raise ValueError(f"stop ({self.stop} s) must be after start ({self.start} s)")
         if self.outliers is not None and self.outliers <= 0:
-            raise ValueError(f"the outlier threshold must be > 0 σ, got {self.outliers}")
+            raise ValueError(f"outliers: the outlier threshold must be > 0 σ, got {self.outliers}")
         if self.detrend not in (None, "linear", "quadratic"):
             raise ValueError(f"detrend must be linear or quadratic, got {self.detrend!r}")
         if self.deviation not in DEVIATIONS:
             raise ValueError(f"deviation must be one of {', '.join(DEVIATIONS)}")
         if self.method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}")
-        unknown = [t for t in self.terms if t not in TERMS]
+        unknown = [t for t in names("terms", self.terms) if t not in TERMS]
         if unknown:
             raise ValueError(f"unknown terms {', '.join(unknown)}; terms are {', '.join(TERMS)}")
         if not self.terms:
-            raise ValueError("switch at least one term on")
+            raise ValueError("terms: switch at least one term on")
         if self.tau_range is not None:
-            lo, hi = self.tau_range
+            lo, hi = pair("tau_range", self.tau_range)
             if not (0 < lo < hi):
-                raise ValueError(f"the τ range must satisfy 0 < min < max, got {lo}, {hi}")
+                raise ValueError(
+                    f"tau_range: the τ range must satisfy 0 < min < max, got {lo}, {hi}"
+                )
         if isinstance(self.lines, str) and self.lines not in ("auto", "none"):
             raise ValueError(f"lines must be auto, none or frequencies, got {self.lines!r}")
 
@@ -206,8 +210,11 @@ class Source:
             "fill_gaps": False,
             "spill": False,
         }
+        from gyrobias._validation import checked_path, mapping
+
+        p = checked_path("path", path)
         kept = []
-        for key, value in options.items():
+        for key, value in mapping("options", options).items():
             if key in defaults and (value == defaults[key] or (key == "repair" and not value)):
                 continue
             if key in ("progress", "spill"):
@@ -215,7 +222,6 @@ class Source:
             if isinstance(value, list):
                 value = tuple(value)
             kept.append((key, value))
-        p = Path(path)
         return cls(p, tuple(kept), p.name)
 
 
@@ -306,6 +312,17 @@ class Session:
         allan: Sequence[AllanResult] | None = None,
         settings: Settings | None = None,
     ) -> None:
+        from gyrobias._validation import instance, optional_instance, sequence
+        from gyrobias.allan import AllanResult
+        from gyrobias.io import GyroLog
+
+        optional_instance("log", log, GyroLog, "a GyroLog")
+        instance("source", source, Source, "a Source")
+        optional_instance("settings", settings, Settings, "Settings")
+        if allan is not None:
+            allan = sequence("allan", allan)
+            for i, r in enumerate(allan):
+                instance(f"allan[{i}]", r, AllanResult, "an AllanResult")
         if log is None and not allan:
             raise ValueError("a session needs a log or Allan results")
         if log is not None and log.fs is None:
@@ -544,6 +561,9 @@ class Session:
 
     def conservative(self, confidence: float = 0.95) -> tuple[ConservativeCoefficients, ...]:
         """The conservative (overbounding) set of every fit (joint and read-off fits)."""
+        from gyrobias._validation import real
+
+        confidence = real("confidence", confidence)  # a memo key: the type before hashing
         s = self.settings
         key = (s.start, s.stop, s.outliers, s.detrend, s.method, s.terms, s.tau_range, s.lines)
         return self._memo.get(  # type: ignore[no-any-return]
@@ -594,6 +614,7 @@ class Session:
         """A Python script that computes what is on screen and prints the coefficients (each
         fit's ``summary()`` in IEEE units, as the app shows them); with ``export``, it also
         writes that estimator file as ``<fmt>.<ext>``."""
+        _check_export(export)
         s = self.settings
         modules = ["allan", "io", "noise"]
         if s.outliers is not None or s.detrend is not None:
@@ -667,6 +688,11 @@ class Session:
 
         Raises ``ValueError`` for what the command line cannot do (the GMWM; an array or
         result passed from Python)."""
+        _check_export(export)
+        if output is not None:
+            from gyrobias._validation import checked_path
+
+            checked_path("output", output)
         s = self.settings
         if self.source.path is None:
             raise ValueError("the log was passed from Python: no command reads it")
@@ -691,6 +717,14 @@ class Session:
         if export:
             argv += ["--export", f"{export}={output or export_filename(export)}"]
         return shlex.join(argv)
+
+
+def _check_export(export: Any) -> None:
+    """``export``: ``None`` (no file) or one of :data:`FORMATS`, else an error naming it."""
+    if export is not None:
+        from gyrobias._validation import choice
+
+        choice("export", export, FORMATS)
 
 
 def export_filename(fmt: str) -> str:

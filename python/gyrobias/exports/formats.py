@@ -9,12 +9,11 @@ import json
 import math
 import os
 from collections.abc import Mapping, Sequence
-from pathlib import Path
 from typing import Any
 
 from gyrobias import _core
 from gyrobias._files import atomic_write
-from gyrobias._validation import choice, real, ros_topic, sequence
+from gyrobias._validation import checked_path, choice, real, ros_topic, sequence
 from gyrobias.exports import _yaml
 from gyrobias.exports.discretisation import discrete
 from gyrobias.noise._types import NoiseCoefficients
@@ -618,6 +617,8 @@ def export(
     ['IMU.NoiseGyro', 'IMU.NoiseAcc', 'IMU.GyroWalk', 'IMU.AccWalk', 'IMU.Frequency']
     """
     fmt = choice("fmt", fmt, FORMATS)
+    if path is not None:
+        path = checked_path("path", path)
     ros_topic("rostopic", rostopic)  # written verbatim into YAML: a ROS name, nothing else
     if rate is not None:
         # every format's numeric option checked here, once, whether the format writes it or
@@ -650,12 +651,12 @@ def export_all(
     All formats are rendered before any file is written, so an error (e.g. a missing random
     walk, or a bounded one with ``strict=True``) leaves ``directory`` unchanged.
     """
+    out = None if directory is None else checked_path("directory", directory, "a directory path")
     texts = {
         fmt: export(gyro, fmt, accel=accel, rate=rate, rostopic=rostopic, strict=strict)
         for fmt in FORMATS
     }
-    if directory is not None:
-        out = Path(os.fspath(directory))
+    if out is not None:
         out.mkdir(parents=True, exist_ok=True)
         for fmt, text in texts.items():
             atomic_write(out / DEFAULT_FILENAMES[fmt], text)

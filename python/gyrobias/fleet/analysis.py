@@ -14,7 +14,18 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrobias import _core, allan, cleaning, io, noise
-from gyrobias._validation import as_float_array, callback, pair, positive_float, real
+from gyrobias._validation import (
+    as_float_array,
+    callback,
+    checked_path,
+    mapping,
+    pair,
+    positive_float,
+    real,
+    sequence,
+    string,
+    text,
+)
 from gyrobias._validation import axis_names as check_axis_names
 from gyrobias._validation import names as name_list
 from gyrobias.fleet.spread import OUT_OF_FAMILY_THRESHOLD, _finish
@@ -315,7 +326,7 @@ def _expand(sources: Any) -> list[str] | NDArray[np.float64]:
             ) from None
     paths: list[str] = []
     for item in items:
-        text = os.fspath(item)
+        text = str(checked_path("sources", item))
         if isinstance(item, str) and _GLOB_CHARS & set(text):
             hits = sorted(glob.glob(text, recursive=True))
             if not hits:
@@ -384,8 +395,15 @@ def _connect(client: Any) -> tuple[Any, bool]:
     if client is None:
         return None, False
     if isinstance(client, str):
+        text("client", client)
         distributed = _require("distributed")
-        return distributed.Client(client), True
+        try:
+            return distributed.Client(client), True
+        except ValueError as exc:  # distributed's address parser: "missing port number in …"
+            raise ValueError(
+                f"client must be a scheduler address such as 'tcp://host:8786', got {client!r} "
+                f"({exc})"
+            ) from None
     if not (hasattr(client, "submit") and hasattr(client, "scatter")):
         raise TypeError(
             "client must be a distributed.Client, a scheduler address such as 'tcp://host:8786', "
@@ -532,7 +550,7 @@ def analyse(
     # for fs, confidence, gaps and the τ grid, noise.fit for fit and terms).
     if fs is not None:
         fs = real("fs", fs)
-    if isinstance(units, str) and not set(units) & {",", "="}:
+    if isinstance(units, str) and not set(text("units", units)) & {",", "="}:
         sensor_kind(units)  # an unknown or non-rate unit fails here, once, not in every row
     if confidence is not None:
         confidence = real("confidence", confidence)
@@ -553,10 +571,10 @@ def analyse(
         )
     tau_spec: str | tuple[float, ...]
     if isinstance(taus, str):
-        tau_spec = taus
+        tau_spec = string("taus", taus)
     else:
         tau_spec = tuple(float(t) for t in as_float_array("taus", taus, ndims=(1,)))
-    load = dict(load_options or {})
+    load = dict(mapping("load_options", load_options)) if load_options is not None else {}
     for key in ("path", "fs"):
         if key in load:
             raise ValueError(
@@ -568,7 +586,16 @@ def analyse(
         load["time_column"] = time_column
     if units is not None:
         load["units"] = units
-    names = None if axis_names is None else tuple(str(a) for a in axis_names)
+    names = (
+        None
+        if axis_names is None
+        else tuple(
+            str(a)
+            for a in (
+                axis_names if isinstance(axis_names, str) else sequence("axis_names", axis_names)
+            )
+        )
+    )
     expanded = _expand(sources)
     array_units: tuple[str | None, ...] = ()
     if isinstance(expanded, np.ndarray):
@@ -600,7 +627,11 @@ def analyse(
         outliers=None if outliers is None else real("outliers", outliers),
         detrend=detrend,
         tau_range=None if tau_range is None else pair("tau_range", tau_range),
-        lines=tuple(lines) if lines is not None and not isinstance(lines, str) else lines,
+        lines=(
+            tuple(sequence("lines", lines))
+            if lines is not None and not isinstance(lines, str)
+            else lines
+        ),
     )
     _check_options(opts)
 

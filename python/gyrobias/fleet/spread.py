@@ -17,10 +17,10 @@ from gyrobias.fleet.table import (
     _COUNTS,
     TERMS,
     DataFrame,
-    _check_table,
     _columns,
     _gm_columns,
     _require,
+    check_table,
     term_columns,
 )
 
@@ -150,7 +150,7 @@ def summary(
     unit-to-unit differences however many units there are.
     """
     pd = _require("pandas")
-    _check_table(table)
+    check_table(table)
     # A test level in (0, 1) and a Birge-ratio floor > 0: checked once, by the core, when the
     # test is built (before any work, so levels are refused even for a table without values).
     test = _core.fleet.SpreadTest(real("alpha", alpha), real("min_ratio", min_ratio))

@@ -11,7 +11,7 @@ import importlib
 import os
 from typing import Any
 
-from gyrobias._files import atomic_binary
+from gyrobias._files import atomic_binary, checked_path
 
 __all__ = ["term_columns", "write_table"]  # TERMS, GM_PARAMETERS: documented in gyrobias.fleet
 
@@ -36,6 +36,7 @@ def term_columns(table: Any) -> list[str]:
     term) are there when :func:`analyse` was given ``terms`` with ``"GM"``/``"GM2"``. Each has
     ``_uncertainty``, ``_unit``, ``_z`` and ``_upper_bound`` companions like the IEEE terms.
     """
+    check_table(table)
     present = set(table.columns)
     return [c for c in (*TERMS, *_gm_columns(2)) if c in present]
 
@@ -91,7 +92,7 @@ def _require(name: str) -> Any:
         ) from exc
 
 
-def _check_table(table: Any) -> None:
+def check_table(table: Any) -> None:
     """``TypeError`` naming ``table`` unless it is a fleet table (a DataFrame from
     :func:`analyse`), instead of an ``AttributeError`` from deep inside pandas."""
     if not (hasattr(table, "to_parquet") and hasattr(table, "columns")):
@@ -111,7 +112,8 @@ def write_table(table: DataFrame, path: str | os.PathLike[str]) -> None:
     The Allan curves ``adev_tau``/``adev`` become list columns; ``pandas.read_parquet`` reads
     the file back.
     """
-    _check_table(table)
+    check_table(table)
+    target = checked_path("path", path)
     _require("pyarrow")
-    with atomic_binary(path) as fh:
+    with atomic_binary(target) as fh:
         table.to_parquet(fh, engine="pyarrow", index=False)

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from gyrobias._validation import as_float_array, count, sample_rate
+from gyrobias._validation import as_float_array, count, sample_rate, sequence, string, text
 
 
 @dataclass(frozen=True)
@@ -227,7 +227,8 @@ class GyroLog:
         return list(groups.items())
 
     def __getitem__(self, name: str) -> NDArray[np.float64]:
-        """One channel by name, as a 1-D view."""
+        """One channel by name, as a 1-D view (``KeyError`` for an unknown name, as a mapping)."""
+        string("name", name)
         try:
             return self.data[:, self.columns.index(name)]
         except ValueError:
@@ -316,6 +317,14 @@ class GyroLog:
         )
 
 
+def _bound_names(names: Any) -> tuple[str, str]:
+    """``names`` as the two bounds' names ``(start, stop)``, else an error naming ``names``."""
+    items = sequence("names", names)
+    if len(items) != 2:
+        raise ValueError(f"names must be two names (start, stop), got {len(items)}")
+    return text("names[0]", items[0]), text("names[1]", items[1])
+
+
 def resolve_selection(
     n_samples: int,
     fs: float | None,
@@ -359,7 +368,7 @@ def resolve_selection(
     >>> print(resolve_selection(6000, 100.0, "10s", "30s"))
     10–30 s of 60 s (samples 1000–3000 of 6000)
     """
-    start_name, stop_name = names
+    start_name, stop_name = _bound_names(names)
     first = parse_time_bound(start, name=start_name)
     last = parse_time_bound(stop, name=stop_name)
     n = count("n_samples", n_samples)

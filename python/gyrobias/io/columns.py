@@ -11,6 +11,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from gyrobias._validation import sequence
 from gyrobias.io import _store
 from gyrobias.io._store import Store
 from gyrobias.units import _parse_unit
@@ -106,7 +107,7 @@ def _resolve_units(
                 )
             given = [mapping.get(n) for n in names]
         elif given is None:
-            given = [None if u is None else str(u) for u in units]
+            given = [None if u is None else str(u) for u in sequence("units", units)]
         if len(given) != k:
             raise ValueError(
                 f"units has {len(given)} entries for {k} channels ({', '.join(names)})"
@@ -154,11 +155,12 @@ def _resolve(
 ) -> int:
     """0-based index of the column ``spec`` (a name, an index, ``"col<i>"`` or ``"<i>"``)."""
     available = list(header) if header is not None else [f"col{i}" for i in range(n_cols)]
+    arg = "time_column" if what == "time column" else "columns"  # the argument, for messages
     if isinstance(spec, (int, np.integer)) and not isinstance(spec, bool):
         if 0 <= spec < n_cols:
             return int(spec)
         raise ValueError(
-            f"{what} index {spec} out of range: {source} has {n_cols} columns (0..{n_cols - 1})"
+            f"{arg}: {what} index {spec} out of range: {source} has {n_cols} columns (0..{n_cols - 1})"
         )
     if not isinstance(spec, str):
         raise TypeError(f"{what} must be a column name or integer index, got {type(spec).__name__}")
@@ -166,13 +168,17 @@ def _resolve(
     if header is not None:
         hits = [i for i, h in enumerate(header) if h == name]
         if len(hits) > 1:
-            raise ValueError(f"{what} '{name}' is ambiguous: the header has it at columns {hits}")
+            raise ValueError(
+                f"{arg}: {what} '{name}' is ambiguous: the header has it at columns {hits}"
+            )
         if hits:
             return hits[0]
     m = re.fullmatch(r"(?:col)?(\d+)", name)
     if m and int(m.group(1)) < n_cols:
         return int(m.group(1))
-    raise ValueError(f"unknown {what} '{name}' in {source}; available: {', '.join(available)}")
+    raise ValueError(
+        f"{arg}: unknown {what} '{name}' in {source}; available: {', '.join(available)}"
+    )
 
 
 def _select(

@@ -7,13 +7,21 @@ import os
 import zlib
 from collections.abc import Callable, Sequence
 from dataclasses import replace
-from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
-from gyrobias._validation import callback, choice, count, sample_rate, sequence, text
+from gyrobias._validation import (
+    callback,
+    checked_path,
+    choice,
+    count,
+    optional_path,
+    sample_rate,
+    sequence,
+    text,
+)
 from gyrobias.io import _bag
 from gyrobias.io._store import Store
 from gyrobias.io._types import GyroLog
@@ -180,7 +188,7 @@ def load(
     ``benches/python/bench_io.py``); any bag it does not read (other layouts, several
     connections on the topic, damage) is read by ``rosbags`` with the same values and errors.
     """
-    p = Path(os.fspath(path))
+    p = checked_path("path", path)
     if not p.exists():
         raise FileNotFoundError(f"no such file: '{p}'")
     callback("progress", progress)
@@ -206,8 +214,9 @@ def load(
         _column_spec("time_column", time_column)
     if topic is not None:
         text("topic", topic)
+    spill_path = optional_path("spill_dir", spill_dir, "a directory path")
     store = Store(
-        None if spill is None else bool(spill), None if spill_dir is None else os.fspath(spill_dir)
+        None if spill is None else bool(spill), None if spill_path is None else str(spill_path)
     )
 
     topic_used: str | None = None
@@ -342,7 +351,7 @@ def topics(path: str | os.PathLike[str]) -> list[tuple[str, str, int]]:
     ValueError
         Not a bag, or unreadable.
     """
-    p = Path(os.fspath(path))
+    p = checked_path("path", path)
     if not p.exists():
         raise FileNotFoundError(f"no such file: '{p}'")
     if not _bag.is_bag(p):
@@ -351,7 +360,11 @@ def topics(path: str | os.PathLike[str]) -> list[tuple[str, str, int]]:
 
 
 def _repair_options(repair: str | Sequence[str]) -> tuple[str, ...]:
-    items = [r.strip() for r in repair.split(",")] if isinstance(repair, str) else list(repair)
+    items = (
+        [r.strip() for r in repair.split(",")]
+        if isinstance(repair, str)
+        else sequence("repair", repair)
+    )
     out = []
     for r in items:
         if r == "":

@@ -997,6 +997,8 @@ class NoiseCoefficients:
 
     def to_json(self, path: str | os.PathLike[str] | None = None, **kwargs: Any) -> str:
         """:meth:`to_dict` as JSON; also written to ``path`` when given."""
+        if path is not None:
+            path = _files.checked_path("path", path)
         kwargs.setdefault("indent", 2)
         text = json.dumps(self.to_dict(), **kwargs)
         if path is not None:

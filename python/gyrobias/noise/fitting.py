@@ -23,6 +23,7 @@ from gyrobias._validation import (
     pair,
     real,
     sample_rate,
+    text,
 )
 from gyrobias.noise._types import (
     _GM_SYMBOLS,
@@ -451,7 +452,7 @@ def fit(
         )
     term_list = [t for t in term_list_in if t != "S"]
     # The symbols are parsed by the core (noise::parse_model_terms), whose message names terms.
-    data_unit = unit if unit is not None else result.unit
+    data_unit = text("unit", unit) if unit is not None else result.unit
     sensor: str | None = None
     if data_unit is not None:
         sensor = sensor_kind(data_unit)

@@ -11,6 +11,7 @@ from gyrobias import _core
 from gyrobias._validation import (
     integer,
     real,
+    sequence,
 )
 from gyrobias._validation import seed as seed_value
 
@@ -116,8 +117,8 @@ def simulate(
     )
     out = flat if axes == 1 else flat.reshape(n, axes)
     lines: list[tuple[float, float, float]] = []
-    for item in sinusoids:
-        values = [real("sinusoids", v) for v in item]
+    for i, item in enumerate(sequence("sinusoids", sinusoids)):
+        values = [real("sinusoids", v) for v in sequence(f"sinusoids[{i}]", item)]
         if len(values) not in (2, 3):
             raise TypeError(
                 f"sinusoids must hold (frequency, amplitude) or (frequency, amplitude, phase), "

@@ -14,6 +14,7 @@ from __future__ import annotations
 from typing import Any
 
 from gyrobias import _generics
+from gyrobias._validation import optional_instance, optional_text
 from gyrobias.allan._types import AllanResult, DynamicAllanResult
 from gyrobias.noise._types import NoiseCoefficients, WaveletVariance
 from gyrobias.noise.fitting import fit as fit_noise
@@ -49,8 +50,11 @@ __all__ = [
 def _plot_allan_result(
     result: AllanResult, ax: Any = None, *, label: str | None = None, fit: Any = None, **kwargs: Any
 ) -> Any:
+    optional_text("label", label)
     if fit is True:
         fit = fit_noise(result)
+    elif fit is not False:
+        optional_instance("fit", fit, NoiseCoefficients, "NoiseCoefficients, True")
     fits = None if fit is None or fit is False else [fit]
     return plot_allan([result], ax=ax, labels=[label] if label else None, fits=fits, **kwargs)
 

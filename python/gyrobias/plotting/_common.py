@@ -6,7 +6,15 @@ import os
 from typing import Any
 
 from gyrobias._files import atomic_binary
-from gyrobias._validation import integer, optional_text, positive_float, sequence, text
+from gyrobias._validation import (
+    checked_path,
+    instance,
+    integer,
+    optional_text,
+    positive_float,
+    sequence,
+    text,
+)
 
 _SYMBOL = {"adev": "σ(τ)", "mdev": "Mod σ(τ)", "hdev": "Hadamard σ(τ)", "totdev": "Tot σ(τ)"}
 _NAME = {"adev": "Allan", "mdev": "modified Allan", "hdev": "Hadamard", "totdev": "total"}
@@ -55,16 +63,44 @@ def _sensor_title(unit: str | None) -> str:
     return f"{'gyroscope' if kind == 'gyro' else 'accelerometer'} [{unit}]"
 
 
+def check_axes(name: str, ax: Any) -> Any:
+    """``ax`` if it is ``None`` or a matplotlib ``Axes``, else ``TypeError`` naming ``name``
+    (checked before drawing, not as ``'str' object has no attribute 'errorbar'``)."""
+    if ax is None:
+        return None
+    from matplotlib.axes import Axes
+
+    return instance(name, ax, Axes, "a matplotlib Axes or None")
+
+
+def check_figure(name: str, fig: Any) -> Any:
+    """``fig`` if it is ``None`` or a matplotlib ``Figure`` (or ``SubFigure``), else ``TypeError``."""
+    if fig is None:
+        return None
+    from matplotlib.figure import FigureBase
+
+    return instance(name, fig, FigureBase, "a matplotlib Figure or None")
+
+
+def check_output(path: Any) -> Any:
+    """The image file ``path`` (:func:`gyrobias._validation.checked_path`), checked before
+    anything is drawn."""
+    return checked_path("path", path)
+
+
 #: Largest figure side (inches) and resolution (dots per inch) drawn: beyond them matplotlib's
 #: font rasteriser fails (``invalid ppem value``) or the image cannot be allocated.
 _MAX_INCHES = 200.0
 _MAX_DPI = 10_000
+#: Smallest resolution drawn: below it the smallest labels (7 pt) are under one pixel per em
+#: and matplotlib's font rasteriser fails (``FT_Set_Char_Size … invalid ppem value``).
+_MIN_DPI = 12
 
 
 def _check_dpi(dpi: Any) -> int:
     d = integer("dpi", dpi)
-    if not 1 <= d <= _MAX_DPI:
-        raise ValueError(f"dpi must be an integer from 1 to {_MAX_DPI}, got {d}")
+    if not _MIN_DPI <= d <= _MAX_DPI:
+        raise ValueError(f"dpi must be an integer from {_MIN_DPI} to {_MAX_DPI}, got {d}")
     return d
 
 

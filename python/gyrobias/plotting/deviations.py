@@ -8,25 +8,37 @@ from typing import Any
 
 import numpy as np
 
-from gyrobias.allan._types import AllanResult
+from gyrobias._validation import instance, instances, sequence, string
+from gyrobias.allan._types import AllanResult, DynamicAllanResult
+from gyrobias.noise._types import NoiseCoefficients
 from gyrobias.plotting._common import (
     _NAME,
     _SYMBOL,
+    _check_dpi,
     _require_matplotlib,
     _save_atomically,
     _sensor_title,
+    check_axes,
+    check_output,
     check_texts,
 )
 from gyrobias.plotting.models import plot_noise_model
 
 
-def _as_list(results: AllanResult | Sequence[AllanResult]) -> list[AllanResult]:
-    items = [results] if isinstance(results, AllanResult) else list(results)
-    if not items:
-        raise ValueError("results is empty: nothing to plot")
-    for r in items:
-        if not isinstance(r, AllanResult):
-            raise TypeError(f"results must be AllanResult objects, got {type(r).__name__}")
+def _as_list(
+    results: AllanResult | Sequence[AllanResult], name: str = "results"
+) -> list[AllanResult]:
+    """One AllanResult or a non-empty sequence of them (:func:`gyrobias._validation.instances`)."""
+    return instances(name, results, AllanResult, "an AllanResult")
+
+
+def _fits(fits: Any) -> list[NoiseCoefficients] | None:
+    """``fits``: ``None`` or a sequence of NoiseCoefficients (one per result)."""
+    if fits is None:
+        return None
+    items = sequence("fits", fits)
+    for i, f in enumerate(items):
+        instance(f"fits[{i}]", f, NoiseCoefficients, "NoiseCoefficients")
     return items
 
 
@@ -81,6 +93,8 @@ def plot_allan(
     check_texts(title=title, labels=labels)
     items = _as_list(results)
     _require_matplotlib()
+    check_axes("ax", ax)
+    fits = _fits(fits)
     if labels is not None and len(labels) != len(items):
         raise ValueError(f"labels has {len(labels)} entries for {len(items)} results")
     if ax is None:
@@ -109,6 +123,9 @@ def save_allan_plot(
     """
     check_texts(title=title, labels=labels)
     items = _as_list(results)
+    check_output(path)
+    _check_dpi(dpi)
+    fits = _fits(fits)
     _require_matplotlib()
     from matplotlib.figure import Figure
 
@@ -189,7 +206,10 @@ def plot_dynamic_allan(
     'τ [s]'
     """
     check_texts(title=title)
+    instance("result", result, DynamicAllanResult, "a DynamicAllanResult")
+    string("cmap", cmap)
     _require_matplotlib()
+    check_axes("ax", ax)
     from matplotlib.colors import LogNorm
 
     if ax is None:

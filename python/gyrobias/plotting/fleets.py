@@ -8,10 +8,13 @@ from typing import Any
 import numpy as np
 
 from gyrobias import _core
-from gyrobias.fleet.table import term_columns
+from gyrobias.fleet.table import check_table, term_columns
 from gyrobias.plotting._common import (
+    _check_dpi,
     _require_matplotlib,
     _save_atomically,
+    check_figure,
+    check_output,
     check_texts,
 )
 
@@ -71,7 +74,9 @@ def plot_fleet(table: Any, fig: Any = None, *, title: str | None = None) -> Any:
     names the term) are red crosses labelled with their source file.
     """
     check_texts(title=title)
+    check_table(table)
     _require_matplotlib()
+    check_figure("fig", fig)
     ok = table[table["error"].isna()]
     if ok.empty:
         raise ValueError("table has no analysed unit (every row has an error): nothing to plot")
@@ -88,6 +93,9 @@ def save_fleet_plot(
 ) -> None:
     """Render :func:`plot_fleet` to an image file through a pyplot-free ``Figure`` (headless)."""
     check_texts(title=title)
+    check_table(table)
+    check_output(path)
+    _check_dpi(dpi)
     _require_matplotlib()
     from matplotlib.figure import Figure
 

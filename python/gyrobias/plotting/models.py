@@ -7,11 +7,15 @@ from typing import Any
 
 import numpy as np
 
+from gyrobias._validation import instance, optional_instance
 from gyrobias.allan._types import AllanResult
 from gyrobias.noise._types import NoiseCoefficients, WaveletVariance
 from gyrobias.plotting._common import (
+    _check_dpi,
     _require_matplotlib,
     _save_atomically,
+    check_axes,
+    check_output,
     check_texts,
 )
 
@@ -40,7 +44,10 @@ def plot_noise_model(
     -------
     matplotlib Axes
     """
+    instance("coefficients", coefficients, NoiseCoefficients, "NoiseCoefficients")
+    optional_instance("allan", allan, AllanResult, "an AllanResult")
     _require_matplotlib()
+    check_axes("ax", ax)
     if ax is None:
         import matplotlib.pyplot as plt
 
@@ -135,6 +142,9 @@ def save_noise_model_plot(
     The file is written atomically (a temporary file renamed over ``path``).
     """
     check_texts(title=title)
+    instance("coefficients", coefficients, NoiseCoefficients, "NoiseCoefficients")
+    check_output(path)
+    _check_dpi(dpi)
     _require_matplotlib()
     from matplotlib.figure import Figure
 
@@ -160,7 +170,9 @@ def plot_wvar(result: WaveletVariance, ax: Any = None) -> Any:
     -------
     matplotlib Axes
     """
+    instance("result", result, WaveletVariance, "a WaveletVariance")
     _require_matplotlib()
+    check_axes("ax", ax)
     if ax is None:
         import matplotlib.pyplot as plt
 

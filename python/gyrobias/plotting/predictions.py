@@ -8,14 +8,16 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from gyrobias._validation import as_float_array, integer, sample_rate
+from gyrobias._validation import as_float_array, integer, sample_rate, sequence
 from gyrobias.allan._types import AllanResult
 from gyrobias.plotting._common import (
     _check_dpi,
     _require_matplotlib,
     _save_atomically,
+    check_output,
     check_texts,
 )
+from gyrobias.plotting.deviations import _as_list
 
 
 def save_prediction_plot(
@@ -69,6 +71,7 @@ def save_prediction_plot(
         std = as_float_array("std", std)
         if std.size != h:
             raise ValueError(f"std must have {h} values, got {std.size}")
+    check_output(path)
     _check_dpi(dpi)
     _require_matplotlib()
     from matplotlib.figure import Figure
@@ -111,6 +114,13 @@ def save_comparison_plot(
     ``before[i]`` and ``after[i]`` share a colour; the file is written atomically.
     """
     check_texts(title=title, labels=labels)
+    pair_of = sequence("labels", labels)
+    if len(pair_of) != 2:
+        raise ValueError(f"labels must be two labels (before, after), got {len(pair_of)}")
+    before = _as_list(before, "before")
+    after = _as_list(after, "after")
+    check_output(path)
+    _check_dpi(dpi)
     _require_matplotlib()
     from matplotlib.figure import Figure
 

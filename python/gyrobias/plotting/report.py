@@ -6,13 +6,16 @@ from typing import Any
 
 import numpy as np
 
+from gyrobias._validation import instance, optional_instance
 from gyrobias.allan._types import AllanResult
+from gyrobias.conservative import ConservativeCoefficients
+from gyrobias.noise._types import NoiseCoefficients
 from gyrobias.plotting._common import (
     _check_inches,
     _require_matplotlib,
     check_texts,
 )
-from gyrobias.plotting.deviations import _as_list, _draw
+from gyrobias.plotting.deviations import _draw
 
 
 def allan_report_svg(
@@ -46,7 +49,11 @@ def allan_report_svg(
         are deterministic.
     """
     check_texts(title=title)
-    items = _as_list(result)
+    items = [instance("result", result, AllanResult, "an AllanResult")]
+    optional_instance("fit", fit, NoiseCoefficients, "NoiseCoefficients")
+    optional_instance(
+        "conservative", conservative, ConservativeCoefficients, "ConservativeCoefficients"
+    )
     width = _check_inches("width", width)
     height = _check_inches("height", height)
     matplotlib = _require_matplotlib()
