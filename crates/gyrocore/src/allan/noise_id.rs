@@ -333,7 +333,11 @@ impl AcfState {
             let end = (start + BLOCK).min(range.end);
             self.current.clear();
             trend.residuals_into(x, base, m, start..end, &mut self.current);
-            self.sums[0].extend(&self.current);
+            // Orders below DMIN never enter the decision (`decide` starts at d = DMIN): their
+            // sums are not accumulated (a third of the pass for the Allan variances).
+            if DMIN == 0 {
+                self.sums[0].extend(&self.current);
+            }
             for j in 1..self.levels {
                 self.next.clear();
                 if let (Some(c), Some(&h)) = (self.carry[j - 1], self.current.first()) {
@@ -1054,7 +1058,8 @@ mod tests {
             let len = x.len().div_ceil(m);
             let trend = Trend::fit(&x, m, len);
             let r1 = lag1_all_differences(&x, m, len, &trend, 3);
-            for d in 0..=3 {
+            // The orders the decision reads (from DMIN: lower ones are not accumulated).
+            for d in DMIN as usize..=3 {
                 let reference = direct_r1(&x, m, d);
                 // 1e-9 absolute on a correlation: the two detrending routes (orthogonal
                 // projection vs normal equations, condition ~n⁴) differ by rounding only.
