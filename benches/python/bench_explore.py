@@ -63,6 +63,13 @@ def _units(channels: int) -> list[str]:
     return UNITS[:channels] if channels <= 6 else ["deg/s"] * channels
 
 
+def _cpu() -> float:
+    """CPU seconds of this process so far, every thread (user + system): the work done, which
+    the load of a shared machine does not inflate as it does the elapsed time."""
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
+
+
 def _rss_now() -> int:
     """The resident set now (bytes), from /proc (Linux), else the peak so far."""
     try:
@@ -112,6 +119,7 @@ def interactions(path: Path, repeats: int) -> dict[str, Any]:
     ]
     out: dict[str, Any] = {}
     cached: dict[str, Any] = {}
+    cpu: dict[str, list[float]] = {}
     session = sessions[0]
 
     def timed(change: dict[str, Any], fresh: bool) -> float:
@@ -121,9 +129,11 @@ def interactions(path: Path, repeats: int) -> dict[str, Any]:
             # under a term toggle, stays: the app does not recompute it either)
             for kind in _invalidated(change):
                 session._memo.values.pop(kind, None)  # type: ignore[attr-defined]
-        t = time.perf_counter()
+        t, c = time.perf_counter(), _cpu()
         app.apply(**change)
         dt = time.perf_counter() - t
+        if fresh:
+            cpu.setdefault(name, []).append(_cpu() - c)
         assert not app.alerts.objects, [a.object for a in app.alerts]
         return dt
 
@@ -162,6 +172,7 @@ def interactions(path: Path, repeats: int) -> dict[str, Any]:
                 allan.adev(log.data[:, cols], log.fs, taus="octave", confidence=conf, units=unit)
             floor[name].append(time.perf_counter() - t)
     return {
+        "cpu": cpu,
         "cached": cached,
         "floor": floor,
         "n": n,
@@ -279,13 +290,18 @@ def main() -> None:
         # the session keeps (undo, a step switched off and on again: no recomputation)
         print(
             f"  {'interaction (first time, uncached)':<36} {'median':>8} {'worst':>8}"
-            f"   {'revisit (cached)':>16}"
+            f"   {'CPU (all threads)':>17}   {'revisit (cached)':>16}"
         )
         worst_all = 0.0
         for name, times in r["times"].items():
             worst_all = max(worst_all, max(times))
             print(
                 f"  {name:<36} {statistics.median(times):8.3f} {max(times):8.3f} s"
+                + (
+                    f"   {statistics.median(r['cpu'][name]):15.3f} s"
+                    if name in r["cpu"]
+                    else f"   {'':>17}"
+                )
                 + (
                     f"   {statistics.median(r['cached'][name]):14.3f} s"
                     if name in r["cached"]
