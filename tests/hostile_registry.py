@@ -154,8 +154,7 @@ REGISTRY: dict[str, str] = {
     "cleaning.remove_outliers": "data:array threshold:pos method:option units:unit? out:spec?",
     "cleaning.detrend": "data:array fs:pos order:count units:unit? out:spec?",
     "cleaning.minmax_envelope": "data:array bins:count",
-    "cleaning.clean": "data:array fs:pos outliers:pos? detrend:option? units:unit? "
-    "out:spec?",
+    "cleaning.clean": "data:array fs:pos outliers:pos? detrend:option? units:unit? out:spec?",
     "cleaning.OutlierResult.__init__": "data:field mask:field count:field threshold:field "
     "center:field scale:field units:field method:field",
     "cleaning.OutlierResult.to_dict": "",
