@@ -151,10 +151,10 @@ REGISTRY: dict[str, str] = {
     "fir.kaiser_lowpass": "fs:pos fpass:pos fstop:pos apass_db:pos astop_db:pos",
     "fir.stream": "taps:array x:array state:array? axis:axis dtype:option",
     # --- cleaning ---------------------------------------------------------------------------------
-    "cleaning.remove_outliers": "data:array threshold:pos method:option units:unit?",
-    "cleaning.detrend": "data:array fs:pos order:count units:unit?",
+    "cleaning.remove_outliers": "data:array threshold:pos method:option units:unit? out:spec?",
+    "cleaning.detrend": "data:array fs:pos order:count units:unit? out:spec?",
     "cleaning.minmax_envelope": "data:array bins:count",
-    "cleaning.clean": "data:array fs:pos outliers:pos? detrend:option? units:unit?",
+    "cleaning.clean": "data:array fs:pos outliers:pos? detrend:option? units:unit? out:spec?",
     "cleaning.OutlierResult.__init__": "data:field mask:field count:field threshold:field "
     "center:field scale:field units:field method:field",
     "cleaning.OutlierResult.to_dict": "",

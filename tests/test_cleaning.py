@@ -361,3 +361,106 @@ def test_thread_count_does_not_change_results() -> None:
         )
         digests.add(out.stdout.strip())
     assert len(digests) == 1
+
+
+# ---------------------------------------------------------------------------------------------
+# out=: the caller's buffer (an app cleaning again and again reuses one working copy)
+
+
+def _messy(n: int, k: int, seed: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    x = rng.normal(0.0, 1.0, (n, k)) + 1e-3 * np.arange(n)[:, None]
+    x[rng.integers(0, n, 3), rng.integers(0, k, 3)] = 40.0  # spikes
+    x[n // 2, 0] = np.nan  # a gap
+    return x
+
+
+def _same_bits(a: np.ndarray, b: np.ndarray) -> bool:
+    return a.shape == b.shape and bool(np.array_equal(a.view(np.int64), b.view(np.int64)))
+
+
+@settings(max_examples=40, derandomize=True, deadline=None)
+@given(
+    n=st.integers(20, 3000),
+    k=st.integers(1, 5),
+    seed=st.integers(0, 2**16),
+    outliers=st.sampled_from([None, 3.0, 5.0]),
+    drift=st.sampled_from([None, "linear", "quadratic"]),
+)
+def test_out_gives_the_results_of_a_new_copy_bit_for_bit(
+    n: int, k: int, seed: int, outliers: float | None, drift: str | None
+) -> None:
+    x = _messy(n, k, seed)
+    before = x.copy()
+    fresh = cleaning.clean(x, 100.0, outliers=outliers, detrend=drift)
+    buf = np.full_like(x, 7.0)  # stale contents never show through
+    into = cleaning.clean(x, 100.0, outliers=outliers, detrend=drift, out=buf)
+    assert _same_bits(into.data, fresh.data)
+    assert _same_bits(x, before)  # the input is never modified
+    if outliers is not None or drift is not None:
+        assert np.shares_memory(into.data, buf)
+    if outliers is not None:
+        assert into.outliers is not None and fresh.outliers is not None
+        np.testing.assert_array_equal(into.outliers.mask, fresh.outliers.mask)
+        np.testing.assert_array_equal(into.outliers.count, fresh.outliers.count)
+        # and as the step alone (the reference path: a new copy, then a new residual)
+        alone = cleaning.remove_outliers(x, outliers, out=np.empty_like(x))
+        assert _same_bits(alone.data, cleaning.remove_outliers(x, outliers).data)
+    if drift is not None:
+        assert into.drift is not None and fresh.drift is not None
+        assert _same_bits(into.drift.coefficients, fresh.drift.coefficients)
+        order = cleaning.ORDERS[drift]
+        copy = x.copy()
+        inplace = cleaning.detrend(copy, 100.0, order, out=copy)  # in place
+        assert _same_bits(inplace.data, cleaning.detrend(x, 100.0, order).data)
+        assert np.shares_memory(inplace.data, copy)
+
+
+def test_clean_runs_both_steps_in_one_copy() -> None:
+    x = _messy(5000, 3, 1)
+    c = cleaning.clean(x, 100.0, outliers=5.0, detrend="linear")
+    assert c.outliers is not None and c.drift is not None
+    # the drift is removed where the outlier step left its result (one copy of the data)
+    assert np.shares_memory(c.drift.data, c.outliers.data) and c.data is c.drift.data
+    ref = cleaning.detrend(cleaning.remove_outliers(x, 5.0).data, 100.0)
+    assert _same_bits(c.data, ref.data)
+
+
+def test_out_of_a_1d_input_and_in_place_outliers() -> None:
+    x = _messy(500, 1, 2)[:, 0].copy()
+    ref = cleaning.remove_outliers(x, 4.0)
+    r = cleaning.remove_outliers(x, 4.0, out=x)  # in place: out is the data itself
+    assert r.data.shape == (500,) and np.shares_memory(r.data, x)
+    assert _same_bits(x, ref.data)
+
+
+@pytest.mark.parametrize(
+    ("out", "error", "match"),
+    [
+        ([0.0] * 10, TypeError, "out must be a NumPy array"),
+        (np.zeros((10, 2), dtype=np.float32), TypeError, "out must be a writable C-contiguous"),
+        (np.zeros((2, 10)).T, TypeError, "out must be a writable C-contiguous"),
+        (np.zeros((11, 2)), ValueError, r"out has shape \(11, 2\), the data \(10, 2\)"),
+    ],
+)
+def test_out_bad_buffers(out: object, error: type, match: str) -> None:
+    x = _messy(10, 2, 3)
+    for call in (
+        lambda: cleaning.remove_outliers(x, 5.0, out=out),  # type: ignore[arg-type]
+        lambda: cleaning.detrend(x, 100.0, out=out),  # type: ignore[arg-type]
+        lambda: cleaning.clean(x, 100.0, detrend="linear", out=out),  # type: ignore[arg-type]
+    ):
+        with pytest.raises(error, match=match):
+            call()
+
+
+def test_out_read_only_and_overlapping_buffers() -> None:
+    x = _messy(10, 2, 4)
+    frozen = np.zeros_like(x)
+    frozen.flags.writeable = False
+    with pytest.raises(TypeError, match="out must be a writable"):
+        cleaning.detrend(x, 100.0, out=frozen)
+    big = np.zeros((11, 2))
+    big[:10] = x
+    with pytest.raises(ValueError, match="out overlaps data"):
+        cleaning.detrend(big[:10], 100.0, out=big[1:])

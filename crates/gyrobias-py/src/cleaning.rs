@@ -1,10 +1,10 @@
 //! Bindings of `gyrocore::cleaning`.
 
 use gyrocore::cleaning;
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray2, PyReadwriteArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
-use crate::array::c_order;
+use crate::array::{c_order, c_order_mut};
 use crate::count;
 use crate::error::core;
 
@@ -39,6 +39,54 @@ fn remove_outliers<'py>(
         scale.into_pyarray(py),
         count.into_pyarray(py),
     ))
+}
+
+/// Outliers of each column of a writable C-contiguous `(n, k)` array, replaced by NaN in it
+/// (`gyrocore::cleaning::remove_outliers_in_place`): `(mask, center, scale, count)`, the mask
+/// flat in row-major order.
+#[pyfunction]
+#[pyo3(signature = (data, threshold))]
+#[allow(clippy::needless_pass_by_value, clippy::type_complexity)]
+fn remove_outliers_in_place<'py>(
+    py: Python<'py>,
+    mut data: PyReadwriteArray2<'py, f64>,
+    threshold: f64,
+) -> PyResult<(
+    Bound<'py, PyArray1<bool>>,
+    F64Array<'py>,
+    F64Array<'py>,
+    Bound<'py, PyArray1<u64>>,
+)> {
+    let n_cols = data.shape()[1];
+    let x = c_order_mut("data", &mut data)?;
+    let r = core(py.detach(|| cleaning::remove_outliers_in_place(x, n_cols, threshold)))?;
+    let center: Vec<f64> = r.channels.iter().map(|c| c.center).collect();
+    let scale: Vec<f64> = r.channels.iter().map(|c| c.scale).collect();
+    let count: Vec<u64> = r.channels.iter().map(|c| c.count as u64).collect();
+    Ok((
+        r.mask.into_pyarray(py),
+        center.into_pyarray(py),
+        scale.into_pyarray(py),
+        count.into_pyarray(py),
+    ))
+}
+
+/// Polynomial drift removal of each column of a writable C-contiguous `(n, k)` array, the
+/// residual written in it (`gyrocore::cleaning::detrend_in_place`): the coefficients, flat in
+/// row-major order `(k, order + 1)`.
+#[pyfunction]
+#[pyo3(signature = (data, fs, order))]
+#[allow(clippy::needless_pass_by_value)]
+fn detrend_in_place<'py>(
+    py: Python<'py>,
+    mut data: PyReadwriteArray2<'py, f64>,
+    fs: f64,
+    #[pyo3(from_py_with = count::order)] order: usize,
+) -> PyResult<F64Array<'py>> {
+    let n_cols = data.shape()[1];
+    let x = c_order_mut("data", &mut data)?;
+    let coefficients = core(py.detach(|| cleaning::detrend_in_place(x, n_cols, fs, order)))?;
+    Ok(coefficients.into_pyarray(py))
 }
 
 /// Polynomial drift removal of each column (`gyrocore::cleaning::detrend`):
@@ -84,5 +132,7 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("MIN_OUTLIER_SAMPLES", cleaning::MIN_OUTLIER_SAMPLES)?;
     m.add_function(wrap_pyfunction!(remove_outliers, m)?)?;
     m.add_function(wrap_pyfunction!(detrend, m)?)?;
+    m.add_function(wrap_pyfunction!(remove_outliers_in_place, m)?)?;
+    m.add_function(wrap_pyfunction!(detrend_in_place, m)?)?;
     m.add_function(wrap_pyfunction!(minmax_envelope, m)?)
 }

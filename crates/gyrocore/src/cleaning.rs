@@ -80,6 +80,15 @@ pub struct Outliers {
     pub channels: Vec<OutlierStats>,
 }
 
+/// The output of [`remove_outliers_in_place`] (the data is the caller's buffer).
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutliersFlagged {
+    /// `true` where a sample was flagged, row-major `(n, k)`.
+    pub mask: Vec<bool>,
+    /// One entry per channel.
+    pub channels: Vec<OutlierStats>,
+}
+
 /// The output of [`detrend`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Detrended {
@@ -157,8 +166,30 @@ fn robust_center_scale(values: &mut [f64]) -> (f64, f64) {
 /// channel with fewer finite samples ([`Error::InvalidParameter`] naming `data` and the column).
 /// An infinite sample is not an error: it is flagged.
 pub fn remove_outliers(data: &[f64], n_cols: usize, threshold: f64) -> Result<Outliers> {
+    let mut out = data.to_vec();
+    let flagged = remove_outliers_in_place(&mut out, n_cols, threshold)?;
+    Ok(Outliers {
+        data: out,
+        mask: flagged.mask,
+        channels: flagged.channels,
+    })
+}
+
+/// [`remove_outliers`] writing into `data` itself: the statistics are taken from `data` as
+/// given, then every outlier is replaced by NaN there (the values are those of
+/// [`remove_outliers`], bit for bit). A caller that cleans repeatedly reuses one buffer
+/// instead of mapping a new copy of its data each time.
+///
+/// # Errors
+/// As [`remove_outliers`]; `data` is unchanged when an error is returned.
+pub fn remove_outliers_in_place(
+    data: &mut [f64],
+    n_cols: usize,
+    threshold: f64,
+) -> Result<OutliersFlagged> {
     let n = rows(data, n_cols)?;
     validate::positive("threshold", threshold)?;
+    let view: &[f64] = data;
     validate::min_len("data", n, MIN_OUTLIER_SAMPLES)?;
     // One scratch column per worker, reused for its columns (first-touch page faults of a
     // fresh buffer per column cost more than the selection itself); column j goes to worker
@@ -171,7 +202,7 @@ pub fn remove_outliers(data: &[f64], n_cols: usize, threshold: f64) -> Result<Ou
             (w..n_cols)
                 .step_by(workers)
                 .map(|j| {
-                    finite_column_into(data, n_cols, j, &mut scratch);
+                    finite_column_into(view, n_cols, j, &mut scratch);
                     let stats = if scratch.len() < MIN_OUTLIER_SAMPLES {
                         Err(too_few_finite(j, scratch.len(), MIN_OUTLIER_SAMPLES))
                     } else {
@@ -188,10 +219,9 @@ pub fn remove_outliers(data: &[f64], n_cols: usize, threshold: f64) -> Result<Ou
         .into_iter()
         .map(|(_, stats)| stats)
         .collect::<Result<_>>()?;
-    let mut out = data.to_vec();
     let mut mask = vec![false; data.len()];
     let block_len = BLOCK_ROWS * n_cols;
-    let block_counts: Vec<Vec<usize>> = out
+    let block_counts: Vec<Vec<usize>> = data
         .par_chunks_mut(block_len)
         .zip(mask.par_chunks_mut(block_len))
         .map(|(out_block, mask_block)| {
@@ -226,8 +256,7 @@ pub fn remove_outliers(data: &[f64], n_cols: usize, threshold: f64) -> Result<Ou
             *total += c;
         }
     }
-    Ok(Outliers {
-        data: out,
+    Ok(OutliersFlagged {
         mask,
         channels: channels
             .into_iter()
@@ -326,6 +355,28 @@ fn solve_spd(normal: &Normal, dim: usize) -> Option<[f64; 3]> {
 /// an infinite sample ([`Error::NonFinite`]); a channel with fewer than `order + 2` finite
 /// samples (naming `data` and the column).
 pub fn detrend(data: &[f64], n_cols: usize, fs: f64, order: usize) -> Result<Detrended> {
+    let mut out = data.to_vec();
+    let coefficients = detrend_in_place(&mut out, n_cols, fs, order)?;
+    Ok(Detrended {
+        data: out,
+        coefficients,
+    })
+}
+
+/// [`detrend`] writing the residual into `data` itself; returns the coefficients (as
+/// [`Detrended::coefficients`]). The residual is that of [`detrend`], bit for bit: the fit
+/// reads every sample before the first one is overwritten. A caller that cleans repeatedly
+/// reuses one buffer (and the outlier step's output is detrended where it lies: one copy of
+/// the data for both steps).
+///
+/// # Errors
+/// As [`detrend`]; `data` is unchanged when an error is returned.
+pub fn detrend_in_place(
+    data: &mut [f64],
+    n_cols: usize,
+    fs: f64,
+    order: usize,
+) -> Result<Vec<f64>> {
     let n = rows(data, n_cols)?;
     let t0 = validate::sample_period(fs)?;
     if !(1..=2).contains(&order) {
@@ -403,21 +454,15 @@ pub fn detrend(data: &[f64], n_cols: usize, fs: f64, order: usize) -> Result<Det
         })?;
         legendre_coefficients.push(beta);
     }
-    let mut out = vec![0.0_f64; data.len()];
-    out.par_chunks_mut(block_len)
-        .zip(data.par_chunks(block_len))
+    data.par_chunks_mut(block_len)
         .enumerate()
-        .for_each(|(b, (out_block, block))| {
-            for (r, (o_row, row)) in out_block
-                .chunks_exact_mut(n_cols)
-                .zip(block.chunks_exact(n_cols))
-                .enumerate()
-            {
+        .for_each(|(b, block)| {
+            for (r, row) in block.chunks_exact_mut(n_cols).enumerate() {
                 let p = legendre(b * BLOCK_ROWS + r, n);
-                for (j, (o, &v)) in o_row.iter_mut().zip(row).enumerate() {
+                for (j, v) in row.iter_mut().enumerate() {
                     let beta = &legendre_coefficients[j];
                     let model = beta[0] + beta[1] * p[1] + beta[2] * p[2];
-                    *o = (v - reference[j]) - model;
+                    *v = (*v - reference[j]) - model;
                 }
             }
         });
@@ -437,10 +482,7 @@ pub fn detrend(data: &[f64], n_cols: usize, fs: f64, order: usize) -> Result<Det
             coefficients.push(1.5 * beta[2] * a * a);
         }
     }
-    Ok(Detrended {
-        data: out,
-        coefficients,
-    })
+    Ok(coefficients)
 }
 
 /// First row of bin `b` of `bins` over `n` rows: `⌊b·n/bins⌋`.
@@ -553,6 +595,52 @@ fn envelope_any(rows: &[f64], lo: &mut [f64], hi: &mut [f64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A 3-channel series with a drift, a gap and spikes (rows of 3).
+    fn messy(n: usize) -> Vec<f64> {
+        let noise = crate::random::normal_vec(3 * n, 5);
+        let mut x: Vec<f64> = noise
+            .iter()
+            .enumerate()
+            .map(|(i, v)| v + 1e-3 * (i / 3) as f64 + (i % 3) as f64)
+            .collect();
+        x[3 * 10] = f64::NAN;
+        x[3 * 20 + 1] = 50.0;
+        x[3 * 40 + 2] = -70.0;
+        x
+    }
+
+    #[test]
+    fn in_place_equals_copy_bit_for_bit() {
+        let x = messy(5_000);
+        let copy = remove_outliers(&x, 3, 5.0).unwrap();
+        let mut buf = x.clone();
+        let flagged = remove_outliers_in_place(&mut buf, 3, 5.0).unwrap();
+        assert_eq!(flagged.mask, copy.mask);
+        assert_eq!(flagged.channels, copy.channels);
+        let bits = |v: &[f64]| v.iter().map(|f| f.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&buf), bits(&copy.data));
+        for order in [1, 2] {
+            let d = detrend(&copy.data, 3, 100.0, order).unwrap();
+            let mut again = copy.data.clone();
+            let coefficients = detrend_in_place(&mut again, 3, 100.0, order).unwrap();
+            assert_eq!(bits(&again), bits(&d.data));
+            assert_eq!(bits(&coefficients), bits(&d.coefficients));
+        }
+    }
+
+    #[test]
+    fn in_place_errors_leave_the_buffer_alone() {
+        let mut x = messy(100);
+        x[7] = f64::INFINITY;
+        let before = x.clone();
+        assert!(detrend_in_place(&mut x, 3, 100.0, 3).is_err());
+        assert!(detrend_in_place(&mut x, 3, 100.0, 1).is_err()); // the infinite sample
+        assert!(remove_outliers_in_place(&mut x, 3, f64::NAN).is_err());
+        assert!(remove_outliers_in_place(&mut x[..6], 3, 5.0).is_err()); // 2 rows
+        let bits = |v: &[f64]| v.iter().map(|f| f.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&x), bits(&before));
+    }
 
     #[test]
     fn outliers_flag_a_spike_and_keep_gaps() {

@@ -7,8 +7,10 @@ __all__ = [
     "MEAN_AD_TO_SD",
     "MIN_OUTLIER_SAMPLES",
     "detrend",
+    "detrend_in_place",
     "minmax_envelope",
     "remove_outliers",
+    "remove_outliers_in_place",
 ]
 
 MEAN_AD_TO_SD: float
@@ -26,6 +28,15 @@ def remove_outliers(
 def detrend(
     data: NDArray[np.float64], fs: float, order: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+def remove_outliers_in_place(
+    data: NDArray[np.float64], threshold: float
+) -> tuple[
+    NDArray[np.bool_],
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.uint64],
+]: ...
+def detrend_in_place(data: NDArray[np.float64], fs: float, order: int) -> NDArray[np.float64]: ...
 def minmax_envelope(
     data: NDArray[np.float64], bins: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.uint64]]: ...

@@ -79,12 +79,36 @@ def _channel_units(units: Any, n_channels: int) -> tuple[str | None, ...]:
     return tuple(checked_units("units", u) for u in units)
 
 
+def _into(out: Any, matrix: NDArray[np.float64], shape: tuple[int, ...]) -> NDArray[np.float64]:
+    """The caller's buffer ``out`` holding ``matrix`` (the data as ``(n, k)``), as an ``(n, k)``
+    view of it: the copy is skipped when ``out`` is the data itself (in place)."""
+    if not isinstance(out, np.ndarray):
+        raise TypeError(f"out must be a NumPy array, got {type(out).__name__}")
+    if out.dtype != np.float64 or not out.flags.c_contiguous or not out.flags.writeable:
+        raise TypeError("out must be a writable C-contiguous float64 array")
+    if out.shape != shape:
+        raise ValueError(
+            f"out has shape {out.shape}, the data {shape}: give one of the data's shape"
+        )
+    view = out.reshape(matrix.shape)
+    same = (
+        view.__array_interface__["data"][0] == matrix.__array_interface__["data"][0]
+        and view.strides == matrix.strides
+    )
+    if not same:
+        if np.shares_memory(view, matrix):
+            raise ValueError("out overlaps data: give the data itself (in place) or another buffer")
+        np.copyto(view, matrix)
+    return view
+
+
 def remove_outliers(
     data: ArrayLike,
     threshold: float = 5.0,
     *,
     method: str = "mad",
     units: str | Sequence[str | None] | None = None,
+    out: NDArray[np.float64] | None = None,
 ) -> OutlierResult:
     """Flag outliers by their robust z-score and replace them by NaN (gaps), per channel.
 
@@ -101,12 +125,17 @@ def remove_outliers(
     units : str or sequence of str, optional
         Unit of the samples (one for all channels, or one per channel); labels ``center`` and
         ``scale``.
+    out : ndarray, optional
+        A writable C-contiguous float64 array of the data's shape to write the result into
+        (``data`` of the result is then ``out``): a caller that cleans repeatedly reuses one
+        buffer instead of a new copy each time. ``out`` may be ``data`` itself (in place) but
+        not overlap it otherwise. After an error its contents are unspecified.
 
     Returns
     -------
     OutlierResult
-        ``data`` (a copy with the outliers replaced by NaN, the input's shape), ``mask``,
-        ``count``, ``center`` and ``scale`` per channel.
+        ``data`` (a copy with the outliers replaced by NaN, the input's shape; ``out`` when
+        given), ``mask``, ``count``, ``center`` and ``scale`` per channel.
 
     Raises
     ------
@@ -155,7 +184,11 @@ def remove_outliers(
     threshold = real("threshold", threshold)  # finite and > 0: the core's check
     matrix, shape = _matrix(data)
     channel_units = _channel_units(units, matrix.shape[1])
-    flat, mask, center, scale, count = _core.cleaning.remove_outliers(matrix, threshold)
+    if out is None:
+        flat, mask, center, scale, count = _core.cleaning.remove_outliers(matrix, threshold)
+    else:
+        flat = _into(out, matrix, shape)
+        mask, center, scale, count = _core.cleaning.remove_outliers_in_place(flat, threshold)
     return OutlierResult(
         data=flat.reshape(shape),
         mask=mask.reshape(shape),
@@ -174,6 +207,7 @@ def detrend(
     order: int = 1,
     *,
     units: str | Sequence[str | None] | None = None,
+    out: NDArray[np.float64] | None = None,
 ) -> DetrendResult:
     """Remove each channel's least-squares polynomial drift (linear or quadratic) in time.
 
@@ -189,12 +223,15 @@ def detrend(
     units : str or sequence of str, optional
         Unit of the samples (one for all channels, or one per channel); gives the
         coefficients' units (rate, rate/s, rate/s²).
+    out : ndarray, optional
+        A writable C-contiguous float64 array of the data's shape to write the residual into
+        (as :func:`remove_outliers`; ``out=data`` detrends in place).
 
     Returns
     -------
     DetrendResult
-        ``data`` (the residual, the input's shape) and ``coefficients`` (k, order + 1) of
-        ``c0 + c1·t + c2·t²``.
+        ``data`` (the residual, the input's shape; ``out`` when given) and ``coefficients``
+        (k, order + 1) of ``c0 + c1·t + c2·t²``.
 
     Raises
     ------
@@ -235,7 +272,11 @@ def detrend(
     order = integer("order", order)  # 1 or 2: the core's check
     matrix, shape = _matrix(data)
     channel_units = _channel_units(units, matrix.shape[1])
-    flat, coefficients = _core.cleaning.detrend(matrix, fs, order)
+    if out is None:
+        flat, coefficients = _core.cleaning.detrend(matrix, fs, order)
+    else:
+        flat = _into(out, matrix, shape)
+        coefficients = _core.cleaning.detrend_in_place(flat, fs, order)
     return DetrendResult(
         data=flat.reshape(shape),
         coefficients=coefficients.reshape(matrix.shape[1], -1),
@@ -302,6 +343,7 @@ def clean(
     outliers: float | None = None,
     detrend: str | None = None,
     units: str | Sequence[str | None] | None = None,
+    out: NDArray[np.float64] | None = None,
 ) -> CleaningResult:
     """Stable32's Outliers then Drift steps in one call (the command line's ``--outliers
     SIGMA --detrend linear|quadratic``).
@@ -318,11 +360,22 @@ def clean(
         Drift removed by :func:`detrend` after the outliers (``None``: none).
     units : str or sequence of str, optional
         Unit of the samples (one for all channels, or one per channel).
+    out : ndarray, optional
+        A writable C-contiguous float64 array of the data's shape that receives the cleaned
+        samples when a step runs (as :func:`remove_outliers`): an app that cleans again and
+        again reuses one working buffer.
 
     Returns
     -------
     CleaningResult
         ``data`` and the record of each step (``outliers``, ``drift``).
+
+    Notes
+    -----
+    Both steps run in one buffer (a copy of ``data``, or ``out``): the drift is removed where
+    the outlier step left its result, so cleaning costs one copy of the data, not two. The
+    ``data`` of both step records is then that buffer (the cleaned samples); the outlier step
+    is recorded by its ``mask``, ``count``, ``center`` and ``scale``.
 
     Raises
     ------
@@ -348,10 +401,11 @@ def clean(
     current: Any = data
     found = drift = None
     if outliers is not None:
-        found = remove_outliers(current, outliers, units=units)
+        found = remove_outliers(current, outliers, units=units, out=out)
         current = found.data
     if order is not None:
-        drift = _detrend(current, fs, order, units=units)
+        # in the outlier step's output (a buffer of ours or the caller's out): one copy in all
+        drift = _detrend(current, fs, order, units=units, out=current if found is not None else out)
         current = drift.data
     if found is None and drift is None:
         current = as_float_array("data", data, ndims=(1, 2))

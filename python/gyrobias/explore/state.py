@@ -232,8 +232,9 @@ class Cleaned:
     Attributes
     ----------
     data : ndarray, shape (n, k)
-        The cleaned samples (NaN where an outlier was removed); the selection's own view when
-        no step changes it.
+        The cleaned samples (NaN where an outlier was removed): rows of the session's working
+        buffer, overwritten by the next cleaning (the session keeps one cleaned value at a
+        time); the selection's own view when no step changes it.
     outliers : tuple of int
         Samples removed per channel.
     outlier_mask : ndarray of bool or None
@@ -334,6 +335,11 @@ class Session:
         self._allan_input = tuple(allan) if allan else None
         self.history: list[Settings] = [settings or Settings()]
         self._memo = _Memo()
+        #: The one working copy of the log the cleaning steps write into (allocated at the
+        #: log's size on first use, a selection uses its first rows): every cleaning reuses
+        #: its pages instead of mapping a new copy (see :class:`_Memo`: the previous cleaned
+        #: value is released before the next is computed, so nothing still reads it).
+        self._working: NDArray[np.float64] | None = None
 
     # -- settings and history -------------------------------------------------------------
 
@@ -408,9 +414,18 @@ class Session:
         k = part.data.shape[1]
         if s.outliers is None and s.detrend is None:
             return Cleaned(part.data, (0,) * k, None, (), False)
-        # the command line's --outliers / --detrend (cli._common.clean_log): one call
+        # the command line's --outliers / --detrend (cli._common.clean_log): one call, into
+        # the session's working buffer
+        assert self.log is not None
+        if self._working is None:
+            self._working = np.empty(self.log.data.shape, dtype=np.float64)
         done = cleaning.clean(
-            part.data, self.fs, outliers=s.outliers, detrend=s.detrend, units=part.units
+            part.data,
+            self.fs,
+            outliers=s.outliers,
+            detrend=s.detrend,
+            units=part.units,
+            out=self._working[: part.data.shape[0]],
         )
         mask = None if done.outliers is None else np.asarray(done.outliers.mask)
         counts = (

@@ -1306,14 +1306,33 @@ pub fn analyse_matrix(
 ) -> Result<Vec<AllanAnalysis>> {
     config.validate()?;
     let columns = columns_of(data, n_axes)?;
-    let mut workspaces: Vec<Workspace> = (0..n_axes).map(|_| Workspace::pooled()).collect();
     progress.add_total(columns.iter().map(|c| config.work(c.len())).sum());
     progress.start();
-    let out = analyse_columns(&columns, config, &mut workspaces, progress);
+    // The axes run in waves of as many as the pool has threads, each wave's axes in parallel
+    // with one workspace each, reused by the next wave: the angle buffers (N + 1 values per
+    // axis) then hold `threads` columns at once, not a copy of the whole matrix (six axes on
+    // two cores: a third of it). Each axis is computed by the same code either way, so the
+    // results do not depend on the wave width; the first failing axis still wins (the axes
+    // of earlier waves succeeded).
+    let width = rayon::current_num_threads().clamp(1, n_axes.max(1));
+    let mut workspaces: Vec<Workspace> = (0..width).map(|_| Workspace::pooled()).collect();
+    let mut out = Vec::with_capacity(n_axes);
+    let mut failed = None;
+    for (wave, chunk) in columns.chunks(width).enumerate() {
+        match analyse_columns(chunk, config, &mut workspaces[..chunk.len()], progress) {
+            Ok(results) => out.extend(results),
+            Err((axis, e)) => {
+                failed = Some((wave * width + axis, e));
+                break;
+            }
+        }
+    }
     for w in workspaces {
         w.recycle();
     }
-    let out = out.map_err(|(axis, e)| locate(e, None, axis, n_axes))?;
+    if let Some((axis, e)) = failed {
+        return Err(locate(e, None, axis, n_axes));
+    }
     progress.finish();
     Ok(out)
 }

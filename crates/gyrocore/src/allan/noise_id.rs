@@ -83,6 +83,7 @@ pub struct Identification {
 
 /// Orthogonal quadratic trend of `z_k = x[k·m]`, `k < len`: `b0 + b1·u + b2·(u² − c)` with
 /// `u = k − (len−1)/2`, `c = (len² − 1)/12` (1, u, u² − c are orthogonal on the symmetric grid).
+#[derive(Clone)]
 struct Trend {
     b0: f64,
     b1: f64,
@@ -121,8 +122,7 @@ impl TrendSums {
     fn add(&mut self, x: &[f64], base: usize, m: usize, range: std::ops::Range<usize>) {
         let (half, c) = (self.half, self.c);
         let (s0, s1, s2) = (&mut self.s0, &mut self.s1, &mut self.s2);
-        let mut add = |k: usize, l: usize, z: f64| {
-            let u = k as f64 - half;
+        let mut add_at = |u: f64, l: usize, z: f64| {
             s0[l] += z;
             s1[l] += z * u;
             s2[l] += z * (u * u - c);
@@ -131,15 +131,20 @@ impl TrendSums {
         if m == 1 {
             let chunks = x[range.start - base..range.end - base].chunks_exact(LANES);
             let rest = chunks.remainder();
-            for (i, chunk) in chunks.enumerate() {
+            // u = k − half stepped by whole numbers instead of converted from k: every value is
+            // a multiple of ½ below 2⁵², so both are exact and equal bit for bit (and the loop
+            // vectorises without an integer conversion per sample).
+            let mut u0 = start as f64 - half;
+            for chunk in chunks {
                 for (l, &z) in chunk.iter().enumerate() {
-                    add(start + i * LANES + l, l, z);
+                    add_at(u0 + l as f64, l, z);
                 }
+                u0 += LANES as f64;
             }
             // Lane i % LANES like the strided branch, so that the decimated series z = x[k·m]
             // identified at factor 1 gives bit for bit the result at factor m.
             for (i, &z) in rest.iter().enumerate() {
-                add(range.end - rest.len() + i, i, z);
+                add_at((range.end - rest.len() + i) as f64 - half, i, z);
             }
         } else {
             for (i, &z) in x[start * m - base..]
@@ -148,7 +153,7 @@ impl TrendSums {
                 .take(range.len())
                 .enumerate()
             {
-                add(start + i, i % LANES, z);
+                add_at((start + i) as f64 - half, i % LANES, z);
             }
         }
     }
@@ -198,12 +203,21 @@ impl Trend {
             z - (b0 + u * (b1 + b2 * u))
         };
         if m == 1 {
-            out.extend(
-                x[range.start - base..range.end - base]
-                    .iter()
-                    .enumerate()
-                    .map(|(i, &z)| value(start + i, z)),
-            );
+            // u stepped as in TrendSums::add (exact, equal to the converted k − half).
+            let chunks = x[range.start - base..range.end - base].chunks_exact(LANES);
+            let rest = chunks.remainder();
+            let mut u0 = start as f64 - half;
+            for chunk in chunks {
+                let mut r = [0.0; LANES];
+                for (l, (r, &z)) in r.iter_mut().zip(chunk).enumerate() {
+                    let u = u0 + l as f64;
+                    *r = z - (b0 + u * (b1 + b2 * u));
+                }
+                out.extend_from_slice(&r);
+                u0 += LANES as f64;
+            }
+            let tail = range.end - rest.len();
+            out.extend(rest.iter().enumerate().map(|(i, &z)| value(tail + i, z)));
         } else {
             let count = range.len();
             out.extend(
@@ -294,12 +308,16 @@ impl Lag1Sums {
     }
 }
 
-/// Streaming state of the lag-1 autocorrelations of the detrended decimated series and of its
-/// first `dmax` differences (all orders in the same pass: the pass is memory-bound, the extra
-/// arithmetic for differences that may not be needed is free). Fed block by block through two
-/// small buffers.
+/// Streaming state of the lag-1 autocorrelations of the detrended decimated series' differences
+/// of orders `lowest..=dmax` (the lower orders are formed, as the higher ones need them, but
+/// their sums are not accumulated). Fed block by block through two small buffers. The sums of
+/// an order do not depend on which other orders are accumulated: a state of orders `1..=1`
+/// and one of orders `2..=dmax` fed the same blocks give, bit for bit, the values of one
+/// state of orders `1..=dmax` (see [`refined`]).
+#[derive(Clone)]
 struct AcfState {
     levels: usize,
+    lowest: usize,
     sums: [Lag1Sums; 4],
     /// carry[j] = last value of level j from the previous block.
     carry: [Option<f64>; 3],
@@ -308,9 +326,17 @@ struct AcfState {
 }
 
 impl AcfState {
+    /// Every order the decision may read (`DMIN..=dmax`), in one pass (the streamed path:
+    /// one pass over the file).
     fn new(dmax: u32) -> AcfState {
+        AcfState::orders(DMIN as usize, dmax)
+    }
+
+    /// Orders `lowest..=min(dmax, 3)`.
+    fn orders(lowest: usize, dmax: u32) -> AcfState {
         AcfState {
             levels: (dmax as usize).min(3) + 1,
+            lowest,
             sums: [Lag1Sums::EMPTY; 4],
             carry: [None; 3],
             current: Vec::with_capacity(BLOCK + 1),
@@ -333,7 +359,11 @@ impl AcfState {
             let end = (start + BLOCK).min(range.end);
             self.current.clear();
             trend.residuals_into(x, base, m, start..end, &mut self.current);
-            self.sums[0].extend(&self.current);
+            // Orders below DMIN never enter the decision (`decide` starts at d = DMIN): their
+            // sums are not accumulated (a third of the pass for the Allan variances).
+            if self.lowest == 0 {
+                self.sums[0].extend(&self.current);
+            }
             for j in 1..self.levels {
                 self.next.clear();
                 if let (Some(c), Some(&h)) = (self.carry[j - 1], self.current.first()) {
@@ -342,7 +372,9 @@ impl AcfState {
                 let current = &self.current;
                 self.next.extend(current.windows(2).map(|w| w[1] - w[0]));
                 self.carry[j - 1] = self.current.last().copied().or(self.carry[j - 1]);
-                self.sums[j].extend(&self.next);
+                if j >= self.lowest {
+                    self.sums[j].extend(&self.next);
+                }
                 std::mem::swap(&mut self.current, &mut self.next);
             }
             start = end;
@@ -358,11 +390,37 @@ impl AcfState {
     }
 }
 
-/// Lag-1 autocorrelations of the `0..=dmax`-th differences at one factor (two passes).
+/// Lag-1 autocorrelations of the `DMIN..=dmax`-th differences at one factor, in one pass (the
+/// reference of the tests: [`lag1_acf`] forms the higher orders only when it reads them).
+#[cfg(test)]
 fn lag1_all_differences(x: &[f64], m: usize, len: usize, trend: &Trend, dmax: u32) -> [f64; 4] {
     let mut state = AcfState::new(dmax);
     state.feed(x, 0, m, trend, 0..len);
     state.values()
+}
+
+/// Whether the decision needs the orders above `DMIN` (δ at `DMIN` is ≥ 0.25 and `dmax`
+/// allows more differences).
+fn needs_more(r1s: &[f64; 4], dmax: u32) -> bool {
+    let r1 = r1s[DMIN as usize];
+    DMIN < dmax.min(3) && r1 / (1.0 + r1) >= 0.25
+}
+
+/// The decision of [`lag1_all_differences`] with the orders above `DMIN` accumulated only when
+/// the decision reads them: white rate noise (most τ of an inertial log) stops at the first
+/// difference, so the second and third are not formed at all. `more(state)` feeds a state of
+/// the higher orders (a second pass over the same blocks); the lag-1 sums are those of one
+/// pass over every order, bit for bit (each order's sums see the same values in the same
+/// blocks).
+fn refined(first: &AcfState, dmax: u32, more: impl FnOnce(&mut AcfState)) -> Identification {
+    let mut r1s = first.values();
+    if needs_more(&r1s, dmax) {
+        let mut state = AcfState::orders(DMIN as usize + 1, dmax);
+        more(&mut state);
+        let higher = state.values();
+        r1s[DMIN as usize + 1..].copy_from_slice(&higher[DMIN as usize + 1..]);
+    }
+    decide(&r1s, dmax)
 }
 
 /// The ACF decision rule (steps 3–4 of the module docs) from the lag-1 autocorrelations.
@@ -492,14 +550,45 @@ impl JointSweep {
 /// two passes each. Factors with fewer than 30 decimated points give `None`.
 fn lag1_acf_joint(x: &[f64], ms: &[usize], dmax: u32) -> Vec<Option<Identification>> {
     let n = x.len();
+    // The first difference of every factor in one sweep; the higher orders (see [`refined`])
+    // in a second sweep over the factors whose decision reads them.
     let mut sweep = JointSweep::new(n, ms, dmax);
+    for state in &mut sweep.states {
+        *state = AcfState::orders(DMIN as usize, u32::min(dmax, DMIN));
+    }
     for s in (0..n).step_by(SWEEP) {
         sweep.trend_block(&x[s..(s + SWEEP).min(n)], s);
     }
     for s in (0..n).step_by(SWEEP) {
         sweep.acf_block(&x[s..(s + SWEEP).min(n)], s);
     }
-    sweep.finish()
+    let mut second = JointSweep {
+        ms: sweep.ms.clone(),
+        lens: sweep.lens.clone(),
+        valid: sweep.valid.clone(),
+        dmax,
+        trend_sums: Vec::new(),
+        trends: sweep.trends.clone(),
+        states: ms
+            .iter()
+            .map(|_| AcfState::orders(DMIN as usize + 1, dmax))
+            .collect(),
+    };
+    for (i, state) in sweep.states.iter().enumerate() {
+        second.valid[i] = sweep.valid[i] && needs_more(&state.values(), dmax);
+    }
+    if second.valid.iter().any(|&v| v) {
+        for s in (0..n).step_by(SWEEP) {
+            second.acf_block(&x[s..(s + SWEEP).min(n)], s);
+        }
+    }
+    sweep
+        .states
+        .iter()
+        .zip(&second.states)
+        .zip(&sweep.valid)
+        .map(|((first, more), &ok)| ok.then(|| refined(first, dmax, |state| *state = more.clone())))
+        .collect()
 }
 
 /// Lag-1 ACF identification at averaging factor `m` with at most `dmax` differences.
@@ -514,7 +603,11 @@ pub fn lag1_acf(x: &[f64], m: usize, dmax: u32) -> Option<Identification> {
         return None;
     }
     let trend = Trend::fit(x, m, len);
-    Some(decide(&lag1_all_differences(x, m, len, &trend, dmax), dmax))
+    let mut first = AcfState::orders(DMIN as usize, u32::min(dmax, DMIN));
+    first.feed(x, 0, m, &trend, 0..len);
+    Some(refined(&first, dmax, |state| {
+        state.feed(x, 0, m, &trend, 0..len);
+    }))
 }
 
 /// Expected B1 ratio for `n` averages and τ-exponent μ (Howe et al. 2000, Table 3; SP1065
@@ -692,17 +785,19 @@ impl FewPoints {
     pub fn feed(&mut self, window: &[f64], s: usize) {
         debug_assert_eq!(s, self.fed);
         self.window_prefix.clear();
+        self.window_prefix.reserve(window.len());
+        let (mut sum, mut comp) = (self.sum, self.comp);
         for &v in window {
-            self.window_prefix.push(self.sum + self.comp);
-            // Neumaier's compensated summation.
-            let t = self.sum + v;
-            if self.sum.abs() >= v.abs() {
-                self.comp += (self.sum - t) + v;
-            } else {
-                self.comp += (v - t) + self.sum;
-            }
-            self.sum = t;
+            self.window_prefix.push(sum + comp);
+            // Neumaier's compensated summation; both corrections formed and one selected (the
+            // same operations as a branch, without its mispredictions where |sum| ≈ |v|).
+            let t = sum + v;
+            let big = (sum - t) + v;
+            let small = (v - t) + sum;
+            comp += if sum.abs() >= v.abs() { big } else { small };
+            sum = t;
         }
+        (self.sum, self.comp) = (sum, comp);
         self.fed = s + window.len();
         let total = self.sum + self.comp;
         let len = window.len();
@@ -1054,7 +1149,8 @@ mod tests {
             let len = x.len().div_ceil(m);
             let trend = Trend::fit(&x, m, len);
             let r1 = lag1_all_differences(&x, m, len, &trend, 3);
-            for d in 0..=3 {
+            // The orders the decision reads (from DMIN: lower ones are not accumulated).
+            for d in DMIN as usize..=3 {
                 let reference = direct_r1(&x, m, d);
                 // 1e-9 absolute on a correlation: the two detrending routes (orthogonal
                 // projection vs normal equations, condition ~n⁴) differ by rounding only.
@@ -1086,6 +1182,113 @@ mod tests {
             }
         }
         assert!(joint[6].is_none()); // ⌈50001/2000⌉ = 26 < 30
+    }
+
+    /// The one-pass identification (every order accumulated in the same pass, as the
+    /// streamed path does): the reference of the refined in-memory path.
+    fn one_pass(x: &[f64], m: usize, dmax: u32) -> Option<Identification> {
+        let len = x.len().div_ceil(m);
+        (len >= MIN_POINTS).then(|| {
+            let trend = Trend::fit(x, m, len);
+            decide(&lag1_all_differences(x, m, len, &trend, dmax), dmax)
+        })
+    }
+
+    #[test]
+    fn stepped_u_equals_converted_bit_for_bit() {
+        // TrendSums::add and Trend::residuals_into step u = k − half by whole numbers at
+        // factor 1; the reference converts k per sample (same lanes, same operations).
+        let x = cumsum(&cumsum(&noise(5_003, 7)));
+        let bits = |v: &[f64]| v.iter().map(|f| f.to_bits()).collect::<Vec<_>>();
+        for (start, end) in [(0, 5_003), (17, 4_099), (1, 2), (4_000, 5_003)] {
+            let len = 5_003;
+            let mut sums = TrendSums::new(len);
+            sums.add(&x, 0, 1, start..end);
+            let (half, c) = (sums.half, sums.c);
+            let mut reference = [[0.0_f64; LANES]; 3];
+            let rest_start = end - (end - start) % LANES;
+            for k in start..end {
+                let l = if k < rest_start {
+                    (k - start) % LANES
+                } else {
+                    k - rest_start
+                };
+                let (u, z) = (k as f64 - half, x[k]);
+                reference[0][l] += z;
+                reference[1][l] += z * u;
+                reference[2][l] += z * (u * u - c);
+            }
+            assert_eq!(bits(&sums.s0), bits(&reference[0]));
+            assert_eq!(bits(&sums.s1), bits(&reference[1]));
+            assert_eq!(bits(&sums.s2), bits(&reference[2]));
+            let trend = Trend::fit(&x, 1, len);
+            let mut out = Vec::new();
+            trend.residuals_into(&x, 0, 1, start..end, &mut out);
+            let (b0, b1, b2) = (trend.b0 - trend.b2 * trend.c, trend.b1, trend.b2);
+            let expected: Vec<f64> = (start..end)
+                .map(|k| {
+                    let u = k as f64 - trend.half;
+                    x[k] - (b0 + u * (b1 + b2 * u))
+                })
+                .collect();
+            assert_eq!(bits(&out), bits(&expected));
+        }
+    }
+
+    #[test]
+    fn refined_orders_equal_one_pass_bit_for_bit() {
+        // White angle, white rate, random-walk rate and a drifting walk: the decision stops at
+        // the first difference or reads the second and third; 40 001 samples cross the sweep
+        // and block boundaries.
+        let w = noise(40_001, 31);
+        let series = [w.clone(), cumsum(&w), cumsum(&cumsum(&w)), {
+            let walk = cumsum(&cumsum(&w));
+            walk.iter()
+                .enumerate()
+                .map(|(i, v)| v + 1e-3 * (i as f64).powi(2))
+                .collect()
+        }];
+        let ms = [1usize, 2, 3, 4, 5, 8, 9, 16, 100, 1000];
+        let mut read_more = 0;
+        for x in &series {
+            for dmax in [2u32, 3] {
+                let joint = lag1_acf_joint(x, &ms, dmax);
+                let mut stream = JointSweep::new(x.len(), &ms, dmax);
+                for s in (0..x.len()).step_by(SWEEP) {
+                    stream.trend_block(&x[s..(s + SWEEP).min(x.len())], s);
+                }
+                for s in (0..x.len()).step_by(SWEEP) {
+                    stream.acf_block(&x[s..(s + SWEEP).min(x.len())], s);
+                }
+                let streamed = stream.finish();
+                for (i, &m) in ms.iter().enumerate() {
+                    let reference = one_pass(x, m, dmax);
+                    let bits =
+                        |id: Option<Identification>| id.map(|i| (i.alpha, i.d, i.delta.to_bits()));
+                    assert_eq!(
+                        bits(lag1_acf(x, m, dmax)),
+                        bits(reference),
+                        "m={m} dmax={dmax}"
+                    );
+                    // The joint sweep's blocks follow the sweep windows (its sums round
+                    // differently from a single factor's: the same decision, δ within a few
+                    // ulps); its reference is the one-pass sweep the streamed path runs.
+                    assert_eq!(
+                        joint[i].map(|i| (i.alpha, i.d)),
+                        reference.map(|i| (i.alpha, i.d)),
+                        "joint m={m} dmax={dmax}"
+                    );
+                    assert_eq!(
+                        bits(joint[i]),
+                        bits(streamed[i]),
+                        "stream m={m} dmax={dmax}"
+                    );
+                    read_more += usize::from(reference.is_some_and(|r| r.d > DMIN));
+                }
+            }
+        }
+        // both branches ran
+        assert!(read_more > 0);
     }
 
     #[test]
