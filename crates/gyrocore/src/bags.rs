@@ -24,6 +24,9 @@
 //! `start` of a preallocated `(n, 6)` array, with either the header stamp (`sec·10⁹ + nsec`) or
 //! the container's receive time (ROS1 record `time`, MCAP `log_time`) as int64 nanoseconds.
 
+use std::path::Path;
+
+use crate::allan::Progress;
 use crate::error::{Error, Result};
 
 /// Channels per message: angular velocity x, y, z and linear acceleration x, y, z.
@@ -494,6 +497,161 @@ pub fn cdr_messages(
         });
     }
     Ok(lengths.len())
+}
+
+/// Rows between two progress reports (and cancellation checks) of [`read_sqlite`].
+const SQLITE_BATCH: usize = 65_536;
+
+/// The message type the sqlite3 reader decodes.
+const IMU_TYPE: &str = "sensor_msgs/msg/Imu";
+
+fn sqlite_error(e: &rusqlite::Error) -> Error {
+    corrupt("path", format!("not a readable ROS2 sqlite3 bag ({e})"))
+}
+
+/// An SQLite URI opening `path` read-only and immutable (`file:…?mode=ro&immutable=1`): no
+/// lock, no journal, no `-wal`/`-shm` file is ever created beside the bag, and the file is
+/// never written. Every byte outside the URI's unreserved characters is percent-encoded, so
+/// any file name (`?`, `#`, `%`, spaces, non-UTF-8 bytes) is the file it names.
+fn sqlite_uri(path: &Path) -> Result<String> {
+    #[cfg(unix)]
+    let bytes: Vec<u8> = {
+        use std::os::unix::ffi::OsStrExt;
+        path.as_os_str().as_bytes().to_vec()
+    };
+    #[cfg(not(unix))]
+    let bytes: Vec<u8> = {
+        let s = path
+            .to_str()
+            .ok_or_else(|| corrupt("path", format!("{} is not valid Unicode", path.display())))?;
+        let s = s.replace('\\', "/");
+        // A drive letter (C:/…) becomes the URI path /C:/….
+        if s.as_bytes().get(1) == Some(&b':') {
+            format!("/{s}").into_bytes()
+        } else {
+            s.into_bytes()
+        }
+    };
+    let mut uri = String::with_capacity(bytes.len() + 32);
+    uri.push_str("file:");
+    for &b in &bytes {
+        if b.is_ascii_alphanumeric() || b"/-._~".contains(&b) {
+            uri.push(char::from(b));
+        } else {
+            uri.push_str(&format!("%{b:02X}"));
+        }
+    }
+    uri.push_str("?mode=ro&immutable=1");
+    Ok(uri)
+}
+
+/// Decodes the `sensor_msgs/msg/Imu` messages of topic `topic` of ROS2 sqlite3 storage files
+/// (`.db3`; a split bag's files in their order) into `data` (`(n, 6)` row-major) and `stamps`
+/// (`n`) from row 0; returns the rows written (at most `n`, the caller's message count).
+///
+/// Each file is opened read-only and immutable (URI `?mode=ro&immutable=1`, the same open as
+/// rosbags' reader: no lock, no `-wal`/`-shm` file beside it, never written) and its rows come
+/// from rosbags' own query, `SELECT topics.id, messages.timestamp, messages.data FROM messages
+/// JOIN topics ON messages.topic_id = topics.id WHERE topics.id IN (?) ORDER BY timestamp`, so
+/// they arrive in the same order, ties included; the files follow each other as in rosbags'
+/// reader of a bag directory. The receive time is `messages.timestamp`. The blobs are decoded
+/// as SQLite steps through them: the working set is SQLite's page cache (a few MB), whatever
+/// the bag's size. `progress` gets the fraction of the `n` rows done every 65,536 rows; a
+/// `false` from its hook stops the read with [`Error::Cancelled`].
+///
+/// # Errors
+/// [`Error::InvalidParameter`] (`path`) when a file is not a readable sqlite3 bag (not a
+/// database, corrupt or truncated pages, no `topics`/`messages` table); (`topic`) when the
+/// topic is missing from a file, listed more than once, or not a CDR `sensor_msgs/msg/Imu`;
+/// (`message`) for a blob that is not a standard Imu; (`data`) for more messages than `n`;
+/// [`Error::ShapeMismatch`] when `data` does not have 6 values per stamp.
+pub fn read_sqlite<P: AsRef<Path>>(
+    paths: &[P],
+    topic: &str,
+    stamp: Stamp,
+    data: &mut [f64],
+    stamps: &mut [i64],
+    progress: &Progress<'_>,
+) -> Result<usize> {
+    let n = check_out(data, stamps, 0)?;
+    let mut w = Writer {
+        data,
+        stamps,
+        row: 0,
+        stamp,
+        last: i64::MIN,
+        ordered: true,
+    };
+    progress.add_total(n as f64);
+    progress.start();
+    let mut reported = 0usize;
+    for path in paths {
+        sqlite_file(path.as_ref(), topic, &mut w, &mut |rows| {
+            progress.advance((rows - reported) as f64);
+            reported = rows;
+            progress.check()
+        })?;
+    }
+    progress.finish();
+    progress.check()?;
+    Ok(w.row)
+}
+
+/// One storage file of [`read_sqlite`], appended to `w`; `report(rows)` every batch.
+fn sqlite_file(
+    path: &Path,
+    topic: &str,
+    w: &mut Writer<'_>,
+    report: &mut dyn FnMut(usize) -> Result<()>,
+) -> Result<()> {
+    use rusqlite::{Connection, OpenFlags};
+
+    let flags = OpenFlags::SQLITE_OPEN_READ_ONLY
+        | OpenFlags::SQLITE_OPEN_URI
+        | OpenFlags::SQLITE_OPEN_NO_MUTEX;
+    let con =
+        Connection::open_with_flags(sqlite_uri(path)?, flags).map_err(|e| sqlite_error(&e))?;
+    let sql = |e: rusqlite::Error| sqlite_error(&e);
+    let mut ids = con
+        .prepare("SELECT id, type, serialization_format FROM topics WHERE name = ?1")
+        .map_err(sql)?;
+    let listed: Vec<(i64, String, String)> = ids
+        .query_map([topic], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))
+        .map_err(sql)?
+        .collect::<rusqlite::Result<_>>()
+        .map_err(sql)?;
+    let id = match listed.as_slice() {
+        [(id, typ, format)] if typ == IMU_TYPE && format == "cdr" => *id,
+        [(_, typ, format)] => {
+            return Err(corrupt(
+                "topic",
+                format!("{topic} is {typ} ({format}), not {IMU_TYPE} (cdr)"),
+            ));
+        }
+        [] => return Err(corrupt("topic", format!("{topic} is not in the bag"))),
+        more => {
+            return Err(corrupt(
+                "topic",
+                format!("{topic} is listed {} times", more.len()),
+            ));
+        }
+    };
+    let mut query = con
+        .prepare(
+            "SELECT topics.id,messages.timestamp,messages.data FROM messages JOIN topics \
+             ON messages.topic_id=topics.id WHERE topics.id IN (?1) ORDER BY timestamp",
+        )
+        .map_err(sql)?;
+    let mut rows = query.query([id]).map_err(sql)?;
+    while let Some(row) = rows.next().map_err(sql)? {
+        let receive = row.get_ref(1).and_then(|v| Ok(v.as_i64()?)).map_err(sql)?;
+        let blob = row.get_ref(2).and_then(|v| Ok(v.as_blob()?)).map_err(sql)?;
+        w.push(blob, Encoding::Cdr, receive)?;
+        if w.row % SQLITE_BATCH == 0 {
+            report(w.row)?;
+        }
+    }
+    report(w.row)
 }
 
 #[cfg(test)]

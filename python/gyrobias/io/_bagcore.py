@@ -1,11 +1,13 @@
 """The core's bag reader: ``sensor_msgs/Imu`` decoded in bulk from the serialized bytes.
 
-The containers are walked here (ROS1 bag index and chunk records, MCAP top-level records, the
-sqlite3 ``messages`` table), their chunks decompressed by the same libraries rosbags uses
-(``lz4.frame``, ``bz2``, ``zstd``; in worker threads, which release the GIL), and every
+The containers are walked here (ROS1 bag index and chunk records, MCAP top-level records),
+their chunks decompressed by the same libraries rosbags uses (``lz4.frame``, ``bz2``,
+``zstd``; in worker threads, which release the GIL), and every
 decompressed chunk handed whole to ``gyrocore::bags``, which decodes the topic's messages at
 their fixed offsets straight into the output arrays. Only one chunk (per worker) is in memory
-at a time.
+at a time. The sqlite3 store (``.db3``) is read whole by the core
+(``gyrocore::bags::read_sqlite``: SQLite opened read-only and immutable, rosbags' query), the
+blobs decoded as SQLite steps through them.
 
 Every function returns ``None`` when it does not apply or meets anything unexpected: another
 message layout, several connections on the topic, receive times out of order (the readers
@@ -16,7 +18,6 @@ gives the same values and raises today's error for a damaged bag.
 
 from __future__ import annotations
 
-import itertools
 import os
 import struct
 import zlib
@@ -38,8 +39,6 @@ __all__ = ["ROS1_IMU_MD5", "read_ros1", "read_ros2"]
 IMU_TYPE = "sensor_msgs/msg/Imu"
 #: md5sum of the ROS1 ``sensor_msgs/Imu`` definition: the layout the core decodes.
 ROS1_IMU_MD5 = "6a62c6daae103f4ff57a132d6f95cec2"
-#: sqlite rows fetched per batch (bounds the blob buffer to a few tens of MB).
-BATCH = 65_536
 #: Chunks decompressed ahead of the decoder, per worker thread.
 AHEAD = 2
 
@@ -318,19 +317,31 @@ def read_ros2(
         storage = inner.storage
         storages = getattr(storage, "storages", [storage])
         meta = getattr(storage, "metadata", None)
-        if len(storages) != 1 or getattr(meta, "compression_mode", None) not in (None, "", "none"):
-            return None  # split or compressed bags: rosbags
-        (store,) = storages
-        ids = [c.id for c in store.connections if c.topic == name]
-        if len(ids) != 1:
-            return None
-        kind = type(store).__name__
-        path = Path(store.path)
-        data = allocate(count)
-        stamps = allocate_stamps(count)
-        if kind == "McapReader":
+        if getattr(meta, "compression_mode", None) == "message":
+            return None  # zstd per message: rosbags
+        kinds = {type(s).__name__ for s in storages}
+        if kinds == {"Sqlite3Reader"}:
+            # Every storage file holding the topic, in rosbags' order ("file" compression:
+            # the files rosbags decompressed for its own reading).
+            files = []
+            for store in storages:
+                ids = [c.id for c in store.connections if c.topic == name]
+                if len(ids) > 1:
+                    return None
+                if ids:
+                    files.append(Path(store.path))
+            data = allocate(count)
+            stamps = allocate_stamps(count)
+            n = _core.bags.read_sqlite(files, name, receive, data, stamps, progress)
+        elif kinds == {"McapReader"} and len(storages) == 1 and _plain(meta):
+            (store,) = storages
+            ids = [c.id for c in store.connections if c.topic == name]
+            if len(ids) != 1:
+                return None
+            data = allocate(count)
+            stamps = allocate_stamps(count)
             n = _walk(
-                _mcap_jobs(path, ids[0]),
+                _mcap_jobs(Path(store.path), ids[0]),
                 _core.bags.mcap_chunk,
                 ids[0],
                 receive,
@@ -341,8 +352,6 @@ def read_ros2(
             )
             if n != count:
                 return None
-        elif kind == "Sqlite3Reader":
-            n = _sqlite(path, ids[0], receive, data, stamps, count, progress)
         else:
             return None
         return data[:n], stamps[:n]
@@ -350,6 +359,11 @@ def read_ros2(
         raise
     except Exception:  # noqa: BLE001 - anything unexpected: the reference reader decides
         return None
+
+
+def _plain(meta: Any) -> bool:
+    """Whether a bag directory's metadata (``None``: a single storage file) has no compression."""
+    return getattr(meta, "compression_mode", None) in (None, "", "none")
 
 
 def _zstd() -> Callable[[bytes], bytes]:
@@ -417,42 +431,3 @@ def _mcap_job(body: bytes) -> Job:
         return (raw,)
 
     return job
-
-
-def _sqlite(
-    path: Path,
-    topic_id: int,
-    receive: bool,
-    data: NDArray[np.float64],
-    stamps: NDArray[np.int64],
-    count: int,
-    progress: Callable[[float], None] | None,
-) -> int:
-    """The topic's ``data`` blobs, in rosbags' order (its query, through the same apsw)."""
-    import apsw  # a rosbags dependency: its sqlite3 storage reads with it
-
-    con = apsw.Connection(str(path), flags=apsw.SQLITE_OPEN_READONLY)
-    try:
-        cur = con.execute(
-            "SELECT topics.id,messages.timestamp,messages.data FROM messages JOIN topics "
-            "ON messages.topic_id=topics.id WHERE topics.id IN (?) ORDER BY timestamp",
-            (topic_id,),
-        )
-        n = 0
-        while True:
-            rows = list(itertools.islice(cur, BATCH))
-            if not rows:
-                return n
-            m = len(rows)
-            if n + m > len(stamps):
-                raise _Unsupported("more rows than counted")
-            blobs = [r[2] for r in rows]
-            lengths = np.fromiter(map(len, blobs), np.int64, m)
-            _core.bags.cdr_messages(b"".join(blobs), lengths, not receive, data, stamps, n)
-            if receive:
-                stamps[n : n + m] = np.fromiter((r[1] for r in rows), np.int64, m)
-            n += m
-            if progress is not None:
-                progress(min(n / count, 1.0))
-    finally:
-        con.close()
