@@ -118,10 +118,18 @@ fn read_sqlite(
     })
 }
 
+/// The messages of topic `topic` in ROS2 sqlite3 storage files
+/// (`gyrocore::bags::sqlite_count`).
+#[pyfunction]
+fn sqlite_count(py: Python<'_>, paths: Vec<PathBuf>, topic: &str) -> PyResult<usize> {
+    core(py.detach(|| bags::sqlite_count(&paths, topic)))
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("CHANNELS", bags::CHANNELS)?;
     m.add_function(wrap_pyfunction!(ros1_chunk, m)?)?;
     m.add_function(wrap_pyfunction!(mcap_chunk, m)?)?;
     m.add_function(wrap_pyfunction!(cdr_messages, m)?)?;
-    m.add_function(wrap_pyfunction!(read_sqlite, m)?)
+    m.add_function(wrap_pyfunction!(read_sqlite, m)?)?;
+    m.add_function(wrap_pyfunction!(sqlite_count, m)?)
 }

@@ -597,6 +597,61 @@ pub fn read_sqlite<P: AsRef<Path>>(
     Ok(w.row)
 }
 
+/// The number of messages of topic `topic` in ROS2 sqlite3 storage files (files without the
+/// topic count 0): `SELECT count(*) FROM messages WHERE topic_id = ?` on each file, opened as
+/// in [`read_sqlite`]; the size of the output arrays of a later [`read_sqlite`].
+///
+/// # Errors
+/// [`Error::InvalidParameter`] (`path`) when a file is not a readable sqlite3 bag; (`topic`)
+/// when the topic is listed more than once in a file.
+pub fn sqlite_count<P: AsRef<Path>>(paths: &[P], topic: &str) -> Result<usize> {
+    let mut total = 0usize;
+    for path in paths {
+        let con = sqlite_open(path.as_ref())?;
+        let sql = |e: rusqlite::Error| sqlite_error(&e);
+        let ids = topic_ids(&con, topic)?;
+        let id = match ids.as_slice() {
+            [] => continue,
+            [(id, _, _)] => *id,
+            more => {
+                return Err(corrupt(
+                    "topic",
+                    format!("{topic} is listed {} times", more.len()),
+                ));
+            }
+        };
+        let count: i64 = con
+            .query_row(
+                "SELECT count(*) FROM messages WHERE topic_id = ?1",
+                [id],
+                |r| r.get(0),
+            )
+            .map_err(sql)?;
+        total = total.saturating_add(usize::try_from(count).unwrap_or(usize::MAX));
+    }
+    Ok(total)
+}
+
+fn sqlite_open(path: &Path) -> Result<rusqlite::Connection> {
+    use rusqlite::OpenFlags;
+    let flags = OpenFlags::SQLITE_OPEN_READ_ONLY
+        | OpenFlags::SQLITE_OPEN_URI
+        | OpenFlags::SQLITE_OPEN_NO_MUTEX;
+    rusqlite::Connection::open_with_flags(sqlite_uri(path)?, flags).map_err(|e| sqlite_error(&e))
+}
+
+/// `(id, type, serialization_format)` of every row of the `topics` table named `topic`.
+fn topic_ids(con: &rusqlite::Connection, topic: &str) -> Result<Vec<(i64, String, String)>> {
+    let sql = |e: rusqlite::Error| sqlite_error(&e);
+    let mut ids = con
+        .prepare("SELECT id, type, serialization_format FROM topics WHERE name = ?1")
+        .map_err(sql)?;
+    ids.query_map([topic], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))
+        .map_err(sql)?
+        .collect::<rusqlite::Result<_>>()
+        .map_err(sql)
+}
+
 /// One storage file of [`read_sqlite`], appended to `w`; `report(rows)` every batch.
 fn sqlite_file(
     path: &Path,
@@ -604,22 +659,9 @@ fn sqlite_file(
     w: &mut Writer<'_>,
     report: &mut dyn FnMut(usize) -> Result<()>,
 ) -> Result<()> {
-    use rusqlite::{Connection, OpenFlags};
-
-    let flags = OpenFlags::SQLITE_OPEN_READ_ONLY
-        | OpenFlags::SQLITE_OPEN_URI
-        | OpenFlags::SQLITE_OPEN_NO_MUTEX;
-    let con =
-        Connection::open_with_flags(sqlite_uri(path)?, flags).map_err(|e| sqlite_error(&e))?;
+    let con = sqlite_open(path)?;
     let sql = |e: rusqlite::Error| sqlite_error(&e);
-    let mut ids = con
-        .prepare("SELECT id, type, serialization_format FROM topics WHERE name = ?1")
-        .map_err(sql)?;
-    let listed: Vec<(i64, String, String)> = ids
-        .query_map([topic], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))
-        .map_err(sql)?
-        .collect::<rusqlite::Result<_>>()
-        .map_err(sql)?;
+    let listed = topic_ids(&con, topic)?;
     let id = match listed.as_slice() {
         [(id, typ, format)] if typ == IMU_TYPE && format == "cdr" => *id,
         [(_, typ, format)] => {
@@ -929,5 +971,133 @@ mod tests {
         assert!(cdr_messages(&buf[1..], &lengths, true, &mut data, &mut stamps, 0).is_err());
         assert!(cdr_messages(&buf, &[-1, 5], true, &mut data, &mut stamps, 0).is_err());
         assert!(cdr_messages(&buf, &lengths, true, &mut data[1..], &mut stamps, 0).is_err());
+    }
+
+    /// A minimal rosbag2 sqlite3 file: `/imu` (Imu, cdr) with messages at `receive`, and
+    /// `/note` (a String topic).
+    fn sqlite_bag(name: &str, receive: &[i64]) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("gyrocore-bags-{}-{name}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("b?#% .db3");
+        let _ = std::fs::remove_file(&path);
+        let con = rusqlite::Connection::open(&path).unwrap();
+        con.execute_batch(
+            "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL, \
+             serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL);
+             CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, \
+             timestamp INTEGER NOT NULL, data BLOB NOT NULL);
+             CREATE INDEX timestamp_idx ON messages (timestamp ASC);
+             INSERT INTO topics VALUES (1, '/note', 'std_msgs/msg/String', 'cdr', '');
+             INSERT INTO topics VALUES (2, '/imu', 'sensor_msgs/msg/Imu', 'cdr', '');",
+        )
+        .unwrap();
+        for (k, &t) in receive.iter().enumerate() {
+            let k32 = i32::try_from(k).unwrap();
+            let mut v = V;
+            v[0] = f64::from(k32);
+            let msg = cdr_msg("imu", k32, 0, v, k % 2 == 0);
+            con.execute(
+                "INSERT INTO messages (topic_id, timestamp, data) VALUES (2, ?1, ?2)",
+                rusqlite::params![t, msg],
+            )
+            .unwrap();
+            con.execute(
+                "INSERT INTO messages (topic_id, timestamp, data) VALUES (1, ?1, x'00010000')",
+                [t],
+            )
+            .unwrap();
+        }
+        path
+    }
+
+    #[test]
+    fn sqlite_reads_the_topic_in_timestamp_order() {
+        // out of insertion order, with ties: rows come by timestamp, ties by insertion
+        let receive = [30, 10, 20, 10, 40];
+        let path = sqlite_bag("order", &receive);
+        let dir = path.parent().unwrap().to_path_buf();
+        assert_eq!(sqlite_count(&[&path], "/imu").unwrap(), 5);
+        assert_eq!(sqlite_count(&[&path], "/absent").unwrap(), 0);
+        let mut data = vec![0.0; 10 * 6];
+        let mut stamps = vec![0; 10];
+        let two = [&path, &path];
+        let rows = read_sqlite(
+            &two,
+            "/imu",
+            Stamp::Receive,
+            &mut data,
+            &mut stamps,
+            &Progress::none(),
+        )
+        .unwrap();
+        assert_eq!(rows, 10);
+        assert_eq!(&stamps[..5], &[10, 10, 20, 30, 40]);
+        let firsts: Vec<f64> = (0..5).map(|r| data[r * 6]).collect();
+        assert_eq!(firsts, vec![1.0, 3.0, 2.0, 0.0, 4.0]);
+        assert_eq!(&data[7..12], &V[1..]);
+        read_sqlite(
+            &[&path],
+            "/imu",
+            Stamp::Header,
+            &mut data[..30],
+            &mut stamps[..5],
+            &Progress::none(),
+        )
+        .unwrap();
+        assert_eq!(&stamps[..5], &[NS, 3 * NS, 2 * NS, 0, 4 * NS]);
+        // errors, never a panic, and nothing created beside the file
+        let none = &Progress::none();
+        let (d, s) = (&mut data[..30], &mut stamps[..5]);
+        assert!(read_sqlite(&[&path], "/absent", Stamp::Header, d, s, none).is_err());
+        assert!(read_sqlite(&[&path], "/note", Stamp::Header, d, s, none).is_err());
+        assert!(
+            read_sqlite(
+                &[&path],
+                "/imu",
+                Stamp::Header,
+                &mut data[..24],
+                &mut stamps[..4],
+                none
+            )
+            .is_err()
+        );
+        let junk = dir.join("junk.db3");
+        std::fs::write(&junk, b"not sqlite at all, not sqlite at all").unwrap();
+        assert!(
+            read_sqlite(
+                &[&junk],
+                "/imu",
+                Stamp::Header,
+                &mut data[..30],
+                &mut stamps[..5],
+                none
+            )
+            .is_err()
+        );
+        let bytes = std::fs::read(&path).unwrap();
+        for cut in [0, 100, bytes.len() / 2, bytes.len() - 1] {
+            std::fs::write(&junk, &bytes[..cut]).unwrap();
+            let _ = read_sqlite(
+                &[&junk],
+                "/imu",
+                Stamp::Header,
+                &mut data[..30],
+                &mut stamps[..5],
+                none,
+            );
+        }
+        let mut names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        names.sort();
+        assert_eq!(names, vec!["b?#% .db3", "junk.db3"]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn sqlite_uri_escapes_every_special_byte() {
+        let uri = sqlite_uri(Path::new("/a b/c?d#e%f.db3")).unwrap();
+        assert_eq!(uri, "file:/a%20b/c%3Fd%23e%25f.db3?mode=ro&immutable=1");
     }
 }

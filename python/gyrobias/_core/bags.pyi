@@ -11,7 +11,7 @@ from os import PathLike
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["CHANNELS", "cdr_messages", "mcap_chunk", "read_sqlite", "ros1_chunk"]
+__all__ = ["CHANNELS", "cdr_messages", "mcap_chunk", "read_sqlite", "ros1_chunk", "sqlite_count"]
 
 CHANNELS: int
 
@@ -50,3 +50,4 @@ def read_sqlite(
     stamps: NDArray[np.int64],
     progress: Callable[[float], object] | None = None,
 ) -> int: ...
+def sqlite_count(paths: Sequence[str | PathLike[str]], topic: str) -> int: ...
