@@ -528,10 +528,10 @@ def _sqlite_tables(path: Path) -> tuple[list[_Topic], list[tuple[str, str, str]]
     )
     try:
         cur = con.cursor()
-        (tables,) = cur.execute(
+        tables = cur.execute(
             'SELECT count(*) FROM sqlite_master WHERE type="table" AND name IN ("messages", "topics")'
         ).fetchone()
-        if tables != 2:
+        if tables is None or tables[0] != 2:
             raise _Unsupported("missing tables")
         if cur.execute("PRAGMA table_info(schema)").fetchall():
             row = cur.execute("SELECT schema_version FROM schema").fetchone()
