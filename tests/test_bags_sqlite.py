@@ -305,3 +305,33 @@ def test_order_of_equal_receive_times_is_rosbags(steps: list[int], receive: bool
         ref = reference(path, stamp)
         np.testing.assert_array_equal(got[0], ref[0])
         np.testing.assert_array_equal(got[1], ref[1])
+
+
+@pytest.mark.parametrize(("version", "definitions"), [(8, True), (9, False)])
+def test_bag_versions_and_missing_definitions_equal_rosbags(
+    tmp_path: Path, version: int, definitions: bool
+) -> None:
+    """rosbag2 version 8, and a bag whose ``message_definitions`` table is empty (rosbags then
+    uses its Humble types): the fast path takes them, value for value, directory and file."""
+    n = 250
+    data = imu_data(n, seed=version)
+    stamps = regular(n)
+    path = tmp_path / f"v{version}"
+    w = Writer2(path, version=version, storage_plugin=StoragePlugin.SQLITE3)
+    with w:
+        conn = w.add_connection("/imu", IMU, typestore=TS2)
+        for raw, t in zip(serialized(False, stamps, data, ["imu"]), stamps):
+            w.write(conn, int(t), raw)
+    if not definitions:
+        con = sqlite3.connect(next(path.glob("*.db3")))
+        con.execute("DELETE FROM message_definitions")
+        con.commit()
+        con.close()
+    for bare in (False, True):
+        target = bare_db3(path) if bare else path
+        got = fast_read(target, "receive")
+        assert got is not None
+        ref = reference(target, "receive")
+        np.testing.assert_array_equal(got[0], ref[0])
+        np.testing.assert_array_equal(got[1], ref[1])
+        np.testing.assert_array_equal(got[0], data)
