@@ -137,6 +137,31 @@ def test_split_bag_reads_its_files_in_order(tmp_path: Path) -> None:
         np.testing.assert_array_equal(got[1], stamps)
 
 
+def test_damage_in_any_file_of_a_split_bag_gives_the_reference_outcome(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """rosbags' open scans every file's messages table: a damaged page anywhere is its error,
+    the fast path (which scans every file too) must not read around it."""
+    n = 900
+    path = _split(tmp_path, imu_data(n, seed=8), regular(n), [slice(0, 400), slice(400, n)])
+    second = path / "split_1.db3"
+    good = second.read_bytes()
+    for cut in (len(good) // 3, len(good) - 4096, len(good) - 1):
+        second.write_bytes(good[:cut])
+        outcomes = []
+        for core in (True, False):
+            with monkeypatch.context() as m:
+                if not core:
+                    without_core(m)
+                try:
+                    log = load(path)
+                    outcomes.append(("ok", log.data.tobytes(), log.time.tobytes()))  # type: ignore[union-attr]
+                except ValueError as exc:
+                    outcomes.append(("error", str(exc), b""))
+        assert outcomes[0] == outcomes[1], cut
+    second.write_bytes(good)
+
+
 @pytest.mark.parametrize("mode", ["file", "message"])
 def test_compressed_bags_keep_the_reference_values(
     tmp_path: Path, mode: str, monkeypatch: pytest.MonkeyPatch

@@ -482,14 +482,20 @@ def read_sqlite_bag(
         # The files whose messages rosbags yields for the topic: a storage connection
         # matching the bag's (topic, type, serialization format and QoS, digest).
         paths = []
+        stored_count = 0
         for path, stored in files:
             match = [s for s in stored if any(_same(s, c) for c in chosen)]
             if len(match) > 1 or len([s for s in stored if s[0] == name]) != len(match):
                 raise _Unsupported("a storage connection rosbags would skip")
+            # Every file's messages table is scanned whole, as rosbags' open scans it to count
+            # (a damaged page anywhere is then its error, not a partial read here).
             if match:
                 paths.append(path)
+                stored_count += _core.bags.sqlite_count([path], name)
+            else:
+                _sqlite_scan(path)
         if counts is None:
-            count = _core.bags.sqlite_count(paths, name)
+            count = stored_count
         else:
             count = sum(counts[k] for k, c in enumerate(conns) if c[0] == name)
         if count < 2:
@@ -577,6 +583,20 @@ def _sqlite_tables(path: Path) -> tuple[list[_Topic], list[tuple[str, str, str]]
         con.close()
 
 
+def _sqlite_scan(path: Path) -> None:
+    """Reads every page of the ``messages`` table of a storage file (without the topic)."""
+    import apsw
+
+    con = apsw.Connection(
+        f"file:{path}?immutable=1", flags=apsw.SQLITE_OPEN_READONLY | apsw.SQLITE_OPEN_URI
+    )
+    try:
+        # an aggregate without WHERE evaluates every row: a full scan of the table
+        con.execute("SELECT sum(topic_id < 0) FROM messages").fetchall()
+    finally:
+        con.close()
+
+
 def _sqlite_directory(
     p: Path,
 ) -> tuple[list[_Topic], list[tuple[Path, list[_Topic]]], list[int]]:
@@ -598,8 +618,9 @@ def _sqlite_directory(
     paths = [p / PurePath(x).name for x in meta["relative_file_paths"]]
     if not all(x.exists() for x in paths):
         raise _Unsupported("missing files")
-    _ = meta["duration"]["nanoseconds"], meta["starting_time"]["nanoseconds_since_epoch"]
-    _ = meta["message_count"]
+    # rosbags' ReaderMetadata arithmetic (a key or type it would refuse raises here too)
+    duration = meta["duration"]["nanoseconds"]
+    _ = meta["starting_time"]["nanoseconds_since_epoch"] + duration + 1, meta["message_count"]
     files = [(x, _sqlite_tables(x)[0]) for x in paths]
     conns: list[_Topic] = []
     counts: list[int] = []
