@@ -487,13 +487,18 @@ def read_sqlite_bag(
             match = [s for s in stored if any(_same(s, c) for c in chosen)]
             if len(match) > 1 or len([s for s in stored if s[0] == name]) != len(match):
                 raise _Unsupported("a storage connection rosbags would skip")
-            # Every file's messages table is scanned whole, as rosbags' open scans it to count
-            # (a damaged page anywhere is then its error, not a partial read here).
-            if match:
-                paths.append(path)
-                stored_count += _core.bags.sqlite_count([path], name)
-            else:
+            # Every row of every file's messages table is visited, as rosbags' open visits them
+            # to count (a damaged page anywhere is then its error, not a partial read here).
+            if not match:
                 _sqlite_scan(path)
+                continue
+            paths.append(path)
+            if len(stored) == 1:
+                # the file holds only this topic (an IMU-only recording): every row is read
+                # below, and counting all rows takes the small timestamp index
+                stored_count += _sqlite_scan(path, whole=False)
+            else:
+                stored_count += _core.bags.sqlite_count([path], name)
         if counts is None:
             count = stored_count
         else:
@@ -583,16 +588,18 @@ def _sqlite_tables(path: Path) -> tuple[list[_Topic], list[tuple[str, str, str]]
         con.close()
 
 
-def _sqlite_scan(path: Path) -> None:
-    """Reads every page of the ``messages`` table of a storage file (without the topic)."""
+def _sqlite_scan(path: Path, whole: bool = True) -> int:
+    """The rows of the ``messages`` table of a storage file: ``whole``, every row visited (an
+    aggregate without ``WHERE`` evaluates each one), else counted (SQLite takes an index)."""
     import apsw
 
     con = apsw.Connection(
         f"file:{path}?immutable=1", flags=apsw.SQLITE_OPEN_READONLY | apsw.SQLITE_OPEN_URI
     )
     try:
-        # an aggregate without WHERE evaluates every row: a full scan of the table
-        con.execute("SELECT sum(topic_id < 0) FROM messages").fetchall()
+        query = "SELECT count(topic_id) FROM messages" if whole else "SELECT count(*) FROM messages"
+        row = con.execute(query).fetchone()
+        return int(row[0]) if row is not None else 0
     finally:
         con.close()
 
