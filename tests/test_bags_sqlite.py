@@ -137,6 +137,36 @@ def test_split_bag_reads_its_files_in_order(tmp_path: Path) -> None:
         np.testing.assert_array_equal(got[1], stamps)
 
 
+def test_split_bag_with_a_file_without_the_topic(tmp_path: Path) -> None:
+    """The second file holds only ``/note``: it is scanned (as rosbags' open does), not read."""
+    from ruamel.yaml import YAML
+
+    n = 600
+    data = imu_data(n, seed=6)
+    stamps = regular(n)
+    path = _split(tmp_path, data, stamps, [slice(0, 400), slice(400, n)])
+    other = tmp_path / "other"
+    w = Writer2(other, version=9, storage_plugin=StoragePlugin.SQLITE3)
+    with w:
+        conn = w.add_connection("/note", "std_msgs/msg/String", typestore=TS2)
+        note = TS2.serialize_cdr(TS2.types["std_msgs/msg/String"](data="x"), "std_msgs/msg/String")
+        for t in stamps[400:]:
+            w.write(conn, int(t), bytes(note))
+    shutil.move(next(other.glob("*.db3")), path / "split_1.db3")
+    yaml = YAML(typ="safe")
+    meta = yaml.load((path / "metadata.yaml").read_text())
+    for t in meta["rosbag2_bagfile_information"]["topics_with_message_count"]:
+        t["message_count"] = 400 if t["topic_metadata"]["name"] == "/imu" else n - 400
+    with open(path / "metadata.yaml", "w") as fh:
+        yaml.dump(meta, fh)
+    got = fast_read(path, "header")
+    assert got is not None
+    ref = reference(path, "header")
+    np.testing.assert_array_equal(got[0], ref[0])
+    np.testing.assert_array_equal(got[1], ref[1])
+    np.testing.assert_array_equal(got[0], data[:400])
+
+
 def test_damage_in_any_file_of_a_split_bag_gives_the_reference_outcome(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

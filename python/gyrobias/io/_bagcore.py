@@ -463,7 +463,7 @@ def read_sqlite_bag(
     schema version, every message definition parsing and matching its type hash, the
     directory's ``metadata.yaml``), the topic is chosen as ``_bag._choose_topic`` chooses it,
     only its messages are counted (a ``.db3`` file; a directory's ``metadata.yaml`` gives
-    the counts rosbags uses) and the core reads them (:func:`gyrocore::bags::read_sqlite`,
+    the counts rosbags uses) and the core reads them (``gyrocore::bags::read_sqlite``,
     rosbags' query). Every case that would raise an error there, or is not plainly the
     standard layout, returns ``None``: rosbags then gives today's error or values.
     """
