@@ -513,6 +513,8 @@ fn sqlite_error(e: &rusqlite::Error) -> Error {
 /// lock, no journal, no `-wal`/`-shm` file is ever created beside the bag, and the file is
 /// never written. Every byte outside the URI's unreserved characters is percent-encoded, so
 /// any file name (`?`, `#`, `%`, spaces, non-UTF-8 bytes) is the file it names.
+// Infallible on Unix (any path's bytes can be escaped); elsewhere a path must be Unicode.
+#[cfg_attr(unix, allow(clippy::unnecessary_wraps))]
 fn sqlite_uri(path: &Path) -> Result<String> {
     #[cfg(unix)]
     let bytes: Vec<u8> = {
@@ -538,7 +540,10 @@ fn sqlite_uri(path: &Path) -> Result<String> {
         if b.is_ascii_alphanumeric() || b"/-._~".contains(&b) {
             uri.push(char::from(b));
         } else {
-            uri.push_str(&format!("%{b:02X}"));
+            const HEX: &[u8; 16] = b"0123456789ABCDEF";
+            uri.push('%');
+            uri.push(char::from(HEX[usize::from(b >> 4)]));
+            uri.push(char::from(HEX[usize::from(b & 15)]));
         }
     }
     uri.push_str("?mode=ro&immutable=1");
