@@ -102,6 +102,7 @@ fn cdr_messages(
 /// read and is re-raised.
 #[pyfunction]
 #[pyo3(signature = (paths, topic, receive, data, stamps, progress=None))]
+#[allow(clippy::needless_pass_by_value)]
 fn read_sqlite(
     py: Python<'_>,
     paths: Vec<PathBuf>,
@@ -121,6 +122,7 @@ fn read_sqlite(
 /// The messages of topic `topic` in ROS2 sqlite3 storage files
 /// (`gyrocore::bags::sqlite_count`).
 #[pyfunction]
+#[allow(clippy::needless_pass_by_value)]
 fn sqlite_count(py: Python<'_>, paths: Vec<PathBuf>, topic: &str) -> PyResult<usize> {
     core(py.detach(|| bags::sqlite_count(&paths, topic)))
 }
