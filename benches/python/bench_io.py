@@ -1,6 +1,6 @@
 """Log-reading benchmark: ``gyrobias.io.load`` against a baseline measured side by side in one run.
 
-Run: ``python benches/python/bench_io.py [--quick] [--only csv|bag] [--repeats 3] [--keep DIR]``
+Run: ``python benches/python/bench_io.py [--quick] [--only csv|bag|sqlite] [--repeats 3] [--keep DIR]``
 (bags need ``pip install '.[io]'``). Prints one table, a row per input format:
 
 | column | meaning |
@@ -188,11 +188,13 @@ def csv_rows(work: Path, quick: bool, repeats: int, memory: bool) -> list[Row]:
 # Bags
 
 
-def bag_rows(work: Path, quick: bool, repeats: int, memory: bool) -> list[Row]:
+def bag_rows(
+    work: Path, quick: bool, repeats: int, memory: bool, labels: tuple[str, ...] = ()
+) -> list[Row]:
     """Bag rows: every bag format of issue 37 (``_bench_bags.FORMATS``: ROS1 plain/lz4/bz2
     chunks, ROS2 sqlite3, MCAP plain/zstd/lz4 chunks), 300,000 ``sensor_msgs/Imu`` (30,000
     with ``--quick``), against rosbags opening the bag and iterating the topic's raw messages
-    without deserializing them (target ≥ 2×)."""
+    without deserializing them (target ≥ 2×). ``labels``: only these formats (default all)."""
     try:
         import rosbags  # noqa: F401
     except ImportError:
@@ -203,6 +205,8 @@ def bag_rows(work: Path, quick: bool, repeats: int, memory: bool) -> list[Row]:
     n = 30_000 if quick else 300_000
     rows = []
     for label, kind, compression in _bench_bags.FORMATS:
+        if labels and label not in labels:
+            continue
         path = _bench_bags.write_bag(work, kind, compression, n)
         log = gyrobias.io.load(path)
         assert np.array_equal(log.data, _bench_bags.messages(kind == "ros1", n)[2]), label
@@ -219,6 +223,8 @@ def bag_rows(work: Path, quick: bool, repeats: int, memory: bool) -> list[Row]:
 SECTIONS: dict[str, Callable[[Path, bool, int, bool], list[Row]]] = {
     "csv": csv_rows,
     "bag": bag_rows,
+    # the ROS2 sqlite3 row of the bag section alone
+    "sqlite": lambda w, q, r, m: bag_rows(w, q, r, m, ("ROS2 sqlite3 (.db3)",)),
 }
 
 

@@ -158,7 +158,11 @@ def run(script: str, args: list[str], timeout: float) -> tuple[str, float, bool]
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--only", nargs="*", help="bench script names to run (default: all selected)")
+    ap.add_argument(
+        "--only",
+        nargs="*",
+        help="bench script names to run, or one section as 'script args' (default: all selected)",
+    )
     ap.add_argument("--output", default=str(ROOT / "docs" / "performance.md"))
     ap.add_argument("--timeout", type=float, default=300.0, help="seconds per benchmark")
     ap.add_argument(
@@ -168,7 +172,12 @@ def main() -> int:
         "then states its own run: date, load, commit), keeping the others",
     )
     opts = ap.parse_args()
-    chosen = [b for b in SELECTED if not opts.only or b[0] in opts.only]
+    # a script name selects all its sections; "script args" (e.g. "bench_io.py --only bag") one
+    chosen = [
+        b
+        for b in SELECTED
+        if not opts.only or b[0] in opts.only or " ".join([b[0], *b[1]]) in opts.only
+    ]
 
     import numpy
 

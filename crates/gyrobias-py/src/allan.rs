@@ -40,13 +40,13 @@ fn config(
 /// A Python callable as the core's progress hook: called with the GIL re-attached (from
 /// whichever worker thread finished the work); an exception it raises cancels the analysis
 /// and is re-raised to the caller.
-struct PyHook {
+pub(crate) struct PyHook {
     callback: Option<Py<PyAny>>,
     error: Mutex<Option<PyErr>>,
 }
 
 impl PyHook {
-    fn new(callback: Option<Py<PyAny>>) -> Self {
+    pub(crate) fn new(callback: Option<Py<PyAny>>) -> Self {
         PyHook {
             callback,
             error: Mutex::new(None),
@@ -71,7 +71,7 @@ impl PyHook {
 
     /// Runs `work` without the GIL with this hook as its progress; the callback's exception
     /// (if any) takes precedence over the core's `Cancelled`.
-    fn run<T: Send>(
+    pub(crate) fn run<T: Send>(
         &self,
         py: Python<'_>,
         work: impl FnOnce(&Progress<'_>) -> gyrocore::Result<T> + Send,

@@ -1,9 +1,12 @@
 //! Bindings of `gyrocore::bags`.
 
+use std::path::PathBuf;
+
 use gyrocore::bags::{self, Stamp};
 use numpy::{PyReadonlyArray1, PyReadwriteArray1, PyReadwriteArray2};
 use pyo3::prelude::*;
 
+use crate::allan::PyHook;
 use crate::array::{c_order, c_order_mut};
 use crate::count;
 use crate::error::core;
@@ -93,9 +96,42 @@ fn cdr_messages(
     core(py.detach(|| bags::cdr_messages(buf, &l, header_stamps, d, s, start)))
 }
 
+/// The Imu messages of topic `topic` of ROS2 sqlite3 storage files (in order), read and decoded
+/// in the core, into `data` and `stamps` from row 0 (`gyrocore::bags::read_sqlite`); returns the rows
+/// written. `progress(fraction)` is called from the core; an exception it raises stops the
+/// read and is re-raised.
+#[pyfunction]
+#[pyo3(signature = (paths, topic, receive, data, stamps, progress=None))]
+#[allow(clippy::needless_pass_by_value)]
+fn read_sqlite(
+    py: Python<'_>,
+    paths: Vec<PathBuf>,
+    topic: &str,
+    receive: bool,
+    mut data: PyReadwriteArray2<'_, f64>,
+    mut stamps: PyReadwriteArray1<'_, i64>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<usize> {
+    let d = c_order_mut("data", &mut data)?;
+    let s = c_order_mut("stamps", &mut stamps)?;
+    PyHook::new(progress).run(py, |p| {
+        bags::read_sqlite(&paths, topic, stamp_kind(receive), d, s, p)
+    })
+}
+
+/// The messages of topic `topic` in ROS2 sqlite3 storage files
+/// (`gyrocore::bags::sqlite_count`).
+#[pyfunction]
+#[allow(clippy::needless_pass_by_value)]
+fn sqlite_count(py: Python<'_>, paths: Vec<PathBuf>, topic: &str) -> PyResult<usize> {
+    core(py.detach(|| bags::sqlite_count(&paths, topic)))
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("CHANNELS", bags::CHANNELS)?;
     m.add_function(wrap_pyfunction!(ros1_chunk, m)?)?;
     m.add_function(wrap_pyfunction!(mcap_chunk, m)?)?;
-    m.add_function(wrap_pyfunction!(cdr_messages, m)?)
+    m.add_function(wrap_pyfunction!(cdr_messages, m)?)?;
+    m.add_function(wrap_pyfunction!(read_sqlite, m)?)?;
+    m.add_function(wrap_pyfunction!(sqlite_count, m)?)
 }

@@ -24,6 +24,9 @@
 //! `start` of a preallocated `(n, 6)` array, with either the header stamp (`sec·10⁹ + nsec`) or
 //! the container's receive time (ROS1 record `time`, MCAP `log_time`) as int64 nanoseconds.
 
+use std::path::Path;
+
+use crate::allan::Progress;
 use crate::error::{Error, Result};
 
 /// Channels per message: angular velocity x, y, z and linear acceleration x, y, z.
@@ -496,6 +499,243 @@ pub fn cdr_messages(
     Ok(lengths.len())
 }
 
+/// Rows between two progress reports (and cancellation checks) of [`read_sqlite`].
+const SQLITE_BATCH: usize = 65_536;
+
+/// The message type the sqlite3 reader decodes.
+const IMU_TYPE: &str = "sensor_msgs/msg/Imu";
+
+fn sqlite_error(e: &rusqlite::Error) -> Error {
+    corrupt("path", format!("not a readable ROS2 sqlite3 bag ({e})"))
+}
+
+/// An SQLite URI opening `path` read-only and immutable (`file:…?mode=ro&immutable=1`): no
+/// lock, no journal, no `-wal`/`-shm` file is ever created beside the bag, and the file is
+/// never written. Every byte outside the URI's unreserved characters is percent-encoded, so
+/// any file name (`?`, `#`, `%`, spaces, non-UTF-8 bytes) is the file it names.
+// Infallible on Unix (any path's bytes can be escaped); elsewhere a path must be Unicode.
+#[cfg_attr(unix, allow(clippy::unnecessary_wraps))]
+fn sqlite_uri(path: &Path) -> Result<String> {
+    #[cfg(unix)]
+    let bytes: Vec<u8> = {
+        use std::os::unix::ffi::OsStrExt;
+        path.as_os_str().as_bytes().to_vec()
+    };
+    #[cfg(not(unix))]
+    let bytes: Vec<u8> = {
+        let s = path
+            .to_str()
+            .ok_or_else(|| corrupt("path", format!("{} is not valid Unicode", path.display())))?;
+        let s = s.replace('\\', "/");
+        // A drive letter (C:/…) becomes the URI path /C:/….
+        if s.as_bytes().get(1) == Some(&b':') {
+            format!("/{s}").into_bytes()
+        } else {
+            s.into_bytes()
+        }
+    };
+    let mut uri = String::with_capacity(bytes.len() + 32);
+    uri.push_str("file:");
+    for &b in &bytes {
+        if b.is_ascii_alphanumeric() || b"/-._~".contains(&b) {
+            uri.push(char::from(b));
+        } else {
+            const HEX: &[u8; 16] = b"0123456789ABCDEF";
+            uri.push('%');
+            uri.push(char::from(HEX[usize::from(b >> 4)]));
+            uri.push(char::from(HEX[usize::from(b & 15)]));
+        }
+    }
+    uri.push_str("?mode=ro&immutable=1");
+    Ok(uri)
+}
+
+/// Decodes the `sensor_msgs/msg/Imu` messages of topic `topic` of ROS2 sqlite3 storage files
+/// (`.db3`; a split bag's files in their order) into `data` (`(n, 6)` row-major) and `stamps`
+/// (`n`) from row 0; returns the rows written (at most `n`, the caller's message count).
+///
+/// Each file is opened read-only and immutable (URI `?mode=ro&immutable=1`, the same open as
+/// rosbags' reader: no lock, no `-wal`/`-shm` file beside it, never written) and its rows come
+/// from rosbags' own query, `SELECT topics.id, messages.timestamp, messages.data FROM messages
+/// JOIN topics ON messages.topic_id = topics.id WHERE topics.id IN (?) ORDER BY timestamp`, so
+/// they arrive in the same order, ties included (a first pass over the table in storage order
+/// is kept when the topic's timestamps come strictly increasing: the one order that query can
+/// give then); the files follow each other as in rosbags' reader of a bag directory. The receive time is `messages.timestamp`. The blobs are decoded
+/// as SQLite steps through them: the working set is SQLite's page cache (a few MB), whatever
+/// the bag's size. `progress` gets the fraction of the `n` rows done every 65,536 rows; a
+/// `false` from its hook stops the read with [`Error::Cancelled`].
+///
+/// # Errors
+/// [`Error::InvalidParameter`] (`path`) when a file is not a readable sqlite3 bag (not a
+/// database, corrupt or truncated pages, no `topics`/`messages` table); (`topic`) when the
+/// topic is missing from a file, listed more than once, or not a CDR `sensor_msgs/msg/Imu`;
+/// (`message`) for a blob that is not a standard Imu; (`data`) for more messages than `n`;
+/// [`Error::ShapeMismatch`] when `data` does not have 6 values per stamp.
+pub fn read_sqlite<P: AsRef<Path>>(
+    paths: &[P],
+    topic: &str,
+    stamp: Stamp,
+    data: &mut [f64],
+    stamps: &mut [i64],
+    progress: &Progress<'_>,
+) -> Result<usize> {
+    let n = check_out(data, stamps, 0)?;
+    let mut w = Writer {
+        data,
+        stamps,
+        row: 0,
+        stamp,
+        last: i64::MIN,
+        ordered: true,
+    };
+    progress.add_total(n as f64);
+    progress.start();
+    let mut reported = 0usize;
+    for path in paths {
+        sqlite_file(path.as_ref(), topic, &mut w, &mut |rows| {
+            // a file read again (see sqlite_file) reports rows already counted: no step back
+            if rows > reported {
+                progress.advance((rows - reported) as f64);
+                reported = rows;
+            }
+            progress.check()
+        })?;
+    }
+    progress.finish();
+    progress.check()?;
+    Ok(w.row)
+}
+
+/// The number of messages of topic `topic` in ROS2 sqlite3 storage files (files without the
+/// topic count 0): `SELECT count(*) FROM messages WHERE topic_id = ?` on each file, opened as
+/// in [`read_sqlite`]; the size of the output arrays of a later [`read_sqlite`].
+///
+/// # Errors
+/// [`Error::InvalidParameter`] (`path`) when a file is not a readable sqlite3 bag; (`topic`)
+/// when the topic is listed more than once in a file.
+pub fn sqlite_count<P: AsRef<Path>>(paths: &[P], topic: &str) -> Result<usize> {
+    let mut total = 0usize;
+    for path in paths {
+        let con = sqlite_open(path.as_ref())?;
+        let sql = |e: rusqlite::Error| sqlite_error(&e);
+        let ids = topic_ids(&con, topic)?;
+        let id = match ids.as_slice() {
+            [] => continue,
+            [(id, _, _)] => *id,
+            more => {
+                return Err(corrupt(
+                    "topic",
+                    format!("{topic} is listed {} times", more.len()),
+                ));
+            }
+        };
+        let count: i64 = con
+            .query_row(
+                "SELECT count(*) FROM messages WHERE topic_id = ?1",
+                [id],
+                |r| r.get(0),
+            )
+            .map_err(sql)?;
+        total = total.saturating_add(usize::try_from(count).unwrap_or(usize::MAX));
+    }
+    Ok(total)
+}
+
+fn sqlite_open(path: &Path) -> Result<rusqlite::Connection> {
+    use rusqlite::OpenFlags;
+    let flags = OpenFlags::SQLITE_OPEN_READ_ONLY
+        | OpenFlags::SQLITE_OPEN_URI
+        | OpenFlags::SQLITE_OPEN_NO_MUTEX;
+    rusqlite::Connection::open_with_flags(sqlite_uri(path)?, flags).map_err(|e| sqlite_error(&e))
+}
+
+/// `(id, type, serialization_format)` of every row of the `topics` table named `topic`.
+fn topic_ids(con: &rusqlite::Connection, topic: &str) -> Result<Vec<(i64, String, String)>> {
+    let sql = |e: rusqlite::Error| sqlite_error(&e);
+    let mut ids = con
+        .prepare("SELECT id, type, serialization_format FROM topics WHERE name = ?1")
+        .map_err(sql)?;
+    ids.query_map([topic], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))
+        .map_err(sql)?
+        .collect::<rusqlite::Result<_>>()
+        .map_err(sql)
+}
+
+/// One storage file of [`read_sqlite`], appended to `w`; `report(rows)` every batch.
+fn sqlite_file(
+    path: &Path,
+    topic: &str,
+    w: &mut Writer<'_>,
+    report: &mut dyn FnMut(usize) -> Result<()>,
+) -> Result<()> {
+    let con = sqlite_open(path)?;
+    let sql = |e: rusqlite::Error| sqlite_error(&e);
+    let listed = topic_ids(&con, topic)?;
+    let id = match listed.as_slice() {
+        [(id, typ, format)] if typ == IMU_TYPE && format == "cdr" => *id,
+        [(_, typ, format)] => {
+            return Err(corrupt(
+                "topic",
+                format!("{topic} is {typ} ({format}), not {IMU_TYPE} (cdr)"),
+            ));
+        }
+        [] => return Err(corrupt("topic", format!("{topic} is not in the bag"))),
+        more => {
+            return Err(corrupt(
+                "topic",
+                format!("{topic} is listed {} times", more.len()),
+            ));
+        }
+    };
+    // First the table in storage order (no index lookups, twice as fast): when the topic's
+    // timestamps come strictly increasing, that is the only order `ORDER BY timestamp` can
+    // give, whatever SQLite's plan; otherwise (ties or a step back) the rows are read again
+    // with rosbags' query, whose order for ties is SQLite's.
+    let (first, previous) = (w.row, w.last);
+    {
+        let mut scan = con
+            .prepare("SELECT timestamp, data FROM messages WHERE topic_id = ?1")
+            .map_err(sql)?;
+        let mut rows = scan.query([id]).map_err(sql)?;
+        let mut increasing = true;
+        let mut last = i64::MIN;
+        while let Some(row) = rows.next().map_err(sql)? {
+            let receive = row.get_ref(0).and_then(|v| Ok(v.as_i64()?)).map_err(sql)?;
+            if receive <= last {
+                increasing = false;
+                break;
+            }
+            last = receive;
+            let blob = row.get_ref(1).and_then(|v| Ok(v.as_blob()?)).map_err(sql)?;
+            w.push(blob, Encoding::Cdr, receive)?;
+            if w.row % SQLITE_BATCH == 0 {
+                report(w.row)?;
+            }
+        }
+        if increasing {
+            return report(w.row);
+        }
+    }
+    w.row = first;
+    w.last = previous;
+    let mut query = con
+        .prepare(
+            "SELECT topics.id,messages.timestamp,messages.data FROM messages JOIN topics \
+             ON messages.topic_id=topics.id WHERE topics.id IN (?1) ORDER BY timestamp",
+        )
+        .map_err(sql)?;
+    let mut rows = query.query([id]).map_err(sql)?;
+    while let Some(row) = rows.next().map_err(sql)? {
+        let receive = row.get_ref(1).and_then(|v| Ok(v.as_i64()?)).map_err(sql)?;
+        let blob = row.get_ref(2).and_then(|v| Ok(v.as_blob()?)).map_err(sql)?;
+        w.push(blob, Encoding::Cdr, receive)?;
+        if w.row % SQLITE_BATCH == 0 {
+            report(w.row)?;
+        }
+    }
+    report(w.row)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -771,5 +1011,153 @@ mod tests {
         assert!(cdr_messages(&buf[1..], &lengths, true, &mut data, &mut stamps, 0).is_err());
         assert!(cdr_messages(&buf, &[-1, 5], true, &mut data, &mut stamps, 0).is_err());
         assert!(cdr_messages(&buf, &lengths, true, &mut data[1..], &mut stamps, 0).is_err());
+    }
+
+    /// A minimal rosbag2 sqlite3 file: `/imu` (Imu, cdr) with messages at `receive`, and
+    /// `/note` (a String topic).
+    fn sqlite_bag(name: &str, receive: &[i64]) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("gyrocore-bags-{}-{name}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("b?#% .db3");
+        let _ = std::fs::remove_file(&path);
+        let con = rusqlite::Connection::open(&path).unwrap();
+        con.execute_batch(
+            "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL, \
+             serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL);
+             CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, \
+             timestamp INTEGER NOT NULL, data BLOB NOT NULL);
+             CREATE INDEX timestamp_idx ON messages (timestamp ASC);
+             INSERT INTO topics VALUES (1, '/note', 'std_msgs/msg/String', 'cdr', '');
+             INSERT INTO topics VALUES (2, '/imu', 'sensor_msgs/msg/Imu', 'cdr', '');",
+        )
+        .unwrap();
+        for (k, &t) in receive.iter().enumerate() {
+            let k32 = i32::try_from(k).unwrap();
+            let mut v = V;
+            v[0] = f64::from(k32);
+            let msg = cdr_msg("imu", k32, 0, v, k % 2 == 0);
+            con.execute(
+                "INSERT INTO messages (topic_id, timestamp, data) VALUES (2, ?1, ?2)",
+                rusqlite::params![t, msg],
+            )
+            .unwrap();
+            con.execute(
+                "INSERT INTO messages (topic_id, timestamp, data) VALUES (1, ?1, x'00010000')",
+                [t],
+            )
+            .unwrap();
+        }
+        path
+    }
+
+    #[test]
+    fn sqlite_reads_the_topic_in_timestamp_order() {
+        // out of insertion order, with ties: rows come by timestamp, ties by insertion
+        let receive = [30, 10, 20, 10, 40];
+        let path = sqlite_bag("order", &receive);
+        let dir = path.parent().unwrap().to_path_buf();
+        assert_eq!(sqlite_count(&[&path], "/imu").unwrap(), 5);
+        assert_eq!(sqlite_count(&[&path], "/absent").unwrap(), 0);
+        let mut data = vec![0.0; 10 * 6];
+        let mut stamps = vec![0; 10];
+        let two = [&path, &path];
+        let rows = read_sqlite(
+            &two,
+            "/imu",
+            Stamp::Receive,
+            &mut data,
+            &mut stamps,
+            &Progress::none(),
+        )
+        .unwrap();
+        assert_eq!(rows, 10);
+        assert_eq!(&stamps[..5], &[10, 10, 20, 30, 40]);
+        let firsts: Vec<f64> = (0..5).map(|r| data[r * 6]).collect();
+        assert_eq!(firsts, vec![1.0, 3.0, 2.0, 0.0, 4.0]);
+        assert_eq!(&data[7..12], &V[1..]);
+        read_sqlite(
+            &[&path],
+            "/imu",
+            Stamp::Header,
+            &mut data[..30],
+            &mut stamps[..5],
+            &Progress::none(),
+        )
+        .unwrap();
+        assert_eq!(&stamps[..5], &[NS, 3 * NS, 2 * NS, 0, 4 * NS]);
+        // errors, never a panic, and nothing created beside the file
+        let none = &Progress::none();
+        let (d, s) = (&mut data[..30], &mut stamps[..5]);
+        assert!(read_sqlite(&[&path], "/absent", Stamp::Header, d, s, none).is_err());
+        assert!(read_sqlite(&[&path], "/note", Stamp::Header, d, s, none).is_err());
+        assert!(
+            read_sqlite(
+                &[&path],
+                "/imu",
+                Stamp::Header,
+                &mut data[..24],
+                &mut stamps[..4],
+                none
+            )
+            .is_err()
+        );
+        let junk = dir.join("junk.db3");
+        std::fs::write(&junk, b"not sqlite at all, not sqlite at all").unwrap();
+        assert!(
+            read_sqlite(
+                &[&junk],
+                "/imu",
+                Stamp::Header,
+                &mut data[..30],
+                &mut stamps[..5],
+                none
+            )
+            .is_err()
+        );
+        let bytes = std::fs::read(&path).unwrap();
+        for cut in [0, 100, bytes.len() / 2, bytes.len() - 1] {
+            std::fs::write(&junk, &bytes[..cut]).unwrap();
+            let _ = read_sqlite(
+                &[&junk],
+                "/imu",
+                Stamp::Header,
+                &mut data[..30],
+                &mut stamps[..5],
+                none,
+            );
+        }
+        let mut names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        names.sort();
+        assert_eq!(names, vec!["b?#% .db3", "junk.db3"]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn sqlite_strictly_increasing_topic_is_read_in_one_pass() {
+        let path = sqlite_bag("increasing", &[5, 7, 9]);
+        let mut data = vec![0.0; 3 * 6];
+        let mut stamps = vec![0; 3];
+        let none = &Progress::none();
+        let rows = read_sqlite(
+            &[&path],
+            "/imu",
+            Stamp::Receive,
+            &mut data,
+            &mut stamps,
+            none,
+        );
+        assert_eq!(rows.unwrap(), 3);
+        assert_eq!(stamps, vec![5, 7, 9]);
+        assert_eq!([data[0], data[6], data[12]], [0.0, 1.0, 2.0]);
+        std::fs::remove_dir_all(path.parent().unwrap()).unwrap();
+    }
+
+    #[test]
+    fn sqlite_uri_escapes_every_special_byte() {
+        let uri = sqlite_uri(Path::new("/a b/c?d#e%f.db3")).unwrap();
+        assert_eq!(uri, "file:/a%20b/c%3Fd%23e%25f.db3?mode=ro&immutable=1");
     }
 }

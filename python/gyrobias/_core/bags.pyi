@@ -5,10 +5,13 @@ C-contiguous ``(n,)`` int64 array; rows are written from ``start``. Corrupt byte
 message that is not a standard ``sensor_msgs/Imu`` raise ``ValueError``.
 """
 
+from collections.abc import Callable, Sequence
+from os import PathLike
+
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["CHANNELS", "cdr_messages", "mcap_chunk", "ros1_chunk"]
+__all__ = ["CHANNELS", "cdr_messages", "mcap_chunk", "read_sqlite", "ros1_chunk", "sqlite_count"]
 
 CHANNELS: int
 
@@ -39,3 +42,12 @@ def cdr_messages(
     stamps: NDArray[np.int64],
     start: int,
 ) -> int: ...
+def read_sqlite(
+    paths: Sequence[str | PathLike[str]],
+    topic: str,
+    receive: bool,
+    data: NDArray[np.float64],
+    stamps: NDArray[np.int64],
+    progress: Callable[[float], object] | None = None,
+) -> int: ...
+def sqlite_count(paths: Sequence[str | PathLike[str]], topic: str) -> int: ...

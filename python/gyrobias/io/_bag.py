@@ -237,6 +237,12 @@ def read_bag(
         got1 = _bagcore.read_ros1(p, topic, stamp == "receive", progress, allocate, new_stamps)
         if got1 is not None:
             return got1[0], got1[1], t_name, got1[2], "ROS1 bag"
+    if fast and core and _bagcore.is_sqlite_bag(p):
+        got3 = _bagcore.read_sqlite_bag(
+            p, topic, stamp == "receive", progress, allocate, new_stamps
+        )
+        if got3 is not None:
+            return got3[0], got3[1], t_name, got3[2], got3[3]
     reader = _open(p)
     try:
         name, connections, count = _choose_topic(p, reader, topic)

@@ -1,11 +1,13 @@
 """The core's bag reader: ``sensor_msgs/Imu`` decoded in bulk from the serialized bytes.
 
-The containers are walked here (ROS1 bag index and chunk records, MCAP top-level records, the
-sqlite3 ``messages`` table), their chunks decompressed by the same libraries rosbags uses
-(``lz4.frame``, ``bz2``, ``zstd``; in worker threads, which release the GIL), and every
+The containers are walked here (ROS1 bag index and chunk records, MCAP top-level records),
+their chunks decompressed by the same libraries rosbags uses (``lz4.frame``, ``bz2``,
+``zstd``; in worker threads, which release the GIL), and every
 decompressed chunk handed whole to ``gyrocore::bags``, which decodes the topic's messages at
 their fixed offsets straight into the output arrays. Only one chunk (per worker) is in memory
-at a time.
+at a time. The sqlite3 store (``.db3``) is read whole by the core
+(``gyrocore::bags::read_sqlite``: SQLite opened read-only and immutable, rosbags' query), the
+blobs decoded as SQLite steps through them.
 
 Every function returns ``None`` when it does not apply or meets anything unexpected: another
 message layout, several connections on the topic, receive times out of order (the readers
@@ -16,7 +18,6 @@ gives the same values and raises today's error for a damaged bag.
 
 from __future__ import annotations
 
-import itertools
 import os
 import struct
 import zlib
@@ -33,13 +34,11 @@ from gyrobias import _core
 if TYPE_CHECKING:
     from concurrent.futures import Future
 
-__all__ = ["ROS1_IMU_MD5", "read_ros1", "read_ros2"]
+__all__ = ["ROS1_IMU_MD5", "is_sqlite_bag", "read_ros1", "read_ros2", "read_sqlite_bag"]
 
 IMU_TYPE = "sensor_msgs/msg/Imu"
 #: md5sum of the ROS1 ``sensor_msgs/Imu`` definition: the layout the core decodes.
 ROS1_IMU_MD5 = "6a62c6daae103f4ff57a132d6f95cec2"
-#: sqlite rows fetched per batch (bounds the blob buffer to a few tens of MB).
-BATCH = 65_536
 #: Chunks decompressed ahead of the decoder, per worker thread.
 AHEAD = 2
 
@@ -318,19 +317,31 @@ def read_ros2(
         storage = inner.storage
         storages = getattr(storage, "storages", [storage])
         meta = getattr(storage, "metadata", None)
-        if len(storages) != 1 or getattr(meta, "compression_mode", None) not in (None, "", "none"):
-            return None  # split or compressed bags: rosbags
-        (store,) = storages
-        ids = [c.id for c in store.connections if c.topic == name]
-        if len(ids) != 1:
-            return None
-        kind = type(store).__name__
-        path = Path(store.path)
-        data = allocate(count)
-        stamps = allocate_stamps(count)
-        if kind == "McapReader":
+        if getattr(meta, "compression_mode", None) == "message":
+            return None  # zstd per message: rosbags
+        kinds = {type(s).__name__ for s in storages}
+        if kinds == {"Sqlite3Reader"}:
+            # Every storage file holding the topic, in rosbags' order ("file" compression:
+            # the files rosbags decompressed for its own reading).
+            files = []
+            for store in storages:
+                ids = [c.id for c in store.connections if c.topic == name]
+                if len(ids) > 1:
+                    return None
+                if ids:
+                    files.append(Path(store.path))
+            data = allocate(count)
+            stamps = allocate_stamps(count)
+            n = _core.bags.read_sqlite(files, name, receive, data, stamps, progress)
+        elif kinds == {"McapReader"} and len(storages) == 1 and _plain(meta):
+            (store,) = storages
+            ids = [c.id for c in store.connections if c.topic == name]
+            if len(ids) != 1:
+                return None
+            data = allocate(count)
+            stamps = allocate_stamps(count)
             n = _walk(
-                _mcap_jobs(path, ids[0]),
+                _mcap_jobs(Path(store.path), ids[0]),
                 _core.bags.mcap_chunk,
                 ids[0],
                 receive,
@@ -341,8 +352,6 @@ def read_ros2(
             )
             if n != count:
                 return None
-        elif kind == "Sqlite3Reader":
-            n = _sqlite(path, ids[0], receive, data, stamps, count, progress)
         else:
             return None
         return data[:n], stamps[:n]
@@ -350,6 +359,11 @@ def read_ros2(
         raise
     except Exception:  # noqa: BLE001 - anything unexpected: the reference reader decides
         return None
+
+
+def _plain(meta: Any) -> bool:
+    """Whether a bag directory's metadata (``None``: a single storage file) has no compression."""
+    return getattr(meta, "compression_mode", None) in (None, "", "none")
 
 
 def _zstd() -> Callable[[bytes], bytes]:
@@ -419,40 +433,281 @@ def _mcap_job(body: bytes) -> Job:
     return job
 
 
-def _sqlite(
-    path: Path,
-    topic_id: int,
-    receive: bool,
-    data: NDArray[np.float64],
-    stamps: NDArray[np.int64],
-    count: int,
-    progress: Callable[[float], None] | None,
-) -> int:
-    """The topic's ``data`` blobs, in rosbags' order (its query, through the same apsw)."""
-    import apsw  # a rosbags dependency: its sqlite3 storage reads with it
+# --------------------------------------------------------------------------- ROS2 sqlite3
 
-    con = apsw.Connection(str(path), flags=apsw.SQLITE_OPEN_READONLY)
+#: A topic as rosbags lists it: (name, type, serialization format, digest, QoS, definition).
+_Topic = tuple[str, str, str, str, Any, Any]
+
+
+def is_sqlite_bag(p: Path) -> bool:
+    """Whether ``p`` is a ``.db3`` file or a bag directory (``metadata.yaml``)."""
+    if p.is_dir():
+        return (p / "metadata.yaml").is_file()
+    return p.suffix.lower() == ".db3" and p.is_file()
+
+
+def read_sqlite_bag(
+    p: Path,
+    topic: str | None,
+    receive: bool,
+    progress: Callable[[float], None] | None,
+    allocate: Allocate,
+    allocate_stamps: Allocate,
+) -> tuple[NDArray[np.float64], NDArray[np.int64], str, str] | None:
+    """A ROS2 sqlite3 bag read without opening it with rosbags: ``(data, stamps, topic,
+    format)``, or ``None`` for the reference path (rosbags' ``AnyReader``) to read it.
+
+    Opening the bag with rosbags counts every topic's messages with a join of the ``topics``
+    and ``messages`` tables (half the time of reading the messages). Here the small tables
+    are read with the same queries and checked as ``AnyReader.open`` checks them (tables,
+    schema version, every message definition parsing and matching its type hash, the
+    directory's ``metadata.yaml``), the topic is chosen as ``_bag._choose_topic`` chooses it,
+    only its messages are counted (a ``.db3`` file; a directory's ``metadata.yaml`` gives
+    the counts rosbags uses) and the core reads them (``gyrocore::bags::read_sqlite``,
+    rosbags' query). Every case that would raise an error there, or is not plainly the
+    standard layout, returns ``None``: rosbags then gives today's error or values.
+    """
     try:
-        cur = con.execute(
-            "SELECT topics.id,messages.timestamp,messages.data FROM messages JOIN topics "
-            "ON messages.topic_id=topics.id WHERE topics.id IN (?) ORDER BY timestamp",
-            (topic_id,),
-        )
-        n = 0
-        while True:
-            rows = list(itertools.islice(cur, BATCH))
-            if not rows:
-                return n
-            m = len(rows)
-            if n + m > len(stamps):
-                raise _Unsupported("more rows than counted")
-            blobs = [r[2] for r in rows]
-            lengths = np.fromiter(map(len, blobs), np.int64, m)
-            _core.bags.cdr_messages(b"".join(blobs), lengths, not receive, data, stamps, n)
-            if receive:
-                stamps[n : n + m] = np.fromiter((r[1] for r in rows), np.int64, m)
-            n += m
-            if progress is not None:
-                progress(min(n / count, 1.0))
+        if p.is_dir():
+            conns, files, counts = _sqlite_directory(p)
+            kinds = {f.suffix for f in p.iterdir()}
+            fmt = "ROS2 bag (mcap)" if ".mcap" in kinds else "ROS2 bag (sqlite3)"
+        else:
+            file_conns, _ = _sqlite_tables(p)
+            conns, files, counts = file_conns, [(p, file_conns)], None
+            fmt = "ROS2 sqlite3 (.db3)"
+        _ros2_definitions(conns)
+        name = _ros2_topic(conns, topic)
+        chosen = [c for c in conns if c[0] == name]
+        # The files whose messages rosbags yields for the topic: a storage connection
+        # matching the bag's (topic, type, serialization format and QoS, digest).
+        paths = []
+        stored_count = 0
+        for path, stored in files:
+            match = [s for s in stored if any(_same(s, c) for c in chosen)]
+            if len(match) > 1 or len([s for s in stored if s[0] == name]) != len(match):
+                raise _Unsupported("a storage connection rosbags would skip")
+            # Every row of every file's messages table is visited, as rosbags' open visits them
+            # to count (a damaged page anywhere is then its error, not a partial read here).
+            if not match:
+                _sqlite_scan(path)
+                continue
+            paths.append(path)
+            if len(stored) == 1:
+                # the file holds only this topic (an IMU-only recording): every row is read
+                # below, and counting all rows takes the small timestamp index
+                stored_count += _sqlite_scan(path, whole=False)
+            else:
+                stored_count += _core.bags.sqlite_count([path], name)
+        if counts is None:
+            count = stored_count
+        else:
+            count = sum(counts[k] for k, c in enumerate(conns) if c[0] == name)
+        if count < 2:
+            return None
+        data = allocate(count)
+        stamps = allocate_stamps(count)
+        n = _core.bags.read_sqlite(paths, name, receive, data, stamps, progress)
+        if n < 2:
+            return None
+        return data[:n], stamps[:n], name, fmt
+    except MemoryError:
+        raise
+    except Exception:  # noqa: BLE001 - anything unexpected: the reference reader decides
+        return None
+
+
+def _same(stored: _Topic, listed: _Topic) -> bool:
+    """rosbags' match of a storage connection to the bag's (``Reader.messages``)."""
+    return (
+        stored[0] == listed[0]
+        and stored[1] == listed[1]
+        and stored[2:5:2] == listed[2:5:2]
+        and (not stored[3] or not listed[3] or stored[3] == listed[3])
+    )
+
+
+def _sqlite_tables(path: Path) -> tuple[list[_Topic], list[tuple[str, str, str]]]:
+    """The connections of one storage file, read as rosbags' ``Sqlite3Reader`` reads them
+    (without the message counts), and its message definitions ``(type, encoding, text)``."""
+    import apsw  # a rosbags dependency: its sqlite3 storage reads with it
+    from rosbags.interfaces import MessageDefinition, MessageDefinitionFormat
+    from rosbags.rosbag2.metadata import parse_qos
+
+    con = apsw.Connection(
+        f"file:{path}?immutable=1", flags=apsw.SQLITE_OPEN_READONLY | apsw.SQLITE_OPEN_URI
+    )
+    try:
+        cur = con.cursor()
+        tables = cur.execute(
+            'SELECT count(*) FROM sqlite_master WHERE type="table" AND name IN ("messages", "topics")'
+        ).fetchone()
+        if tables is None or tables[0] != 2:
+            raise _Unsupported("missing tables")
+        if cur.execute("PRAGMA table_info(schema)").fetchall():
+            row = cur.execute("SELECT schema_version FROM schema").fetchone()
+            schema = row[0] if row is not None else -1
+        elif any(x[1] == "offered_qos_profiles" for x in cur.execute("PRAGMA table_info(topics)")):
+            schema = 2
+        else:
+            schema = 1
+        msgtypes: list[tuple[str, str, str]] = []
+        if schema >= 4:
+            msgtypes = [
+                (x[0], x[1], x[2])
+                for x in cur.execute(
+                    "SELECT topic_type, encoding, encoded_message_definition,"
+                    " type_description_hash FROM message_definitions ORDER BY id"
+                )
+            ]
+        fmts = {"ros2msg": MessageDefinitionFormat.MSG, "ros2idl": MessageDefinitionFormat.IDL}
+
+        def msgdef(typ: str) -> Any:
+            found = next((x for x in msgtypes if x[0] == typ), None)
+            if found is None:
+                return MessageDefinition(MessageDefinitionFormat.NONE, "")
+            return MessageDefinition(fmts[found[1]], found[2])
+
+        qos = ", offered_qos_profiles" if schema >= 2 else ""
+        digest = ", type_description_hash" if schema >= 4 else ""
+        conns: list[_Topic] = []
+        query = f"SELECT name, type, serialization_format{qos}{digest} FROM topics ORDER BY id"
+        for row in cur.execute(query):
+            conns.append(
+                (
+                    row[0],
+                    row[1],
+                    row[2],
+                    row[4] if schema >= 4 else "",
+                    parse_qos(row[3]) if schema >= 2 else [],
+                    msgdef(row[1]),
+                )
+            )
+        return conns, msgtypes
     finally:
         con.close()
+
+
+def _sqlite_scan(path: Path, whole: bool = True) -> int:
+    """The rows of the ``messages`` table of a storage file: ``whole``, every row visited (an
+    aggregate without ``WHERE`` evaluates each one), else counted (SQLite takes an index)."""
+    import apsw
+
+    con = apsw.Connection(
+        f"file:{path}?immutable=1", flags=apsw.SQLITE_OPEN_READONLY | apsw.SQLITE_OPEN_URI
+    )
+    try:
+        query = "SELECT count(topic_id) FROM messages" if whole else "SELECT count(*) FROM messages"
+        row = con.execute(query).fetchone()
+        return int(row[0]) if row is not None else 0
+    finally:
+        con.close()
+
+
+def _sqlite_directory(
+    p: Path,
+) -> tuple[list[_Topic], list[tuple[Path, list[_Topic]]], list[int]]:
+    """A bag directory as rosbags' ``rosbag2.Reader.open`` reads it: the connections of
+    ``metadata.yaml`` (definitions from the storage files), each storage file's connections,
+    the message counts of ``metadata.yaml``. Anything rosbags would refuse is ``_Unsupported``."""
+    from pathlib import PurePath
+
+    from rosbags.interfaces import MessageDefinitionFormat
+    from rosbags.rosbag2.metadata import parse_qos
+    from ruamel.yaml import YAML
+
+    dct = YAML(typ="safe").load((p / "metadata.yaml").read_text())
+    meta = dct["rosbag2_bagfile_information"]
+    if meta["version"] > 9 or meta["storage_identifier"] != "sqlite3":
+        raise _Unsupported("version or storage")
+    if meta.get("compression_mode", "").lower() not in ("", "none"):
+        raise _Unsupported("compressed bag")
+    paths = [p / PurePath(x).name for x in meta["relative_file_paths"]]
+    if not all(x.exists() for x in paths):
+        raise _Unsupported("missing files")
+    # rosbags' ReaderMetadata arithmetic (a key or type it would refuse raises here too)
+    duration = meta["duration"]["nanoseconds"]
+    _ = meta["starting_time"]["nanoseconds_since_epoch"] + duration + 1, meta["message_count"]
+    files = [(x, _sqlite_tables(x)[0]) for x in paths]
+    conns: list[_Topic] = []
+    counts: list[int] = []
+    for x in meta["topics_with_message_count"]:
+        t = x["topic_metadata"]
+        if t["serialization_format"] != "cdr":
+            raise _Unsupported("not cdr")
+        typ = t["type"]
+        # The definition of the first storage connection of the same type that has one.
+        defs = [c[5] for _, st in files for c in st if c[1] == typ]
+        found = [d for d in defs if d.format != MessageDefinitionFormat.NONE]
+        conns.append(
+            (
+                t["name"],
+                typ,
+                t["serialization_format"],
+                t.get("type_description_hash", ""),
+                parse_qos(t.get("offered_qos_profiles", [])),
+                found[0] if found else _no_definition(),
+            )
+        )
+        counts.append(int(x["message_count"]))
+    return conns, files, counts
+
+
+def _no_definition() -> Any:
+    from rosbags.interfaces import MessageDefinition, MessageDefinitionFormat
+
+    return MessageDefinition(MessageDefinitionFormat.NONE, "")
+
+
+def _ros2_definitions(conns: list[_Topic]) -> None:
+    """The checks rosbags' ``AnyReader`` makes when it opens a ROS2 bag (its typestore from
+    the stored definitions, or the default Humble one; every type hash), then the Imu layout
+    is the standard one (what the core decodes)."""
+    from rosbags.interfaces import MessageDefinitionFormat
+    from rosbags.typesys import Stores, get_types_from_idl, get_types_from_msg, get_typestore
+
+    humble = get_typestore(Stores.ROS2_HUMBLE)
+    typs: dict[str, Any] = {}
+    digests: dict[str, str] = {}
+    defined = [c for c in conns if c[5].format != MessageDefinitionFormat.NONE]
+    if defined:
+        for _, typ, _, digest, _, msgdef in defined:
+            if msgdef.format == MessageDefinitionFormat.MSG:
+                typs.update(get_types_from_msg(msgdef.data, typ))
+            else:
+                sep = "=" * 80 + "\n"
+                if msgdef.data.startswith(f"{sep}IDL: "):
+                    for part in msgdef.data.split(sep)[1:]:
+                        hdr, idl = part.split("\n", 1)
+                        if not hdr.startswith("IDL: "):
+                            raise _Unsupported("IDL header")
+                        typs.update(get_types_from_idl(idl))
+                else:
+                    typs.update(get_types_from_idl(msgdef.data))
+            if digest:
+                digests[typ] = digest
+    elif conns:
+        typs.update(humble.fielddefs)
+    store = get_typestore(Stores.EMPTY)
+    store.register(typs)
+    for typ, digest in digests.items():
+        if store.hash_rihs01(typ) != digest:
+            raise _Unsupported("type hash mismatch")
+    for t in _FIELDS:
+        if store.fielddefs.get(t) != humble.fielddefs[t]:
+            raise _Unsupported("not the standard Imu layout")
+
+
+def _ros2_topic(conns: list[_Topic], topic: str | None) -> str:
+    """The topic ``_bag._choose_topic`` would choose, if it is an Imu topic it would read."""
+    types: dict[str, set[str]] = {}
+    for c in conns:
+        types.setdefault(c[0], set()).add(c[1])
+    if topic is None:
+        imu = [t for t, ts in types.items() if ts == {IMU_TYPE}]
+        if len(imu) != 1:
+            raise _Unsupported("no unique IMU topic")
+        topic = imu[0]
+    if types.get(topic) != {IMU_TYPE}:
+        raise _Unsupported("not an IMU topic")
+    return topic
