@@ -1569,6 +1569,66 @@ mod tests {
 
     const RATE: [f64; 8] = [1.0, 3.0, 2.0, 5.0, 4.0, 6.0, 8.0, 7.0];
 
+    /// Two-pass variance (mean, then the mean square of the deviations): the reference.
+    fn two_pass(v: &[f64]) -> f64 {
+        let mean = v.iter().sum::<f64>() / v.len() as f64;
+        v.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / v.len() as f64
+    }
+
+    #[test]
+    fn data_variance_is_read_off_every_path() {
+        // An accelerometer at 9.81 with 1e-4 noise, 200 001 samples (several integration
+        // blocks): no cancellation (Σv² − n v̄² would keep ~1e-8 of the digits).
+        let noise = crate::random::normal_vec(200_001, 21);
+        let rate: Vec<f64> = noise.iter().map(|v| 9.81 + 1e-4 * v).collect();
+        let want = two_pass(&rate);
+        for estimator in [Estimator::Overlapping, Estimator::Modified, Estimator::Total] {
+            let a = analyse(
+                Column::contiguous(&rate),
+                0.01,
+                DataType::Rate,
+                estimator,
+                &Taus::Spec(TauSpec::Octave),
+                None,
+            )
+            .unwrap();
+            let got = a.data_variance.unwrap();
+            assert!((got - want).abs() <= 1e-10 * want, "{estimator:?}: {got} vs {want}");
+        }
+        // Angle input: the variance of the rate differences.
+        let mut angle = vec![3.0];
+        for v in &rate {
+            angle.push(angle[angle.len() - 1] + v * 0.01);
+        }
+        let diffs: Vec<f64> = angle.windows(2).map(|w| (w[1] - w[0]) / 0.01).collect();
+        let a = analyse(
+            Column::contiguous(&angle),
+            0.01,
+            DataType::Angle,
+            Estimator::Overlapping,
+            &Taus::Spec(TauSpec::Octave),
+            None,
+        )
+        .unwrap();
+        let (got, want) = (a.data_variance.unwrap(), two_pass(&diffs));
+        assert!((got - want).abs() <= 1e-9 * want, "angle: {got} vs {want}");
+        // Pieces combined (gaps) equal the whole.
+        let (x, y) = rate.split_at(70_000);
+        let m = |v: &[f64]| {
+            let mean = v.iter().sum::<f64>() / v.len() as f64;
+            let c: Vec<f64> = v.iter().map(|x| x - mean).collect();
+            Moments::from_centred_sums(
+                v.len(),
+                mean,
+                c.iter().sum(),
+                c.iter().map(|c| c * c).sum(),
+            )
+        };
+        let whole = m(x).combine(m(y)).variance().unwrap();
+        assert!((whole - two_pass(&rate)).abs() <= 1e-10 * whole);
+        assert_eq!(data_variance(&Moments::default(), 0), None);
+    }
+
     fn close(a: f64, b: f64) {
         assert!((a - b).abs() <= 1e-11 * b.abs().max(1.0), "{a} vs {b}");
     }
