@@ -73,9 +73,7 @@ def test_batch_per_unit_and_axis() -> None:
     out = allan.adev_batch(data, FS)
     for u in range(3):
         for a in range(2):
-            assert out[u][a].data_variance == pytest.approx(
-                float(np.var(data[u, :, a])), rel=RTOL
-            )
+            assert out[u][a].data_variance == pytest.approx(float(np.var(data[u, :, a])), rel=RTOL)
 
 
 @pytest.mark.parametrize("data_type", ["rate", "angle"])
@@ -123,6 +121,9 @@ def test_extreme_magnitudes_scale_exactly(scale: float) -> None:
         warnings.simplefilter("ignore")
         got = allan.adev(x * scale, FS).data_variance
     want = base * scale * scale
+    # The deviation is exact at every scale (computed before the scale is restored).
+    dev = allan.adev(x * scale, FS).data_deviation
+    assert dev == pytest.approx(math.sqrt(base) * scale, rel=1e-12)
     if math.isfinite(want) and want > 1e-300:
         assert got == pytest.approx(want, rel=1e-12)
     else:  # beyond float64, like avar of such data
@@ -136,7 +137,12 @@ def test_copies_keep_it_and_json_carries_it() -> None:
     d = json.loads(r.to_json())
     assert d["data_variance"] == r.data_variance and d["data_variance_unit"] == "(deg/s)²"
     stored = allan.AllanResult(
-        taus=r.taus, avar=r.avar, n_terms=r.n_terms, fs=FS, data_type="rate", kind="adev",
+        taus=r.taus,
+        avar=r.avar,
+        n_terms=r.n_terms,
+        fs=FS,
+        data_type="rate",
+        kind="adev",
         overlapping=True,
     )
     assert stored.data_variance is None  # built from stored deviations: not known

@@ -161,6 +161,9 @@ fn to_dict(py: Python<'_>, r: allan::AllanAnalysis) -> PyResult<Bound<'_, PyDict
     if let Some(v) = r.data_variance {
         d.set_item("data_variance", v)?;
     }
+    if let Some(v) = r.data_deviation {
+        d.set_item("data_deviation", v)?;
+    }
     Ok(d)
 }
 
@@ -371,6 +374,9 @@ fn family_analyse<'py>(
             }
             if let Some(v) = r.data_variance {
                 d.set_item("data_variance", v)?;
+            }
+            if let Some(v) = r.data_deviation {
+                d.set_item("data_deviation", v)?;
             }
             Ok(d)
         })

@@ -40,6 +40,7 @@ class Analysis(TypedDict):
     block_samples: NotRequired[int]
     # the data's variance (rate unit², gyrocore::allan::Moments); absent below two samples
     data_variance: NotRequired[float]
+    data_deviation: NotRequired[float]
 
 def analyse(
     data: NDArray[np.float64],
@@ -105,6 +106,7 @@ class FamilyAnalysis(TypedDict):
     deviation_high: NotRequired[NDArray[np.float64]]
     # the data's variance (rate unit², gyrocore::allan::Moments); absent below two samples
     data_variance: NotRequired[float]
+    data_deviation: NotRequired[float]
 
 @type_check_only
 class DynamicAvar(TypedDict):

@@ -197,6 +197,10 @@ class AllanResult:
         it is not known (a result built from stored deviations, the GMWM's wavelet variance,
         fewer than two samples); ``inf`` or 0 where it is beyond float64 (extreme data, like
         ``avar``).
+    data_deviation : float or None
+        ``√data_variance``, computed before the data's scale was restored: finite for data of
+        extreme magnitude whose variance over- or underflows float64 (as ``deviation`` next to
+        ``avar``).
     """
 
     taus: NDArray[np.float64]
@@ -219,6 +223,7 @@ class AllanResult:
     lines: tuple[SpectralLine, ...] | None = field(default=None, repr=False, compare=False)
     stationarity: Stationarity | None = field(default=None, repr=False, compare=False)
     data_variance: float | None = None
+    data_deviation: float | None = None
 
     @classmethod
     def _from_core(
@@ -286,6 +291,7 @@ class AllanResult:
             factors=m if family else None,
             stationarity=_Blocks._from_core(raw),  # type: ignore[arg-type]  # checked lazily
             data_variance=float(raw["data_variance"]) if "data_variance" in raw else None,
+            data_deviation=float(raw["data_deviation"]) if "data_deviation" in raw else None,
             **kw,
         )
 
@@ -329,6 +335,7 @@ class AllanResult:
             "variance": self.avar.tolist(),
             "n_terms": self.n_terms.tolist(),
             "data_variance": self.data_variance,
+            "data_deviation": self.data_deviation,
             "data_variance_unit": _variance_unit(_rate_unit_of(self.unit, self.kind)),
         }
         if self.edf is not None:

@@ -600,7 +600,8 @@ class FitDiagnostics:
             excluded=tuple((float(a), float(b), str(r)) for a, b, r in raw["excluded"]),
             warnings=tuple(str(w) for w in raw["warnings"]),
             filter_correlation_time=_filter_time(raw["filter_correlation_time"]),
-            **_variance_limit(raw.get("variance_limit")),
+            data_variance=_limit_part(raw.get("variance_limit"), 1),
+            variance_claimed=_limit_part(raw.get("variance_limit"), 0),
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -652,11 +653,9 @@ class FitDiagnostics:
         return self.summary()
 
 
-def _variance_limit(raw: Any) -> dict[str, float | None]:
-    """``data_variance``/``variance_claimed`` from the core's ``(claimed, V)`` or ``None``."""
-    if raw is None:
-        return {"data_variance": None, "variance_claimed": None}
-    return {"data_variance": float(raw[1]), "variance_claimed": float(raw[0])}
+def _limit_part(raw: Any, index: int) -> float | None:
+    """Part ``index`` of the core's ``variance_limit`` ``(claimed, V)``, or ``None``."""
+    return None if raw is None else float(raw[index])
 
 
 def _tau_span(a: float, b: float) -> str:

@@ -138,6 +138,8 @@ pub struct FamilyAnalysis {
     pub deviation_bounds: Option<(Vec<f64>, Vec<f64>)>,
     /// The data's variance (rate unit², see [`super::AllanAnalysis::data_variance`]).
     pub data_variance: Option<f64>,
+    /// The data's standard deviation (see [`super::AllanAnalysis::data_deviation`]).
+    pub data_deviation: Option<f64>,
 }
 
 fn explicit_theo(taus: &[f64], t0: f64, max_m: usize) -> Result<Vec<usize>> {
@@ -435,7 +437,9 @@ pub fn analyse(
     let (x, k, moments) = scaled_angle_series_with_moments(column, t0, data_type)?;
     let (variance, n_terms) = variances(&x, t0, statistic, &points)?;
     // The data's variance is the rate's whatever the statistic (TVAR's τ² is not applied).
-    let data_variance = super::data_variance(&moments, k + period_correction(data_type, e, false));
+    let data_k = k + period_correction(data_type, e, false);
+    let data_variance = super::data_variance(&moments, data_k);
+    let data_deviation = super::data_deviation(&moments, data_k);
     let k = k + period_correction(data_type, e, statistic == Statistic::Time);
     let mut confidence = match confidence_level {
         Some(level) => Some(intervals(&x, statistic, &points, &variance, level)?),
@@ -458,6 +462,7 @@ pub fn analyse(
         deviation,
         deviation_bounds,
         data_variance,
+        data_deviation,
     })
 }
 

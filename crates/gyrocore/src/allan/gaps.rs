@@ -40,10 +40,10 @@
 //! τ is limited by the longest segment: a factor with no term in any segment is beyond the data.
 
 use super::{
-    AllanAnalysis, Column, Config, DataType, Estimator, Progress, Taus, WORK_CONFIDENCE,
-    WORK_VARIANCES, Workspace, confidence, edf, integrate_rate_into, normalise, period_correction,
-    Moments, angle_pass, data_variance, pow2, raw_sums, resolve_factors, scale_exponent,
-    split_period, sum_squares, unscale,
+    AllanAnalysis, Column, Config, DataType, Estimator, Moments, Progress, Taus, WORK_CONFIDENCE,
+    WORK_VARIANCES, Workspace, angle_pass, confidence, edf, integrate_rate_into, normalise,
+    period_correction, pow2, raw_sums, resolve_factors, scale_exponent, split_period, sum_squares,
+    unscale,
 };
 use crate::{Error, Result};
 
@@ -147,8 +147,13 @@ pub(crate) fn analyse(
         let part = column.sub(s, e);
         match config.data_type {
             DataType::Rate => {
-                let (_, m) =
-                    integrate_rate_into(part, t0, &mut workspace.angle, &Progress::none(), Some(k))?;
+                let (_, m) = integrate_rate_into(
+                    part,
+                    t0,
+                    &mut workspace.angle,
+                    &Progress::none(),
+                    Some(k),
+                )?;
                 moments = moments.combine(m);
                 buffer.extend_from_slice(&workspace.angle);
             }
@@ -266,14 +271,7 @@ pub(crate) fn analyse(
         None => None,
     };
     let k = k + period_correction(config.data_type, period_exponent, false);
-    Ok(unscale(
-        ms,
-        &variance,
-        n_terms,
-        confidence,
-        k,
-        data_variance(&moments, k),
-    ))
+    Ok(unscale(ms, &variance, n_terms, confidence, k, &moments))
 }
 
 #[cfg(test)]

@@ -463,6 +463,7 @@ impl Moments {
     }
 
     /// The moments of the union of two disjoint samples (Chan, Golub & LeVeque 1979).
+    #[must_use]
     pub fn combine(self, other: Moments) -> Moments {
         if self.n == 0 {
             return other;
@@ -513,7 +514,9 @@ fn angle_pass(column: Column<'_>, factor: f64, t0: f64) -> (f64, f64, Moments) {
         i += 8;
     }
     let mut sum = lanes.iter().sum::<f64>();
-    let mut peak = peaks.iter().fold(0.0_f64, |p, &q| if q > p { q } else { p });
+    let mut peak = peaks
+        .iter()
+        .fold(0.0_f64, |p, &q| if q > p { q } else { p });
     let (mut t1, mut t2) = (s1.iter().sum::<f64>(), s2.iter().sum::<f64>());
     while i < n {
         let v = column.get(i);
@@ -874,6 +877,16 @@ pub fn data_variance(moments: &Moments, k: i32) -> Option<f64> {
     moments.variance().map(|v| ldexp(v, 2 * k))
 }
 
+/// The data's standard deviation `2^k·√(m2/n)` from the same [`Moments`]: computed before the
+/// scale is restored, finite where [`data_variance`] over- or underflows (as
+/// [`AllanAnalysis::deviation`] next to the variances).
+pub fn data_deviation(moments: &Moments, k: i32) -> Option<f64> {
+    if moments.n < 2 {
+        return None;
+    }
+    moments.variance().map(|v| unscaled_deviation(v, k))
+}
+
 /// `σ = 2^k·√v` for a variance `v` of data scaled by `2^-k`: exactly `√(4^k·v)` wherever that
 /// is representable, and finite where `4^k·v` is not.
 pub fn unscaled_deviation(v: f64, k: i32) -> f64 {
@@ -888,7 +901,7 @@ fn unscale(
     n_terms: Vec<usize>,
     confidence: Option<confidence::Intervals>,
     k: i32,
-    data_variance: Option<f64>,
+    moments: &Moments,
 ) -> AllanAnalysis {
     let deviation = scaled_variance
         .iter()
@@ -914,7 +927,8 @@ fn unscale(
         deviation,
         deviation_bounds,
         blocks: None,
-        data_variance,
+        data_variance: data_variance(moments, k),
+        data_deviation: data_deviation(moments, k),
     }
 }
 
@@ -1158,6 +1172,9 @@ pub struct AllanAnalysis {
     /// `(x_{i+1} − x_i)/t0`), `Σ(v − v̄)²/n` over the samples used (gaps left out), read off
     /// the pass that builds the angle series ([`Moments`]); `None` for fewer than two samples.
     pub data_variance: Option<f64>,
+    /// The data's standard deviation `√data_variance`, computed before the data's scale is
+    /// restored: finite where the variance over- or underflows float64.
+    pub data_deviation: Option<f64>,
 }
 
 /// Where the averaging factors come from.
@@ -1453,14 +1470,7 @@ pub fn analyse_column(
         None => None,
     };
     let k = k + period_correction(config.data_type, e, false);
-    let mut result = unscale(
-        ms,
-        &variance,
-        n_terms,
-        confidence,
-        k,
-        data_variance(&moments, k),
-    );
+    let mut result = unscale(ms, &variance, n_terms, confidence, k, &moments);
     // The block means of the stationarity check, read off the angle series: O(4096).
     result.blocks = Some(crate::stationarity::block_means_from_angle(x, t0, k));
     Ok(result)
@@ -1582,7 +1592,11 @@ mod tests {
         let noise = crate::random::normal_vec(200_001, 21);
         let rate: Vec<f64> = noise.iter().map(|v| 9.81 + 1e-4 * v).collect();
         let want = two_pass(&rate);
-        for estimator in [Estimator::Overlapping, Estimator::Modified, Estimator::Total] {
+        for estimator in [
+            Estimator::Overlapping,
+            Estimator::Modified,
+            Estimator::Total,
+        ] {
             let a = analyse(
                 Column::contiguous(&rate),
                 0.01,
@@ -1593,7 +1607,10 @@ mod tests {
             )
             .unwrap();
             let got = a.data_variance.unwrap();
-            assert!((got - want).abs() <= 1e-10 * want, "{estimator:?}: {got} vs {want}");
+            assert!(
+                (got - want).abs() <= 1e-10 * want,
+                "{estimator:?}: {got} vs {want}"
+            );
         }
         // Angle input: the variance of the rate differences.
         let mut angle = vec![3.0];
@@ -1617,12 +1634,7 @@ mod tests {
         let m = |v: &[f64]| {
             let mean = v.iter().sum::<f64>() / v.len() as f64;
             let c: Vec<f64> = v.iter().map(|x| x - mean).collect();
-            Moments::from_centred_sums(
-                v.len(),
-                mean,
-                c.iter().sum(),
-                c.iter().map(|c| c * c).sum(),
-            )
+            Moments::from_centred_sums(v.len(), mean, c.iter().sum(), c.iter().map(|c| c * c).sum())
         };
         let whole = m(x).combine(m(y)).variance().unwrap();
         assert!((whole - two_pass(&rate)).abs() <= 1e-10 * whole);

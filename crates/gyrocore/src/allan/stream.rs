@@ -25,10 +25,9 @@
 use rayon::prelude::*;
 
 use super::{
-    AllanAnalysis, Config, DataType, Estimator, Gaps, INTEGRATION_BLOCK, Progress, Workspace,
-    Moments, analyse_column, angle_pass, confidence, data_variance, edf, fused, lane_sum,
-    lane_sum_max, lane_sum_squares, noise_id, normalise, pow2, resolve_factors, scale_exponent,
-    unscale,
+    AllanAnalysis, Config, DataType, Estimator, Gaps, INTEGRATION_BLOCK, Moments, Progress,
+    Workspace, analyse_column, angle_pass, confidence, edf, fused, lane_sum, lane_sum_max,
+    lane_sum_squares, noise_id, normalise, pow2, resolve_factors, scale_exponent, unscale,
 };
 use crate::validate;
 use crate::{Error, Result};
@@ -579,7 +578,7 @@ pub fn analyse_stream(
         n_terms,
         confidence,
         integ.scale,
-        data_variance(&integ.moments, integ.scale),
+        &integ.moments,
     ))
 }
 
@@ -609,12 +608,24 @@ mod tests {
     /// Chan's update) instead of over the whole column, which changes the last bits only.
     fn same(memory: &AllanAnalysis, mut streamed: AllanAnalysis, data_type: DataType, what: &str) {
         if data_type == DataType::Angle {
-            let (a, b) = (memory.data_variance.unwrap(), streamed.data_variance.unwrap());
+            let (a, b) = (
+                memory.data_variance.unwrap(),
+                streamed.data_variance.unwrap(),
+            );
             assert!(
                 a == b || (a - b).abs() <= 1e-12 * a.abs(),
                 "{what}: {a} vs {b}"
             );
             streamed.data_variance = memory.data_variance;
+            let (a, b) = (
+                memory.data_deviation.unwrap(),
+                streamed.data_deviation.unwrap(),
+            );
+            assert!(
+                a == b || (a - b).abs() <= 1e-12 * a.abs(),
+                "{what}: {a} vs {b}"
+            );
+            streamed.data_deviation = memory.data_deviation;
         }
         assert_eq!(*memory, streamed, "{data_type:?} {what}");
     }

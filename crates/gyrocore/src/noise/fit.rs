@@ -534,15 +534,9 @@ pub(crate) fn nnls(
 /// The least squares on whitened columns `a` with unconstrained solution `coef` (χ² `chi2`)
 /// restricted to the hyperplane `w·c = v` (see [`nnls`]); `None` when `w·coef ≤ v` already or
 /// the constraint does not involve the columns.
-fn on_limit(
-    a: &[Vec<f64>],
-    coef: &[f64],
-    chi2: f64,
-    w: &[f64],
-    v: f64,
-) -> Option<(Vec<f64>, f64)> {
+fn on_limit(a: &[Vec<f64>], coef: &[f64], chi2: f64, w: &[f64], v: f64) -> Option<(Vec<f64>, f64)> {
     let excess = w.iter().zip(coef).map(|(w, c)| w * c).sum::<f64>() - v;
-    if !(excess > 0.0) {
+    if excess.is_nan() || excess <= 0.0 {
         return None;
     }
     let p = a.len();
@@ -564,9 +558,7 @@ fn on_limit(
         return None;
     }
     let step = excess / denom;
-    let out: Vec<f64> = (0..p)
-        .map(|i| coef[i] - z[i] * step / scale[i])
-        .collect();
+    let out: Vec<f64> = (0..p).map(|i| coef[i] - z[i] * step / scale[i]).collect();
     let x2 = chi2 + excess * excess / denom;
     x2.is_finite().then_some((out, x2))
 }

@@ -214,7 +214,16 @@ fn estimate(
     data_variance: Option<f64>,
 ) -> Result<Estimate> {
     let used: Vec<usize> = (0..curve.len()).collect();
-    let mut inner = irls(curve, &used, requested, n_gm, None, windows, q, data_variance)?;
+    let mut inner = irls(
+        curve,
+        &used,
+        requested,
+        n_gm,
+        None,
+        windows,
+        q,
+        data_variance,
+    )?;
     // Every term within what the data's variance allows (variance_limit), over the scales used.
     let limit = Limit::new(
         data_variance,
@@ -528,7 +537,10 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
         .par_iter()
         .map(|&(e, g)| {
             let (terms, q) = fitted_terms(e);
-            ((e, g), estimate(&curve, &terms, g, &options.lines, q, data_variance))
+            (
+                (e, g),
+                estimate(&curve, &terms, g, &options.lines, q, data_variance),
+            )
         })
         .collect();
     let mut best: Option<(Candidate, Inner, DMatrix<f64>, f64)> = None;

@@ -164,8 +164,7 @@ impl Limit {
                 (a, chi2_quantile(nu))
             }
             Term::RateRandomWalk => {
-                let a = t0 * (n * n - 1.0) / (6.0 * n)
-                    - self.tau_lo / std::f64::consts::PI.powi(2);
+                let a = t0 * (n * n - 1.0) / (6.0 * n) - self.tau_lo / std::f64::consts::PI.powi(2);
                 (a.max(0.0), RANDOM_WALK_QUANTILE)
             }
             Term::RateRamp => (t0 * t0 * (n * n - 1.0) / 12.0, 1.0),
@@ -195,7 +194,7 @@ impl Limit {
         let cc = 0.5 + c2 / (2.0 * n) - mc * mc;
         let ss = 0.5 - c2 / (2.0 * n) - ms * ms;
         let cs = s2 / (2.0 * n) - mc * ms;
-        let half_trace = (cc + ss) / 2.0;
+        let half_trace = f64::midpoint(cc, ss);
         let radius = (((cc - ss) / 2.0).powi(2) + cs * cs).sqrt();
         ((half_trace - radius).clamp(0.0, 0.5), 1.0)
     }
@@ -331,7 +330,10 @@ mod tests {
         assert!((full.term(Term::Quantization, false).0 - 2.0 / 1e-4).abs() < 1e-6);
         let q = full.term(Term::AngleRandomWalk, false).1;
         // χ²_ν lower 0.1 % quantile / ν ≈ 1 − 3.09·√(2/ν) for large ν.
-        assert!((q - (1.0 - 3.09 * (2.0 / 9999.0_f64).sqrt())).abs() < 3e-3, "{q}");
+        assert!(
+            (q - (1.0 - 3.09 * (2.0 / 9999.0_f64).sqrt())).abs() < 3e-3,
+            "{q}"
+        );
         let band = Limit::new(Some(1.0), 10_000, 0.01, 0.04).unwrap();
         assert!((band.term(Term::AngleRandomWalk, false).0 - 25.0).abs() < 1e-12);
         // A sensor filter: white noise and quantisation are not bounded by the variance.
