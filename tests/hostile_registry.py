@@ -66,7 +66,7 @@ REGISTRY: dict[str, str] = {
     "allan.AllanResult.__init__": "taus:field avar:field n_terms:field fs:field data_type:field "
     "kind:field overlapping:field unit:field confidence:field edf:field alpha:field "
     "ci_low:field ci_high:field axis:field noise_type:field factors:field deviation:field "
-    "lines:field stationarity:field",
+    "lines:field stationarity:field data_variance:field data_deviation:field",
     "allan.Disturbance.__init__": "kind:field start_s:field stop_s:field at_s:field size:field "
     "unit:field z:field threshold:field block_s:field",
     "allan.Disturbance.describe": "",
@@ -271,7 +271,8 @@ REGISTRY: dict[str, str] = {
     "kalman.steady_state_gain": "q_omega:nonneg q_b:nonneg r_d:pos",
     # --- noise ------------------------------------------------------------------------------------
     "noise.FitDiagnostics.__init__": "chi2:field dof:field p_value:field residuals:field "
-    "taus:field tau_range:field excluded:field warnings:field lines:field filter_correlation_time:field",
+    "taus:field tau_range:field excluded:field warnings:field lines:field filter_correlation_time:field "
+    "data_variance:field variance_claimed:field",
     "noise.FitDiagnostics.summary": "",
     "noise.FitDiagnostics.to_dict": "",
     "noise.GaussMarkovTerm.__init__": "sigma:field correlation_time:field tau_range:field "

@@ -489,7 +489,10 @@ def _floats(obj: Any, depth: int = 0) -> list[float]:
             v
             for f in dataclasses.fields(obj)
             if f.name not in ("ci_low", "ci_high", "p_value", "chi2", "uncertainty", "edf")
-            and not (f.name in _BEYOND_FLOAT64 and getattr(obj, "deviation", None) is not None)
+            and not (
+                f.name in _BEYOND_FLOAT64
+                and getattr(obj, _BEYOND_FLOAT64[f.name], None) is not None
+            )
             for v in _floats(getattr(obj, f.name), depth + 1)
         ]
     return []
@@ -511,9 +514,10 @@ EXTREME_UNCHECKED: dict[tuple[str, str], str] = {
 }
 
 #: Fields that may hold inf where the quantity itself is beyond float64 while the result
-#: carries it exactly in another form: AllanResult.avar (variance of data near 1e300) next to
-#: AllanResult.deviation, computed before the scale was restored and finite.
-_BEYOND_FLOAT64 = ("avar",)
+#: carries it exactly in another form (the field named): AllanResult.avar (variance of data
+#: near 1e300) next to AllanResult.deviation, and AllanResult.data_variance next to
+#: data_deviation, both computed before the scale was restored and finite.
+_BEYOND_FLOAT64 = {"avar": "deviation", "data_variance": "data_deviation"}
 
 
 @pytest.mark.parametrize(("key", "name"), _extreme_members(), ids=str)

@@ -158,6 +158,12 @@ fn to_dict(py: Python<'_>, r: allan::AllanAnalysis) -> PyResult<Bound<'_, PyDict
         d.set_item("block_length", b.length)?;
         d.set_item("block_samples", b.n)?;
     }
+    if let Some(v) = r.data_variance {
+        d.set_item("data_variance", v)?;
+    }
+    if let Some(v) = r.data_deviation {
+        d.set_item("data_deviation", v)?;
+    }
     Ok(d)
 }
 
@@ -365,6 +371,12 @@ fn family_analyse<'py>(
             if let Some((low, high)) = r.deviation_bounds {
                 d.set_item("deviation_low", low.into_pyarray(py))?;
                 d.set_item("deviation_high", high.into_pyarray(py))?;
+            }
+            if let Some(v) = r.data_variance {
+                d.set_item("data_variance", v)?;
+            }
+            if let Some(v) = r.data_deviation {
+                d.set_item("data_deviation", v)?;
             }
             Ok(d)
         })

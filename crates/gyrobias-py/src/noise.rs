@@ -411,13 +411,14 @@ fn diagnostics_dict<'py>(
         "filter_correlation_time",
         diagnostics.filter_correlation_time,
     )?;
+    d.set_item("variance_limit", diagnostics.variance_limit)?;
     Ok(d)
 }
 
 /// Joint fit with Gauss–Markov terms, diagnostics and automatic τ-range selection
 /// (`gyrocore::noise::fit`).
 #[pyfunction]
-#[pyo3(signature = (taus, variance, m, n_terms, overlapping, edf, terms, tau_range, correlation_time, automatic_range, lines=Vec::new(), bound_confidence=noise::BOUND_CONFIDENCE))]
+#[pyo3(signature = (taus, variance, m, n_terms, overlapping, edf, terms, tau_range, correlation_time, automatic_range, lines=Vec::new(), bound_confidence=noise::BOUND_CONFIDENCE, data_variance=None))]
 #[allow(clippy::needless_pass_by_value, clippy::too_many_arguments)]
 fn fit<'py>(
     py: Python<'py>,
@@ -433,6 +434,7 @@ fn fit<'py>(
     automatic_range: bool,
     lines: Vec<(f64, f64)>,
     bound_confidence: f64,
+    data_variance: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let symbols: Vec<&str> = terms.iter().map(String::as_str).collect();
     let (enabled, gauss_markov) = core(noise::parse_model_terms(&symbols))?;
@@ -455,6 +457,7 @@ fn fit<'py>(
         automatic_range,
         lines,
         bound_confidence,
+        data_variance,
     };
     let fit = core(py.detach(|| noise::fit(&curve, &options)))?;
     let d = PyDict::new(py);

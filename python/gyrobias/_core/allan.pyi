@@ -38,6 +38,9 @@ class Analysis(TypedDict):
     block_means: NotRequired[NDArray[np.float64]]
     block_length: NotRequired[int]
     block_samples: NotRequired[int]
+    # the data's variance (rate unit², gyrocore::allan::Moments); absent below two samples
+    data_variance: NotRequired[float]
+    data_deviation: NotRequired[float]
 
 def analyse(
     data: NDArray[np.float64],
@@ -101,6 +104,9 @@ class FamilyAnalysis(TypedDict):
     high: NotRequired[NDArray[np.float64]]
     deviation_low: NotRequired[NDArray[np.float64]]
     deviation_high: NotRequired[NDArray[np.float64]]
+    # the data's variance (rate unit², gyrocore::allan::Moments); absent below two samples
+    data_variance: NotRequired[float]
+    data_deviation: NotRequired[float]
 
 @type_check_only
 class DynamicAvar(TypedDict):

@@ -88,6 +88,8 @@ class Diagnostics(TypedDict):
     excluded: list[tuple[float, float, str]]
     warnings: list[str]
     filter_correlation_time: tuple[float, float] | None
+    # (claimed, data variance) of the data-variance constraint (gyrocore::noise::variance_limit)
+    variance_limit: tuple[float, float] | None
 
 @type_check_only
 class LineEstimate(TypedDict):
@@ -238,6 +240,7 @@ def fit(
     automatic_range: bool,
     lines: list[tuple[float, float]] = ...,
     bound_confidence: float = ...,
+    data_variance: float | None = ...,
 ) -> JointFit: ...
 def diagnose(
     taus: NDArray[np.float64],

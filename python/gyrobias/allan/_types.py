@@ -68,6 +68,20 @@ def _statistic_unit(units: str | None, kind: str, data_type: str) -> str | None:
     return f"{units}/s" if data_type == "angle" else units
 
 
+def _rate_unit_of(unit: str | None, kind: str) -> str | None:
+    """The rate unit of a result whose statistic is in ``unit`` (TDEV's is an angle unit)."""
+    if unit is None or kind != "tdev":
+        return unit
+    return f"{unit}/s"
+
+
+def _variance_unit(unit: str | None) -> str | None:
+    """``unit`` squared, as the results spell it (``(deg/s)²``)."""
+    if unit is None:
+        return None
+    return f"({unit})²" if "/" in unit or "·" in unit else f"{unit}²"
+
+
 def _label(kind: str, overlapping: bool) -> str:
     if kind == "hdev":
         return (
@@ -173,6 +187,20 @@ class AllanResult:
         angle series (no extra pass over the data); ``None`` for results of the gap-aware or
         out-of-core kernels and the GMWM's wavelet variance. :func:`gyrobias.noise.fit` adds
         its warnings to the fit's diagnostics.
+    data_variance : float or None
+        The variance of the data analysed, ``Σ(Ω − Ω̄)²/n`` (NumPy's ``var``) in the rate unit
+        squared (``unit`` squared; for ``kind="tdev"`` the rate unit's square, not TDEV's): of
+        the rate samples, or for angle input of the rate differences ``(x[i+1] − x[i])·fs``;
+        with gaps, over the samples present. Computed by the Allan kernel in the pass that
+        builds the angle series (no extra pass over the data). :func:`gyrobias.noise.fit` uses
+        it to keep every estimated term within what the data's variance allows. ``None`` where
+        it is not known (a result built from stored deviations, the GMWM's wavelet variance,
+        fewer than two samples); ``inf`` or 0 where it is beyond float64 (extreme data, like
+        ``avar``).
+    data_deviation : float or None
+        ``√data_variance``, computed before the data's scale was restored: finite for data of
+        extreme magnitude whose variance over- or underflows float64 (as ``deviation`` next to
+        ``avar``).
     """
 
     taus: NDArray[np.float64]
@@ -194,6 +222,8 @@ class AllanResult:
     deviation: NDArray[np.float64] | None = None
     lines: tuple[SpectralLine, ...] | None = field(default=None, repr=False, compare=False)
     stationarity: Stationarity | None = field(default=None, repr=False, compare=False)
+    data_variance: float | None = None
+    data_deviation: float | None = None
 
     @classmethod
     def _from_core(
@@ -260,6 +290,8 @@ class AllanResult:
             axis=axis,
             factors=m if family else None,
             stationarity=_Blocks._from_core(raw),  # type: ignore[arg-type]  # checked lazily
+            data_variance=float(raw["data_variance"]) if "data_variance" in raw else None,
+            data_deviation=float(raw["data_deviation"]) if "data_deviation" in raw else None,
             **kw,
         )
 
@@ -302,6 +334,9 @@ class AllanResult:
             "deviation": self.adev.tolist(),
             "variance": self.avar.tolist(),
             "n_terms": self.n_terms.tolist(),
+            "data_variance": self.data_variance,
+            "data_deviation": self.data_deviation,
+            "data_variance_unit": _variance_unit(_rate_unit_of(self.unit, self.kind)),
         }
         if self.edf is not None:
             assert self.ci_low is not None and self.ci_high is not None and self.alpha is not None

@@ -547,6 +547,16 @@ class FitDiagnostics:
         exactly ``N²/τ·(1 − 3τ_c/τ)`` with ``τ_c = t0·Σ_{k≥1} k·ρ(k)`` (``ρ`` the rate's
         normalised autocovariance), so it enters as a negative ``1/τ²`` term. ``None`` when no
         filter was seen (or quantisation outweighs it: then Q is reported).
+    data_variance : float or None
+        The variance of the data the curve came from (``AllanResult.data_variance``, the rate
+        unit squared), which bounded the fit: ``None`` when it was not known (a curve without
+        it, the IEEE read-off).
+    variance_claimed : float or None
+        The least sample variance the fitted terms imply, ``Σ q_j·a_j·c_j`` (each term's
+        implied variance ``a_j·c_j`` — sinusoid ``A²/2``, rate ramp ``R²T²/12``, white noise
+        ``N²/τ_lo``, rate random walk ``K²T/6``, … — times the lower 0.1 % quantile ``q_j`` of
+        its own sample variance; see ``gyrocore::noise::variance_limit``). The fit keeps it
+        ``≤ data_variance``; equal means the limit was active (:attr:`variance_limited`).
     """
 
     chi2: float
@@ -559,6 +569,16 @@ class FitDiagnostics:
     warnings: tuple[str, ...] = ()
     lines: tuple[SpectralLine, ...] = ()
     filter_correlation_time: Term | None = None
+    data_variance: float | None = None
+    variance_claimed: float | None = None
+
+    @property
+    def variance_limited(self) -> bool:
+        """True when the fit's terms are as large as the data's variance allows: unconstrained,
+        they would have implied more variance than the samples have (see ``variance_claimed``)."""
+        if self.data_variance is None or self.variance_claimed is None:
+            return False
+        return self.variance_claimed >= self.data_variance * (1.0 - 1e-6)
 
     @property
     def passed(self) -> bool:
@@ -580,6 +600,8 @@ class FitDiagnostics:
             excluded=tuple((float(a), float(b), str(r)) for a, b, r in raw["excluded"]),
             warnings=tuple(str(w) for w in raw["warnings"]),
             filter_correlation_time=_filter_time(raw["filter_correlation_time"]),
+            data_variance=_limit_part(raw.get("variance_limit"), 1),
+            variance_claimed=_limit_part(raw.get("variance_limit"), 0),
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -602,6 +624,9 @@ class FitDiagnostics:
                 if self.filter_correlation_time is None
                 else self.filter_correlation_time.to_dict()
             ),
+            "data_variance": self.data_variance,
+            "variance_claimed": self.variance_claimed,
+            "variance_limited": self.variance_limited,
         }
 
     def summary(self) -> str:
@@ -626,6 +651,11 @@ class FitDiagnostics:
 
     def __str__(self) -> str:
         return self.summary()
+
+
+def _limit_part(raw: Any, index: int) -> float | None:
+    """Part ``index`` of the core's ``variance_limit`` ``(claimed, V)``, or ``None``."""
+    return None if raw is None else float(raw[index])
 
 
 def _tau_span(a: float, b: float) -> str:

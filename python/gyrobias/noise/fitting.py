@@ -509,6 +509,7 @@ def fit(
             auto_range,
             line_windows,
             bound_confidence,
+            result.data_variance,
         )
         diagnostics_raw = raw["diagnostics"]
     else:

@@ -19,7 +19,7 @@ use rayon::prelude::*;
 use super::confidence::{Intervals, chi2_bounds};
 use super::{
     Column, DataType, Estimator, Taus, averaging_factors, edf, factors_from_taus, hadamard, ldexp,
-    noise_id, period_correction, scaled_angle_series, split_period, theo, total,
+    noise_id, period_correction, scaled_angle_series_with_moments, split_period, theo, total,
     unscaled_deviation, variances_into,
 };
 use crate::{Error, Result};
@@ -136,6 +136,10 @@ pub struct FamilyAnalysis {
     pub deviation: Vec<f64>,
     /// Confidence bounds `(low, high)` of the deviation, when asked for.
     pub deviation_bounds: Option<(Vec<f64>, Vec<f64>)>,
+    /// The data's variance (rate unit², see [`super::AllanAnalysis::data_variance`]).
+    pub data_variance: Option<f64>,
+    /// The data's standard deviation (see [`super::AllanAnalysis::data_deviation`]).
+    pub data_deviation: Option<f64>,
 }
 
 fn explicit_theo(taus: &[f64], t0: f64, max_m: usize) -> Result<Vec<usize>> {
@@ -430,8 +434,12 @@ pub fn analyse(
     // An extreme period is computed as t0'·2^e (allan::split_period); the points were
     // resolved above with the period itself.
     let (t0, e) = split_period(t0);
-    let (x, k) = scaled_angle_series(column, t0, data_type)?;
+    let (x, k, moments) = scaled_angle_series_with_moments(column, t0, data_type)?;
     let (variance, n_terms) = variances(&x, t0, statistic, &points)?;
+    // The data's variance is the rate's whatever the statistic (TVAR's τ² is not applied).
+    let data_k = k + period_correction(data_type, e, false);
+    let data_variance = super::data_variance(&moments, data_k);
+    let data_deviation = super::data_deviation(&moments, data_k);
     let k = k + period_correction(data_type, e, statistic == Statistic::Time);
     let mut confidence = match confidence_level {
         Some(level) => Some(intervals(&x, statistic, &points, &variance, level)?),
@@ -453,6 +461,8 @@ pub fn analyse(
         confidence,
         deviation,
         deviation_bounds,
+        data_variance,
+        data_deviation,
     })
 }
 

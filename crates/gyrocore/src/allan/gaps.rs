@@ -40,9 +40,10 @@
 //! τ is limited by the longest segment: a factor with no term in any segment is beyond the data.
 
 use super::{
-    AllanAnalysis, Column, Config, DataType, Estimator, Progress, Taus, WORK_CONFIDENCE,
-    WORK_VARIANCES, Workspace, confidence, edf, integrate_rate_into, normalise, period_correction,
-    pow2, raw_sums, resolve_factors, scale_exponent, split_period, sum_squares, unscale,
+    AllanAnalysis, Column, Config, DataType, Estimator, Moments, Progress, Taus, WORK_CONFIDENCE,
+    WORK_VARIANCES, Workspace, angle_pass, confidence, edf, integrate_rate_into, normalise,
+    period_correction, pow2, raw_sums, resolve_factors, scale_exponent, split_period, sum_squares,
+    unscale,
 };
 use crate::{Error, Result};
 
@@ -138,15 +139,28 @@ pub(crate) fn analyse(
     let buffer = &mut workspace.segments;
     buffer.clear();
     let mut ranges = Vec::with_capacity(segs.len());
+    // The data's variance over the samples present: each segment's moments (of the rate; of
+    // the rate differences inside the segment for angle input), combined.
+    let mut moments = Moments::default();
     for &(s, e) in &segs {
         let start = buffer.len();
         let part = column.sub(s, e);
         match config.data_type {
             DataType::Rate => {
-                integrate_rate_into(part, t0, &mut workspace.angle, &Progress::none(), Some(k))?;
+                let (_, m) = integrate_rate_into(
+                    part,
+                    t0,
+                    &mut workspace.angle,
+                    &Progress::none(),
+                    Some(k),
+                )?;
+                moments = moments.combine(m);
                 buffer.extend_from_slice(&workspace.angle);
             }
-            DataType::Angle => buffer.extend(part.iter().map(|v| v * factor)),
+            DataType::Angle => {
+                moments = moments.combine(angle_pass(part, factor, t0).2);
+                buffer.extend(part.iter().map(|v| v * factor));
+            }
         }
         ranges.push((start, buffer.len()));
     }
@@ -257,7 +271,7 @@ pub(crate) fn analyse(
         None => None,
     };
     let k = k + period_correction(config.data_type, period_exponent, false);
-    Ok(unscale(ms, &variance, n_terms, confidence, k))
+    Ok(unscale(ms, &variance, n_terms, confidence, k, &moments))
 }
 
 #[cfg(test)]

@@ -397,6 +397,149 @@ fn lane_sum_max(a: usize, b: usize, f: impl Fn(usize) -> f64) -> (f64, f64) {
     (lanes.iter().sum::<f64>() + tail, peak)
 }
 
+/// `(Σ f(i), Σ f(i)²)` for `i in a..b` in 8 independent lanes: [`lane_sum`] with the sum of
+/// squares read in the same pass (the data's variance, see [`Moments`]).
+#[inline]
+fn lane_sum_squares(a: usize, b: usize, f: impl Fn(usize) -> f64) -> (f64, f64) {
+    let mut lanes = [0.0_f64; 8];
+    let mut squares = [0.0_f64; 8];
+    let mut i = a;
+    while i + 8 <= b {
+        for (l, (lane, square)) in lanes.iter_mut().zip(squares.iter_mut()).enumerate() {
+            let v = f(i + l);
+            *lane += v;
+            *square += v * v;
+        }
+        i += 8;
+    }
+    let (mut tail, mut tail_squares) = (0.0, 0.0);
+    while i < b {
+        let v = f(i);
+        tail += v;
+        tail_squares += v * v;
+        i += 1;
+    }
+    (
+        lanes.iter().sum::<f64>() + tail,
+        squares.iter().sum::<f64>() + tail_squares,
+    )
+}
+
+/// Sample moments of a series — count, mean and `M2 = Σ (v_i − mean)²` — from which the
+/// data's variance `M2 / n` (the mean square deviation about the sample mean, NumPy's
+/// `var(ddof=0)`) follows.
+///
+/// The Allan kernels read them off the pass that builds the angle series, with no extra pass
+/// over memory: for rate data the block sums of the centred samples `c = v − v̄` (which the
+/// integration needs anyway) are accompanied by the block sums of `c²`, and
+/// `M2 = Σc² − (Σc)²/n` (the "corrected two-pass" algorithm, Chan, Golub & LeVeque 1983: the
+/// correction removes the rounding error of `v̄`; no catastrophic cancellation, unlike
+/// `Σv² − n·v̄²`, e.g. for an accelerometer at 9.81 with 1e-4 noise). For angle data they are
+/// the moments of the rate `(x_{i+1} − x_i)/t0`, centred on the exact mean rate
+/// `(x_{n−1} − x_0)/((n − 1)·t0)`. Pieces (gap-free segments) are combined with the pairwise
+/// update of Chan, Golub & LeVeque (1979).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Moments {
+    /// Number of samples.
+    pub n: usize,
+    /// Sample mean.
+    pub mean: f64,
+    /// Sum of squared deviations from the mean.
+    pub m2: f64,
+}
+
+impl Moments {
+    /// Moments from the sums `s1 = Σc`, `s2 = Σc²` of `n` values centred on `centre`.
+    pub(crate) fn from_centred_sums(n: usize, centre: f64, s1: f64, s2: f64) -> Moments {
+        if n == 0 {
+            return Moments::default();
+        }
+        let nf = n as f64;
+        Moments {
+            n,
+            mean: centre + s1 / nf,
+            m2: (s2 - s1 * s1 / nf).max(0.0),
+        }
+    }
+
+    /// The moments of the union of two disjoint samples (Chan, Golub & LeVeque 1979).
+    #[must_use]
+    pub fn combine(self, other: Moments) -> Moments {
+        if self.n == 0 {
+            return other;
+        }
+        if other.n == 0 {
+            return self;
+        }
+        let n = self.n + other.n;
+        let (a, b, nf) = (self.n as f64, other.n as f64, n as f64);
+        let delta = other.mean - self.mean;
+        Moments {
+            n,
+            mean: self.mean + delta * (b / nf),
+            m2: self.m2 + other.m2 + delta * delta * (a / nf) * b,
+        }
+    }
+
+    /// `M2 / n`, the variance about the sample mean (NumPy's `var`); `None` without samples.
+    pub fn variance(&self) -> Option<f64> {
+        (self.n > 0).then(|| self.m2 / self.n as f64)
+    }
+}
+
+/// Moments of the rate of an angle column, `(x_{i+1} − x_i)·factor/t0`, together with the
+/// column's sum and largest magnitude (unscaled, for the finiteness check and
+/// [`scale_exponent`]), in one pass. `factor = 1` reads the data as given.
+fn angle_pass(column: Column<'_>, factor: f64, t0: f64) -> (f64, f64, Moments) {
+    let n = column.len();
+    if n < 2 {
+        let (sum, peak) = lane_sum_max(0, n, |i| column.get(i));
+        return (sum, peak, Moments::default());
+    }
+    let slope = (column.get(n - 1) - column.get(0)) * factor / (n - 1) as f64;
+    let (mut lanes, mut peaks) = ([0.0_f64; 8], [0.0_f64; 8]);
+    let (mut s1, mut s2) = ([0.0_f64; 8], [0.0_f64; 8]);
+    let mut i = 0;
+    // Differences i = 0..n-1 read x_i and x_{i+1}: the last sample enters the sum separately.
+    while i + 8 < n {
+        for l in 0..8 {
+            let v = column.get(i + l);
+            lanes[l] += v;
+            let m = v.abs();
+            peaks[l] = if m > peaks[l] { m } else { peaks[l] };
+            let c = (column.get(i + l + 1) - v) * factor - slope;
+            s1[l] += c;
+            s2[l] += c * c;
+        }
+        i += 8;
+    }
+    let mut sum = lanes.iter().sum::<f64>();
+    let mut peak = peaks
+        .iter()
+        .fold(0.0_f64, |p, &q| if q > p { q } else { p });
+    let (mut t1, mut t2) = (s1.iter().sum::<f64>(), s2.iter().sum::<f64>());
+    while i < n {
+        let v = column.get(i);
+        sum += v;
+        if v.abs() > peak {
+            peak = v.abs();
+        }
+        if i + 1 < n {
+            let c = (column.get(i + 1) - v) * factor - slope;
+            t1 += c;
+            t2 += c * c;
+        }
+        i += 1;
+    }
+    let moments = Moments::from_centred_sums(n - 1, slope, t1, t2);
+    let moments = Moments {
+        n: moments.n,
+        mean: moments.mean / t0,
+        m2: moments.m2 / (t0 * t0),
+    };
+    (sum, peak, moments)
+}
+
 /// Data whose largest magnitude lies in `[2^-SAFE_EXPONENT, 2^SAFE_EXPONENT]` are analysed as
 /// given; others are first scaled by a power of two (see [`scale_exponent`]).
 ///
@@ -502,14 +645,15 @@ pub fn ldexp(x: f64, e: i32) -> f64 {
 ///
 /// The data are scaled by `2^-k` with `k = scale` when given, else `k` =
 /// [`scale_exponent`] of the largest magnitude (pass 1 is then repeated on the scaled data
-/// when `k ≠ 0`, which only extreme data need). Returns `k`.
+/// when `k ≠ 0`, which only extreme data need). Returns `k` and the [`Moments`] of the scaled
+/// rate (read off pass 2).
 fn integrate_rate_into(
     column: Column<'_>,
     t0: f64,
     out: &mut Vec<f64>,
     progress: &Progress<'_>,
     scale: Option<i32>,
-) -> Result<i32> {
+) -> Result<(i32, Moments)> {
     let n = column.len();
     let blocks: Vec<(usize, usize)> = (0..n)
         .step_by(INTEGRATION_BLOCK)
@@ -558,18 +702,26 @@ fn integrate_rate_into(
         ));
     }
     progress.check()?;
-    let centred: Vec<f64> = blocks
+    // The block sums of the centred rate and, in the same pass, of its squares: the data's
+    // variance (see `Moments`) at the cost of one multiply-add per sample.
+    let centred: Vec<(f64, f64)> = blocks
         .par_iter()
         .map(|&(a, b)| {
-            let s = lane_sum(a, b, |i| column.get(i) * factor - mean);
+            let s = lane_sum_squares(a, b, |i| column.get(i) * factor - mean);
             stage.item_done();
             s
         })
         .collect();
+    let moments = Moments::from_centred_sums(
+        n,
+        mean,
+        validate::neumaier_sum(centred.iter().map(|c| c.0)),
+        validate::neumaier_sum(centred.iter().map(|c| c.1)),
+    );
     // Compensated prefix sums: the starting (unscaled) angle of every block.
     let mut starts = Vec::with_capacity(blocks.len());
     let (mut sum, mut comp) = (0.0_f64, 0.0_f64);
-    for &c in &centred {
+    for &(c, _) in &centred {
         starts.push(sum + comp);
         let t = sum + c;
         if sum.abs() >= c.abs() {
@@ -601,14 +753,15 @@ fn integrate_rate_into(
             stage.item_done();
         });
     progress.check()?;
-    Ok(k)
+    Ok((k, moments))
 }
 
 /// The angle series of `column`, scaled by `2^-k`, in `scratch` (or borrowed from the column
 /// when it already is a contiguous angle series that needs no scaling): SPEC §2's integrated
 /// mean-removed rate with `x_0 = 0`, or the angle input itself. `k` is [`scale_exponent`] of
 /// the data unless `scale` fixes it. Non-finite input is an error naming its index. Returns
-/// the series and `k`.
+/// the series, `k` and the [`Moments`] of the rate scaled by `2^-k` (for angle input, of the
+/// rate differences `(x_{i+1} − x_i)/t0`), read off the same pass.
 fn angle_into<'a>(
     column: Column<'a>,
     t0: f64,
@@ -616,11 +769,12 @@ fn angle_into<'a>(
     scratch: &'a mut Vec<f64>,
     progress: &Progress<'_>,
     scale: Option<i32>,
-) -> Result<(&'a [f64], i32)> {
+) -> Result<(&'a [f64], i32, Moments)> {
     validate::positive("fs", 1.0 / t0)?;
     match data_type {
         DataType::Angle => {
-            let (sum, peak) = lane_sum_max(0, column.len(), |i| column.get(i));
+            let first_factor = pow2(-scale.unwrap_or(0));
+            let (sum, peak, moments) = angle_pass(column, first_factor, t0);
             if !sum.is_finite() {
                 if let Some(index) = column.first_non_finite() {
                     return Err(Error::NonFinite {
@@ -630,24 +784,31 @@ fn angle_into<'a>(
                 }
             }
             let k = scale.unwrap_or_else(|| scale_exponent(peak));
+            // Extreme data (k ≠ 0 found here): the rate moments again, of the scaled samples
+            // (their squares could over- or underflow as given), as for rate data.
+            let moments = if scale.is_none() && k != 0 {
+                angle_pass(column, pow2(-k), t0).2
+            } else {
+                moments
+            };
             if k == 0 {
                 if let Some(s) = column.as_slice() {
-                    return Ok((s, 0));
+                    return Ok((s, 0, moments));
                 }
             }
             let factor = pow2(-k);
             scratch.clear();
             scratch.extend(column.iter().map(|v| v * factor));
-            Ok((scratch, k))
+            Ok((scratch, k, moments))
         }
         DataType::Rate => {
             if column.is_empty() {
                 scratch.clear();
                 scratch.push(0.0);
-                Ok((scratch, 0))
+                Ok((scratch, 0, Moments::default()))
             } else {
-                let k = integrate_rate_into(column, t0, scratch, progress, scale)?;
-                Ok((scratch, k))
+                let (k, moments) = integrate_rate_into(column, t0, scratch, progress, scale)?;
+                Ok((scratch, k, moments))
             }
         }
     }
@@ -668,6 +829,17 @@ pub fn scaled_angle_series(
     t0: f64,
     data_type: DataType,
 ) -> Result<(Cow<'_, [f64]>, i32)> {
+    let (x, k, _) = scaled(column, t0, data_type, None)?;
+    Ok((x, k))
+}
+
+/// [`scaled_angle_series`] with the [`Moments`] of the scaled rate read off the same pass
+/// (the data's variance is `ldexp(m2/n, 2k)`, see [`data_variance`]).
+pub fn scaled_angle_series_with_moments(
+    column: Column<'_>,
+    t0: f64,
+    data_type: DataType,
+) -> Result<(Cow<'_, [f64]>, i32, Moments)> {
     scaled(column, t0, data_type, None)
 }
 
@@ -676,9 +848,9 @@ fn scaled(
     t0: f64,
     data_type: DataType,
     scale: Option<i32>,
-) -> Result<(Cow<'_, [f64]>, i32)> {
+) -> Result<(Cow<'_, [f64]>, i32, Moments)> {
     let mut scratch = Vec::new();
-    let (_, k) = angle_into(
+    let (_, k, moments) = angle_into(
         column,
         t0,
         data_type,
@@ -688,10 +860,31 @@ fn scaled(
     )?;
     if data_type == DataType::Angle && k == 0 {
         if let Some(s) = column.as_slice() {
-            return Ok((Cow::Borrowed(s), 0));
+            return Ok((Cow::Borrowed(s), 0, moments));
         }
     }
-    Ok((Cow::Owned(scratch), k))
+    Ok((Cow::Owned(scratch), k, moments))
+}
+
+/// The data's variance (unit², the rate's: for angle input the variance of the rate
+/// differences) from the [`Moments`] of data scaled by `2^-k`, in the data's own scale
+/// (`inf`/0 where it is beyond float64, like the Allan variances of such data); `None` when
+/// it cannot be known (fewer than two samples).
+pub fn data_variance(moments: &Moments, k: i32) -> Option<f64> {
+    if moments.n < 2 {
+        return None;
+    }
+    moments.variance().map(|v| ldexp(v, 2 * k))
+}
+
+/// The data's standard deviation `2^k·√(m2/n)` from the same [`Moments`]: computed before the
+/// scale is restored, finite where [`data_variance`] over- or underflows (as
+/// [`AllanAnalysis::deviation`] next to the variances).
+pub fn data_deviation(moments: &Moments, k: i32) -> Option<f64> {
+    if moments.n < 2 {
+        return None;
+    }
+    moments.variance().map(|v| unscaled_deviation(v, k))
 }
 
 /// `σ = 2^k·√v` for a variance `v` of data scaled by `2^-k`: exactly `√(4^k·v)` wherever that
@@ -708,6 +901,7 @@ fn unscale(
     n_terms: Vec<usize>,
     confidence: Option<confidence::Intervals>,
     k: i32,
+    moments: &Moments,
 ) -> AllanAnalysis {
     let deviation = scaled_variance
         .iter()
@@ -733,6 +927,8 @@ fn unscale(
         deviation,
         deviation_bounds,
         blocks: None,
+        data_variance: data_variance(moments, k),
+        data_deviation: data_deviation(moments, k),
     }
 }
 
@@ -972,6 +1168,13 @@ pub struct AllanAnalysis {
     /// Block means of the rate for the stationarity check
     /// ([`crate::stationarity::check`]); `None` from the gap-aware and out-of-core kernels.
     pub blocks: Option<crate::stationarity::BlockMeans>,
+    /// The data's variance (unit²: of the rate; for angle input of the rate differences
+    /// `(x_{i+1} − x_i)/t0`), `Σ(v − v̄)²/n` over the samples used (gaps left out), read off
+    /// the pass that builds the angle series ([`Moments`]); `None` for fewer than two samples.
+    pub data_variance: Option<f64>,
+    /// The data's standard deviation `√data_variance`, computed before the data's scale is
+    /// restored: finite where the variance over- or underflows float64.
+    pub data_deviation: Option<f64>,
 }
 
 /// Where the averaging factors come from.
@@ -1240,7 +1443,7 @@ pub fn analyse_column(
     // An extreme period is computed with as t0'·2^e (see split_period); τ were resolved above
     // with the period itself.
     let (t0, e) = split_period(config.t0);
-    let (x, k) = angle_into(
+    let (x, k, moments) = angle_into(
         column,
         t0,
         config.data_type,
@@ -1267,7 +1470,7 @@ pub fn analyse_column(
         None => None,
     };
     let k = k + period_correction(config.data_type, e, false);
-    let mut result = unscale(ms, &variance, n_terms, confidence, k);
+    let mut result = unscale(ms, &variance, n_terms, confidence, k, &moments);
     // The block means of the stationarity check, read off the angle series: O(4096).
     result.blocks = Some(crate::stationarity::block_means_from_angle(x, t0, k));
     Ok(result)
@@ -1394,6 +1597,68 @@ mod tests {
     use super::*;
 
     const RATE: [f64; 8] = [1.0, 3.0, 2.0, 5.0, 4.0, 6.0, 8.0, 7.0];
+
+    /// Two-pass variance (mean, then the mean square of the deviations): the reference.
+    fn two_pass(v: &[f64]) -> f64 {
+        let mean = v.iter().sum::<f64>() / v.len() as f64;
+        v.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / v.len() as f64
+    }
+
+    #[test]
+    fn data_variance_is_read_off_every_path() {
+        // An accelerometer at 9.81 with 1e-4 noise, 200 001 samples (several integration
+        // blocks): no cancellation (Σv² − n v̄² would keep ~1e-8 of the digits).
+        let noise = crate::random::normal_vec(200_001, 21);
+        let rate: Vec<f64> = noise.iter().map(|v| 9.81 + 1e-4 * v).collect();
+        let want = two_pass(&rate);
+        for estimator in [
+            Estimator::Overlapping,
+            Estimator::Modified,
+            Estimator::Total,
+        ] {
+            let a = analyse(
+                Column::contiguous(&rate),
+                0.01,
+                DataType::Rate,
+                estimator,
+                &Taus::Spec(TauSpec::Octave),
+                None,
+            )
+            .unwrap();
+            let got = a.data_variance.unwrap();
+            assert!(
+                (got - want).abs() <= 1e-10 * want,
+                "{estimator:?}: {got} vs {want}"
+            );
+        }
+        // Angle input: the variance of the rate differences.
+        let mut angle = vec![3.0];
+        for v in &rate {
+            angle.push(angle[angle.len() - 1] + v * 0.01);
+        }
+        let diffs: Vec<f64> = angle.windows(2).map(|w| (w[1] - w[0]) / 0.01).collect();
+        let a = analyse(
+            Column::contiguous(&angle),
+            0.01,
+            DataType::Angle,
+            Estimator::Overlapping,
+            &Taus::Spec(TauSpec::Octave),
+            None,
+        )
+        .unwrap();
+        let (got, want) = (a.data_variance.unwrap(), two_pass(&diffs));
+        assert!((got - want).abs() <= 1e-9 * want, "angle: {got} vs {want}");
+        // Pieces combined (gaps) equal the whole.
+        let (x, y) = rate.split_at(70_000);
+        let m = |v: &[f64]| {
+            let mean = v.iter().sum::<f64>() / v.len() as f64;
+            let c: Vec<f64> = v.iter().map(|x| x - mean).collect();
+            Moments::from_centred_sums(v.len(), mean, c.iter().sum(), c.iter().map(|c| c * c).sum())
+        };
+        let whole = m(x).combine(m(y)).variance().unwrap();
+        assert!((whole - two_pass(&rate)).abs() <= 1e-10 * whole);
+        assert_eq!(data_variance(&Moments::default(), 0), None);
+    }
 
     fn close(a: f64, b: f64) {
         assert!((a - b).abs() <= 1e-11 * b.abs().max(1.0), "{a} vs {b}");

@@ -87,6 +87,7 @@ use super::curve::{Curve, TermEstimate};
 use super::gauss_markov;
 use super::model::{FLICKER_FACTOR, Term, approximate_edf, model_variance};
 use super::sinusoid;
+use super::variance_limit::Limit;
 use crate::stats;
 use crate::{Error, Result};
 
@@ -154,6 +155,11 @@ pub struct Diagnostics {
     /// automatic range selection saw a filter at the shortest τ and the fit modelled its
     /// `−3N²τ_c/τ²` (module docs, "Sensor filter"); `None` otherwise.
     pub filter_correlation_time: Option<(f64, f64)>,
+    /// `(claimed, V)` when the fit was constrained by the data's variance `V`
+    /// ([`super::variance_limit`]): `claimed = Σ q_j a_j c_j` of the fitted terms, `= V` when
+    /// the limit is active (the terms are as large as the data allow); `None` without a known
+    /// data variance.
+    pub variance_limit: Option<(f64, f64)>,
 }
 
 /// Options of [`fit`].
@@ -176,6 +182,10 @@ pub struct FitOptions {
     /// One-sided confidence level of the upper bounds of the terms the fit sets to zero
     /// ([`super::bound`]; default [`super::BOUND_CONFIDENCE`]).
     pub bound_confidence: f64,
+    /// The variance of the data the curve was computed from (rate unit²,
+    /// [`crate::allan::AllanAnalysis::data_variance`]): every fitted term is kept within what
+    /// it allows ([`super::variance_limit`]); `None` fits without that constraint.
+    pub data_variance: Option<f64>,
 }
 
 impl Default for FitOptions {
@@ -188,6 +198,7 @@ impl Default for FitOptions {
             automatic_range: true,
             lines: Vec::new(),
             bound_confidence: super::bound::BOUND_CONFIDENCE,
+            data_variance: None,
         }
     }
 }
@@ -444,11 +455,20 @@ fn solve_whitened(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<(Vec<f64>, f6
 ///
 /// The column `free` (if any) is not sign-constrained: it is in every candidate passive set
 /// (its KKT condition is a zero gradient), and only the other coefficients must be ≥ 0.
+///
+/// With `limit = (w, V)` the coefficients also satisfy `w·c ≤ V` (the data's variance,
+/// [`super::variance_limit`]): the problem stays a convex quadratic programme, whose optimum is
+/// the unconstrained optimum on some passive set either with the limit inactive or on the
+/// hyperplane `w·c = V` (the equality-constrained least squares
+/// `c = ĉ − G⁻¹w (w·ĉ − V)/(wᵀG⁻¹w)`, `χ² = χ̂² + (w·ĉ − V)²/(wᵀG⁻¹w)`, `G = AᵀA`); every
+/// feasible candidate is examined and the smallest χ² wins. When the unconstrained NNLS
+/// solution satisfies the limit it is returned unchanged (the same code path as without it).
 pub(crate) fn nnls(
     columns: &[Vec<f64>],
     y: &[f64],
     whitener: &Whitener<'_>,
     free: Option<usize>,
+    limit: Option<(&[f64], f64)>,
 ) -> Option<(Vec<f64>, f64)> {
     let wa: Vec<Vec<f64>> = columns.iter().map(|c| whitener.apply(c)).collect();
     let wb = whitener.apply(y);
@@ -458,34 +478,89 @@ pub(crate) fn nnls(
             .zip(coef)
             .all(|(&k, v)| *v >= 0.0 || Some(k) == free)
     };
+    // Relative tolerance of the limit (rounding of the constrained solve).
+    let within = |idx: &[usize], coef: &[f64]| match limit {
+        Some((w, v)) => {
+            idx.iter().zip(coef).map(|(&k, c)| w[k] * c).sum::<f64>() <= v * (1.0 + 1e-9)
+        }
+        None => true,
+    };
     let all: Vec<usize> = (0..p).collect();
-    if let Some((coef, chi2)) = solve_whitened(wa.clone(), wb.clone()) {
-        if feasible(&all, &coef) {
-            return Some((coef, chi2));
+    let unconstrained = solve_whitened(wa.clone(), wb.clone());
+    if let Some((coef, chi2)) = &unconstrained {
+        if feasible(&all, coef) && within(&all, coef) {
+            return Some((coef.clone(), *chi2));
         }
     }
     let mut best: Option<(Vec<f64>, f64)> = None;
-    for mask in 1u32..(1 << p) {
-        let idx: Vec<usize> = (0..p).filter(|k| mask & (1 << k) != 0).collect();
-        if idx.len() == p || free.is_some_and(|f| !idx.contains(&f)) {
-            continue;
-        }
-        let sub: Vec<Vec<f64>> = idx.iter().map(|&k| wa[k].clone()).collect();
-        let Some((coef, chi2)) = solve_whitened(sub, wb.clone()) else {
-            continue;
-        };
-        if !feasible(&idx, &coef) {
-            continue;
-        }
+    let mut consider = |idx: &[usize], coef: &[f64], chi2: f64| {
         if best.as_ref().is_none_or(|b| chi2 < b.1) {
             let mut full = vec![0.0; p];
-            for (&k, v) in idx.iter().zip(&coef) {
+            for (&k, v) in idx.iter().zip(coef) {
                 full[k] = *v;
             }
             best = Some((full, chi2));
         }
+    };
+    for mask in 1u32..(1 << p) {
+        let idx: Vec<usize> = (0..p).filter(|k| mask & (1 << k) != 0).collect();
+        if free.is_some_and(|f| !idx.contains(&f)) {
+            continue;
+        }
+        let sub: Vec<Vec<f64>> = idx.iter().map(|&k| wa[k].clone()).collect();
+        let solved = if idx.len() == p {
+            unconstrained.clone()
+        } else {
+            solve_whitened(sub.clone(), wb.clone())
+        };
+        let Some((coef, chi2)) = solved else {
+            continue;
+        };
+        if idx.len() < p && feasible(&idx, &coef) && within(&idx, &coef) {
+            consider(&idx, &coef, chi2);
+        }
+        if let Some((w, v)) = limit {
+            let ws: Vec<f64> = idx.iter().map(|&k| w[k]).collect();
+            if let Some((cc, x2)) = on_limit(&sub, &coef, chi2, &ws, v) {
+                if feasible(&idx, &cc) {
+                    consider(&idx, &cc, x2);
+                }
+            }
+        }
     }
     best
+}
+
+/// The least squares on whitened columns `a` with unconstrained solution `coef` (χ² `chi2`)
+/// restricted to the hyperplane `w·c = v` (see [`nnls`]); `None` when `w·coef ≤ v` already or
+/// the constraint does not involve the columns.
+fn on_limit(a: &[Vec<f64>], coef: &[f64], chi2: f64, w: &[f64], v: f64) -> Option<(Vec<f64>, f64)> {
+    let excess = w.iter().zip(coef).map(|(w, c)| w * c).sum::<f64>() - v;
+    if excess.is_nan() || excess <= 0.0 {
+        return None;
+    }
+    let p = a.len();
+    // Column-scaled Gram matrix (unit-norm columns), as solve_whitened scales the design.
+    let scale: Vec<f64> = a
+        .iter()
+        .map(|col| col.iter().map(|x| x * x).sum::<f64>().sqrt())
+        .collect();
+    if scale.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
+        return None;
+    }
+    let g = DMatrix::from_fn(p, p, |i, j| {
+        a[i].iter().zip(&a[j]).map(|(x, y)| x * y).sum::<f64>() / (scale[i] * scale[j])
+    });
+    let ws = nalgebra::DVector::from_fn(p, |i, _| w[i] / scale[i]);
+    let z = g.lu().solve(&ws)?;
+    let denom = ws.dot(&z);
+    if !(denom.is_finite() && denom > 0.0) {
+        return None;
+    }
+    let step = excess / denom;
+    let out: Vec<f64> = (0..p).map(|i| coef[i] - z[i] * step / scale[i]).collect();
+    let x2 = chi2 + excess * excess / denom;
+    x2.is_finite().then_some((out, x2))
 }
 
 /// How the `1/τ²` column (the quantisation term's) enters the fit (module docs, "Sensor
@@ -556,8 +631,9 @@ pub(crate) fn design(
     cols
 }
 
-/// Exact NNLS of `y` on [`design`]'s columns under the [`InverseSquare`] mode `q`; returns the
-/// coefficients with `c_Q` signed (negative for a filter) and χ².
+/// Exact NNLS of `y` on [`design`]'s columns under the [`InverseSquare`] mode `q`, within the
+/// data's variance when `limit` is given ([`super::variance_limit`]); returns the coefficients
+/// with `c_Q` signed (negative for a filter) and χ².
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn solve_design(
     taus: &[f64],
@@ -568,10 +644,18 @@ pub(crate) fn solve_design(
     t0: f64,
     q: InverseSquare,
     whitener: &Whitener<'_>,
+    limit: Option<&Limit>,
 ) -> Option<(Vec<f64>, f64)> {
     let qi = requested.iter().position(|t| *t == Term::Quantization);
     let free = if q == InverseSquare::Net { qi } else { None };
-    let (mut coef, chi2) = nnls(&design(taus, requested, ts, fl, t0, q), y, whitener, free)?;
+    let weights = limit.map(|l| l.weights(requested, ts, fl, q));
+    let (mut coef, chi2) = nnls(
+        &design(taus, requested, ts, fl, t0, q),
+        y,
+        whitener,
+        free,
+        weights.as_deref().zip(limit.map(|l| l.variance)),
+    )?;
     if let (InverseSquare::Filter, Some(k)) = (q, qi) {
         coef[k] = -coef[k];
     }
@@ -600,9 +684,11 @@ pub(crate) fn profile_times(
     lines: &[(f64, f64)],
     t0: f64,
     q: InverseSquare,
+    limit: Option<&Limit>,
 ) -> Option<Profiled> {
     let eval = |ts: &[f64], fl: &[f64]| -> f64 {
-        solve_design(taus, y, requested, ts, fl, t0, q, whitener).map_or(f64::INFINITY, |s| s.1)
+        solve_design(taus, y, requested, ts, fl, t0, q, whitener, limit)
+            .map_or(f64::INFINITY, |s| s.1)
     };
     let mut fl: Vec<f64> = lines.iter().map(|l| l.0).collect();
     let search_times = |fl: &[f64]| -> Option<Vec<f64>> {
@@ -686,7 +772,7 @@ pub(crate) fn profile_times(
             }
         }
     }
-    let (coef, chi2) = solve_design(taus, y, requested, &ts, &fl, t0, q, whitener)?;
+    let (coef, chi2) = solve_design(taus, y, requested, &ts, &fl, t0, q, whitener, limit)?;
     Some((ts, fl, coef, chi2))
 }
 
@@ -756,6 +842,8 @@ pub(crate) struct Inner {
     pub(crate) bounds: (f64, f64),
     /// How the `1/τ²` column entered ([`InverseSquare`]).
     pub(crate) q: InverseSquare,
+    /// The data's variance constraint the fit respected ([`super::variance_limit`]).
+    pub(crate) limit: Option<Limit>,
 }
 
 /// Default search range of the correlation times: `[5 τ_lo, τ_hi/5]` (the whole range when that
@@ -778,9 +866,18 @@ pub(crate) fn irls(
     bounds: Option<(f64, f64)>,
     windows: &[(f64, f64)],
     q: InverseSquare,
+    data_variance: Option<f64>,
 ) -> Result<Inner> {
     let t0 = curve_t0(curve);
     let taus: Vec<f64> = used.iter().map(|&i| curve.taus[i]).collect();
+    // The data's variance bounds what the terms may claim (variance_limit), counted over the
+    // band of the points used.
+    let limit = Limit::new(
+        data_variance,
+        curve.n_phase().saturating_sub(1),
+        t0,
+        taus[0],
+    );
     let y: Vec<f64> = used.iter().map(|&i| curve.variance[i]).collect();
     let bounds = bounds.unwrap_or_else(|| default_time_bounds(taus[0], taus[taus.len() - 1]));
     let mut c = [0.0_f64; 5];
@@ -819,6 +916,7 @@ pub(crate) fn irls(
             windows,
             t0,
             q,
+            limit.as_ref(),
         ) else {
             return Err(Error::Singular {
                 reason: "no subset of the requested terms gives a non-negative weighted \
@@ -888,6 +986,7 @@ pub(crate) fn irls(
         iterations,
         bounds,
         q,
+        limit,
     })
 }
 
@@ -1132,6 +1231,7 @@ pub fn joint(
             automatic_range: false,
             lines: Vec::new(),
             bound_confidence: super::bound::BOUND_CONFIDENCE,
+            data_variance: None,
         },
     )
 }
@@ -1453,6 +1553,7 @@ pub fn fit(curve: &Curve<'_>, options: &FitOptions) -> Result<JointFit> {
             options.correlation_time,
             &options.lines,
             q,
+            options.data_variance,
         )
     };
     let mut inner = refit(&used, &terms, q)?;
@@ -1855,6 +1956,20 @@ pub(crate) fn finish(
         residuals[i] = z[k];
     }
     let tau_range = (taus[0], taus[taus.len() - 1]);
+    let variance_limit = inner.limit.map(|l| {
+        let claimed = l.claimed(
+            &c,
+            &inner.gm,
+            &inner.lines,
+            inner.q != InverseSquare::Quantization,
+        );
+        (claimed, l.variance)
+    });
+    if let Some((claimed, v)) = variance_limit {
+        if claimed >= v * (1.0 - 1e-6) {
+            warnings.push(limited_warning(&inner, v));
+        }
+    }
     JointFit {
         terms,
         squared: spectral(&c),
@@ -1878,8 +1993,48 @@ pub(crate) fn finish(
             excluded,
             warnings,
             filter_correlation_time,
+            variance_limit,
         },
     }
+}
+
+/// The warning of a fit whose terms were limited by the data's variance `v`.
+fn limited_warning(inner: &Inner, v: f64) -> String {
+    let mut names: Vec<String> = Term::ALL
+        .iter()
+        .filter(|t| inner.c[t.index()] > 0.0)
+        .filter(|t| **t != Term::Quantization || inner.q == InverseSquare::Quantization)
+        .map(|t| t.symbol().to_string())
+        .collect();
+    names.extend(
+        inner
+            .gm
+            .iter()
+            .filter(|g| g.0 > 0.0)
+            .map(|g| format!("GM (T = {} s)", sig(g.1, 3))),
+    );
+    names.extend(
+        inner
+            .lines
+            .iter()
+            .filter(|l| l.0 > 0.0)
+            .map(|l| format!("S at {} Hz", sig(l.1, 6))),
+    );
+    format!(
+        "the fit was limited by the data's variance ({} in the rate unit squared): unconstrained, \
+         the terms that \
+         fit the Allan curve would imply more variance than the samples have, so {} are as \
+         large as the data allow (each term's implied sample variance, with its statistical \
+         slack, sums to the data's; see diagnostics.variance_limit). A term that fits the curve \
+         but not the data's variance is usually a line or drift the Allan curve cannot \
+         separate from the noise: check the lines' frequencies or restrict tau_range",
+        sig(v, 4),
+        if names.is_empty() {
+            "the terms".to_string()
+        } else {
+            names.join(", ")
+        }
+    )
 }
 
 /// Diagnostics of a given model (e.g. an IEEE read-off) on every point of the curve with
@@ -1930,6 +2085,7 @@ pub fn diagnose(
         excluded: Vec::new(),
         warnings,
         filter_correlation_time: None,
+        variance_limit: None,
     })
 }
 
@@ -2049,14 +2205,14 @@ mod tests {
         let y: Vec<f64> = a.iter().zip(&b).map(|(a, b)| 2.0 * a - b).collect();
         let w = vec![1.0; 6];
         let cols = vec![a.clone(), b.clone()];
-        let (coef, chi2) = nnls(&cols, &y, &Whitener::Diagonal(&w), Some(1)).unwrap();
+        let (coef, chi2) = nnls(&cols, &y, &Whitener::Diagonal(&w), Some(1), None).unwrap();
         assert!((coef[0] - 2.0).abs() < 1e-12 && (coef[1] + 1.0).abs() < 1e-12 && chi2 < 1e-20);
-        let (coef, chi2) = nnls(&cols, &y, &Whitener::Diagonal(&w), None).unwrap();
+        let (coef, chi2) = nnls(&cols, &y, &Whitener::Diagonal(&w), None, None).unwrap();
         assert!(coef[1] == 0.0 && coef[0] > 0.0 && chi2 > 1e-3);
         // A free column never forces the others negative: y = −a + b, a constrained.
         let y: Vec<f64> = a.iter().zip(&b).map(|(a, b)| -a + b).collect();
         // (the free coefficient is then the projection of y on b, whatever its sign).
-        let (coef, _) = nnls(&cols, &y, &Whitener::Diagonal(&w), Some(1)).unwrap();
+        let (coef, _) = nnls(&cols, &y, &Whitener::Diagonal(&w), Some(1), None).unwrap();
         let projection = y.iter().zip(&b).map(|(y, b)| y * b).sum::<f64>()
             / b.iter().map(|b| b * b).sum::<f64>();
         assert_eq!(coef[0], 0.0);

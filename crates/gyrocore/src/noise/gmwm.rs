@@ -73,6 +73,7 @@ use super::gauss_markov;
 use super::model::Term;
 use super::simulate::{Ar1, NoiseSpec, simulate_axis};
 use super::sinusoid;
+use super::variance_limit::{self, Limit};
 use super::wavelet::{WaveletVariance, haar};
 use crate::random::NormalStream;
 use crate::validate;
@@ -210,9 +211,26 @@ fn estimate(
     n_gm: usize,
     windows: &[(f64, f64)],
     q: InverseSquare,
+    data_variance: Option<f64>,
 ) -> Result<Estimate> {
     let used: Vec<usize> = (0..curve.len()).collect();
-    let mut inner = irls(curve, &used, requested, n_gm, None, windows, q)?;
+    let mut inner = irls(
+        curve,
+        &used,
+        requested,
+        n_gm,
+        None,
+        windows,
+        q,
+        data_variance,
+    )?;
+    // Every term within what the data's variance allows (variance_limit), over the scales used.
+    let limit = Limit::new(
+        data_variance,
+        curve.n_phase().saturating_sub(1),
+        inner.t0,
+        curve.taus[0],
+    );
     let singular = || Error::Singular {
         reason: "the wavelet-variance covariance is not positive definite".into(),
     };
@@ -228,6 +246,7 @@ fn estimate(
             windows,
             inner.t0,
             q,
+            limit.as_ref(),
         )
         .ok_or_else(|| Error::Singular {
             reason: "no subset of the requested terms gives a non-negative generalized \
@@ -370,8 +389,15 @@ fn bootstrap_covariance(
             sinusoid::add_lines(&mut rate, t0, &lines).ok()?;
             let wv = haar(&rate, t0, min_blocks).ok()?;
             let scales = Scales::of(&wv, t0).subset(used);
-            let (est, _, _) =
-                estimate(&scales.curve(), requested, n_gm, &inner.windows, inner.q).ok()?;
+            let (est, _, _) = estimate(
+                &scales.curve(),
+                requested,
+                n_gm,
+                &inner.windows,
+                inner.q,
+                variance_limit::sample_variance(&rate),
+            )
+            .ok()?;
             Some(
                 params
                     .iter()
@@ -438,6 +464,8 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
     }
     crate::validate::probability("bound_confidence", options.bound_confidence)?;
     let wv = haar(rate, t0, options.min_blocks)?;
+    // The data's variance: every term is kept within what it allows (variance_limit).
+    let data_variance = variance_limit::sample_variance(rate);
     let all_scales = Scales::of(&wv, t0);
     let full = all_scales.curve();
     full.validate()?;
@@ -469,7 +497,7 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
     }
     // A sensor filter seen at the first scales: its −3N²τ_c/τ² is modelled at the rest.
     let (used, excluded, filtered) = if options.automatic_range {
-        select_scales(&all_scales, options, n_params)?
+        select_scales(&all_scales, options, n_params, data_variance)?
     } else {
         ((0..full.len()).collect(), Vec::new(), false)
     };
@@ -509,7 +537,10 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
         .par_iter()
         .map(|&(e, g)| {
             let (terms, q) = fitted_terms(e);
-            ((e, g), estimate(&curve, &terms, g, &options.lines, q))
+            (
+                (e, g),
+                estimate(&curve, &terms, g, &options.lines, q, data_variance),
+            )
         })
         .collect();
     let mut best: Option<(Candidate, Inner, DMatrix<f64>, f64)> = None;
@@ -578,7 +609,7 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
         options.bound_confidence,
     );
     label_dropped(&mut fit, options.enabled, enabled, n_gm, criterion);
-    check_line_amplitudes(&fit, rate)?;
+    check_line_amplitudes(&fit, rate, t0)?;
     Ok(GmwmFit {
         fit,
         selected: (enabled, n_gm),
@@ -593,13 +624,23 @@ pub fn gmwm(rate: &[f64], t0: f64, options: &GmwmOptions) -> Result<GmwmFit> {
 /// the variance `Ω₀²/2`, so `Ω₀ ≤ √(2·var(data))` for any data holding it (the other terms only
 /// add variance). An estimate beyond that (a line the scales cannot separate from the other
 /// terms) is refused with the reason rather than returned with a passing goodness of fit.
-fn check_line_amplitudes(fit: &super::fit::JointFit, rate: &[f64]) -> Result<()> {
-    let n = rate.len() as f64;
-    let mean = validate::neumaier_sum(rate.iter().copied()) / n;
-    let variance = validate::neumaier_sum(rate.iter().map(|v| (v - mean) * (v - mean))) / n;
-    let limit = (2.0 * variance).sqrt();
+fn check_line_amplitudes(fit: &super::fit::JointFit, rate: &[f64], t0: f64) -> Result<()> {
+    let Some(variance) = variance_limit::sample_variance(rate) else {
+        return Ok(());
+    };
+    let Some(bound) = Limit::new(Some(variance), rate.len(), t0, t0) else {
+        return Ok(());
+    };
     for line in &fit.lines {
         if let Some(amplitude) = line.amplitude {
+            // The smallest variance over the phase of n samples of a unit sine (1/2 for many
+            // periods): Ω₀²·λ_min ≤ var(data) (variance_limit).
+            let least = bound.line(line.frequency).0;
+            let limit = if least > 0.0 {
+                (variance / least).sqrt()
+            } else {
+                f64::INFINITY
+            };
             // 1e-9 relative slack: a pure sine's own estimate may round above its bound
             if amplitude > limit * (1.0 + 1e-9) {
                 return Err(Error::invalid(
@@ -635,7 +676,12 @@ type Selection = (Vec<usize>, Vec<(f64, f64, String)>, bool);
 /// first scales over their correlated neighbours) — a sensor's anti-alias filter bends the
 /// first scales below the white-noise line — or the trailing run with `z > 2` (drift), keeping
 /// at least half of the scales and two more than the parameters.
-fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result<Selection> {
+fn select_scales(
+    all: &Scales,
+    options: &GmwmOptions,
+    n_params: usize,
+    data_variance: Option<f64>,
+) -> Result<Selection> {
     let requested: Vec<Term> = Term::ALL
         .into_iter()
         .filter(|t| options.enabled[t.index()])
@@ -655,6 +701,7 @@ fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result
             automatic_range: true,
             lines: options.lines.clone(),
             bound_confidence: options.bound_confidence,
+            data_variance,
         },
     )?;
     let mut used = joint.used;
@@ -672,7 +719,15 @@ fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result
     };
     let fit_on = |used: &[usize], terms: &[Term], q: InverseSquare| -> Result<Inner> {
         let sub = all.subset(used);
-        estimate(&sub.curve(), terms, options.gauss_markov, &options.lines, q).map(|e| e.0)
+        estimate(
+            &sub.curve(),
+            terms,
+            options.gauss_markov,
+            &options.lines,
+            q,
+            data_variance,
+        )
+        .map(|e| e.0)
     };
     let (mut terms, mut q) = fitted(seen);
     let mut inner = fit_on(&used, &terms, q)?;
@@ -715,8 +770,15 @@ fn select_scales(all: &Scales, options: &GmwmOptions, n_params: usize) -> Result
         let white = |used: &[usize]| -> Option<(f64, f64, f64)> {
             let sub = all.subset(used);
             let curve = sub.curve();
-            let (inner, l, _) =
-                estimate(&curve, &terms, options.gauss_markov, &options.lines, q).ok()?;
+            let (inner, l, _) = estimate(
+                &curve,
+                &terms,
+                options.gauss_markov,
+                &options.lines,
+                q,
+                data_variance,
+            )
+            .ok()?;
             let params = active_params(&terms, &inner.c, &inner.gm, &inner.lines, &inner.windows);
             let k = params
                 .iter()

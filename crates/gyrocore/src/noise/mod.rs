@@ -40,6 +40,7 @@ pub mod model;
 pub mod overbound;
 pub mod simulate;
 pub mod sinusoid;
+pub mod variance_limit;
 pub mod wavelet;
 
 pub use bound::{BOUND_CONFIDENCE, UpperBound, upper_bound};
