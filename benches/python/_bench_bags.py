@@ -162,7 +162,7 @@ def peak_rss_mb(statement: str) -> float:
         "print([l for l in open('/proc/self/status') if l.startswith('VmHWM')][0].split()[1])"
     )
     out = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True)
-    return int(out.stdout.split()[-1]) / 1024.0
+    return int(out.stdout.split()[-1]) * 1024 / 1e6  # kB (KiB) -> MB, the result's unit
 
 
 def memory_rows(

@@ -95,7 +95,7 @@ def peak_rss_mb(statement: str) -> float:
     out = subprocess.run(
         [sys.executable, "-c", code], check=True, capture_output=True, text=True, env=env
     )
-    return int(out.stdout.split()[-1]) / 1024.0
+    return int(out.stdout.split()[-1]) * 1024 / 1e6  # kB (KiB) -> MB, the result's unit
 
 
 # ---------------------------------------------------------------------------------------------
