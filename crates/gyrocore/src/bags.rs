@@ -618,16 +618,8 @@ pub fn sqlite_count<P: AsRef<Path>>(paths: &[P], topic: &str) -> Result<usize> {
     for path in paths {
         let con = sqlite_open(path.as_ref())?;
         let sql = |e: rusqlite::Error| sqlite_error(&e);
-        let ids = topic_ids(&con, topic)?;
-        let id = match ids.as_slice() {
-            [] => continue,
-            [(id, _, _)] => *id,
-            more => {
-                return Err(corrupt(
-                    "topic",
-                    format!("{topic} is listed {} times", more.len()),
-                ));
-            }
+        let Some((id, _, _)) = topic_row(&con, topic)? else {
+            continue;
         };
         let count: i64 = con
             .query_row(
@@ -649,16 +641,29 @@ fn sqlite_open(path: &Path) -> Result<rusqlite::Connection> {
     rusqlite::Connection::open_with_flags(sqlite_uri(path)?, flags).map_err(|e| sqlite_error(&e))
 }
 
-/// `(id, type, serialization_format)` of every row of the `topics` table named `topic`.
-fn topic_ids(con: &rusqlite::Connection, topic: &str) -> Result<Vec<(i64, String, String)>> {
+/// `(id, type, serialization_format)` of the row of the `topics` table named `topic` (`None`
+/// when there is none).
+///
+/// # Errors
+/// [`Error::InvalidParameter`] (`topic`) when it is listed more than once; (`path`) when the
+/// table cannot be read.
+fn topic_row(con: &rusqlite::Connection, topic: &str) -> Result<Option<(i64, String, String)>> {
     let sql = |e: rusqlite::Error| sqlite_error(&e);
     let mut ids = con
         .prepare("SELECT id, type, serialization_format FROM topics WHERE name = ?1")
         .map_err(sql)?;
-    ids.query_map([topic], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))
+    let mut rows: Vec<(i64, String, String)> = ids
+        .query_map([topic], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))
         .map_err(sql)?
         .collect::<rusqlite::Result<_>>()
-        .map_err(sql)
+        .map_err(sql)?;
+    if rows.len() > 1 {
+        return Err(corrupt(
+            "topic",
+            format!("{topic} is listed {} times", rows.len()),
+        ));
+    }
+    Ok(rows.pop())
 }
 
 /// One storage file of [`read_sqlite`], appended to `w`; `report(rows)` every batch.
@@ -670,22 +675,15 @@ fn sqlite_file(
 ) -> Result<()> {
     let con = sqlite_open(path)?;
     let sql = |e: rusqlite::Error| sqlite_error(&e);
-    let listed = topic_ids(&con, topic)?;
-    let id = match listed.as_slice() {
-        [(id, typ, format)] if typ == IMU_TYPE && format == "cdr" => *id,
-        [(_, typ, format)] => {
+    let id = match topic_row(&con, topic)? {
+        Some((id, typ, format)) if typ == IMU_TYPE && format == "cdr" => id,
+        Some((_, typ, format)) => {
             return Err(corrupt(
                 "topic",
                 format!("{topic} is {typ} ({format}), not {IMU_TYPE} (cdr)"),
             ));
         }
-        [] => return Err(corrupt("topic", format!("{topic} is not in the bag"))),
-        more => {
-            return Err(corrupt(
-                "topic",
-                format!("{topic} is listed {} times", more.len()),
-            ));
-        }
+        None => return Err(corrupt("topic", format!("{topic} is not in the bag"))),
     };
     // First the table in storage order (no index lookups, twice as fast): when the topic's
     // timestamps come strictly increasing, that is the only order `ORDER BY timestamp` can

@@ -306,30 +306,23 @@ fn analyse_by(n: usize, interval: impl Fn(usize) -> f64 + Sync) -> Result<Sampli
             duplicate_rows.push(i + 1);
         }
     }
+    // The median is a regular interval (or the midpoint of two positive ones, the lower of
+    // which is ≤ it ≤ 1.5·it), so there is at least one.
+    debug_assert!(n_regular > 0);
     let regular = |v: f64| v > 0.0 && v <= limit;
-    let (fs_estimated, jitter) = if n_regular == 0 {
-        // Unreachable for finite intervals (the median itself is regular); kept total.
-        let positive = (0..n).map(&interval).filter(|v| *v > 0.0);
-        let count = positive.clone().count();
-        (
-            nine_digits(count as f64 / validate::neumaier_sum(positive)),
-            0.0,
-        )
+    let mean = (sum + comp) / n_regular as f64;
+    let jitter = if n_regular > 1 {
+        let ss = validate::neumaier_sum(
+            (0..n)
+                .map(&interval)
+                .filter(|v| regular(*v))
+                .map(|v| (v - mean) * (v - mean)),
+        );
+        (ss / n_regular as f64).sqrt() / median
     } else {
-        let mean = (sum + comp) / n_regular as f64;
-        let jitter = if n_regular > 1 {
-            let ss = validate::neumaier_sum(
-                (0..n)
-                    .map(&interval)
-                    .filter(|v| regular(*v))
-                    .map(|v| (v - mean) * (v - mean)),
-            );
-            (ss / n_regular as f64).sqrt() / median
-        } else {
-            0.0
-        };
-        (nine_digits(1.0 / mean), jitter)
+        0.0
     };
+    let fs_estimated = nine_digits(1.0 / mean);
     let missing_samples = gap_durations
         .iter()
         .map(|g| missing_in_gap(*g, median))

@@ -225,16 +225,7 @@ def _ros1_topic(
     topic: str | None,
 ) -> tuple[int, str, int]:
     """The topic the reference reader would choose, if it is one the core reads."""
-    types: dict[str, set[str]] = {}
-    for t, typ, _, _ in conns.values():
-        types.setdefault(t, set()).add(typ)
-    if topic is None:
-        imu = [t for t, ts in types.items() if ts == {IMU_TYPE}]
-        if len(imu) != 1:
-            raise _Unsupported("no unique IMU topic")
-        topic = imu[0]
-    if types.get(topic) != {IMU_TYPE}:
-        raise _Unsupported("not an IMU topic")
+    topic = _imu_topic([(t, typ) for t, typ, _, _ in conns.values()], topic)
     ids = [c for c, (t, _, _, _) in conns.items() if t == topic]
     if len(ids) != 1 or conns[ids[0]][2] != ROS1_IMU_MD5:
         raise _Unsupported("several connections or another definition")
@@ -700,9 +691,15 @@ def _ros2_definitions(conns: list[_Topic]) -> None:
 
 def _ros2_topic(conns: list[_Topic], topic: str | None) -> str:
     """The topic ``_bag._choose_topic`` would choose, if it is an Imu topic it would read."""
+    return _imu_topic([(c[0], c[1]) for c in conns], topic)
+
+
+def _imu_topic(connections: list[tuple[str, str]], topic: str | None) -> str:
+    """``topic``, or the one Imu topic of the ``(topic, type)`` connections when it is None, if
+    every connection of it is an Imu (else :class:`_Unsupported`: the reference reader reads it)."""
     types: dict[str, set[str]] = {}
-    for c in conns:
-        types.setdefault(c[0], set()).add(c[1])
+    for t, typ in connections:
+        types.setdefault(t, set()).add(typ)
     if topic is None:
         imu = [t for t, ts in types.items() if ts == {IMU_TYPE}]
         if len(imu) != 1:
