@@ -135,6 +135,55 @@ def test_npy_1d_and_2d(tmp_path: Path) -> None:
     np.testing.assert_array_equal(timed.data[:, 0], np.arange(300) * 2.0)
 
 
+@pytest.mark.parametrize("dtype", ["<f8", ">f8", "<f4", ">i4", "<i8", "<u2"])
+@pytest.mark.parametrize("order", ["C", "F"])
+@pytest.mark.parametrize("block_bytes", [64, 8 << 20])
+def test_npy_rows_read_like_numpy(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, dtype: str, order: str, block_bytes: int
+) -> None:
+    # the reader reads C-order files by blocks (readinto, no mapping); every dtype and byte
+    # order, a column subset, a time column and block boundaries inside the data (64 bytes:
+    # a block of 1-2 rows) give what numpy's own load gives
+    from gyrobias.io import npy
+
+    monkeypatch.setattr(npy, "_BLOCK_BYTES", block_bytes)
+    n = 257
+    x = np.empty((n, 5), dtype=dtype, order=order)
+    x[:] = RNG.integers(0, 1000, size=(n, 5))
+    x[:, 0] = np.arange(n) * 4 + 7  # strictly increasing stamps
+    path = tmp_path / "a.npy"
+    np.save(path, x)
+    ref = np.load(path).astype(np.float64)
+    whole = load(path, fs=10.0)
+    np.testing.assert_array_equal(whole.data, ref)
+    part = load(path, columns=[3, 1], fs=10.0)
+    np.testing.assert_array_equal(part.data, ref[:, [3, 1]])
+    timed = load(path, time_column=0, columns=[2, 4], time_unit="ms")
+    np.testing.assert_array_equal(timed.data, ref[:, [2, 4]])
+    assert timed.fs == pytest.approx(250.0)
+
+
+def test_npy_shorter_than_its_header(tmp_path: Path) -> None:
+    # a file cut after its header declared more rows: a clear error, not a short log
+    path = tmp_path / "cut.npy"
+    np.save(path, np.ones((1000, 3)))
+    data = path.read_bytes()
+    path.write_bytes(data[: len(data) - 24 * 10 - 5])
+    with pytest.raises(ValueError, match=r"cut\.npy"):
+        load(path, fs=1.0)
+    # the file shrinking between the header and the rows (the block reader's own check)
+    from gyrobias.io.npy import _read_rows
+
+    whole = tmp_path / "whole.npy"
+    np.save(whole, np.ones((100, 3)))
+    offset = whole.stat().st_size - 100 * 24
+    table = np.empty((120, 3))
+    with pytest.raises(
+        ValueError, match=r"whole\.npy: the file ends early \(at row 100 of the 120"
+    ):
+        _read_rows(whole, offset, 120, 3, np.dtype("<f8"), [0, 1, 2], None, True, table, None)
+
+
 def test_nanosecond_time_column_exact(tmp_path: Path) -> None:
     # epoch nanoseconds (~1.7e18) are beyond float64's exact integers (2^53 ≈ 9e15): read as
     # int64 they still give exact intervals and hence zero jitter

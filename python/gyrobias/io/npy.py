@@ -1,4 +1,4 @@
-"""``.npy`` logs: a 1-D or 2-D numeric array, mapped (float64) or copied block by block."""
+"""``.npy`` logs: a 1-D or 2-D numeric array, read block by block (or mapped when spilled)."""
 
 from __future__ import annotations
 
@@ -12,6 +12,9 @@ from numpy.typing import NDArray
 from gyrobias.io import _store
 from gyrobias.io._store import Store
 from gyrobias.io.columns import ColumnSpec, _select
+
+#: Bytes read per block (the conversion buffer's size when the file's rows are not the result's).
+_BLOCK_BYTES = 8 << 20
 
 
 def _read_npy(
@@ -38,23 +41,81 @@ def _read_npy(
     names = [f"col{i}" for i in idx]
     t_name = None if t_idx is None else f"col{t_idx}"
     whole = idx == list(range(arr.shape[1]))
-    t_raw = None
-    if t_idx is not None:  # a copy (the time column leaves the file), spilled with the samples
-        store.spilled = store.spilled or store.wants_spill(arr.shape[0] * len(idx) * 8)
-        t_raw = store.vector(arr.shape[0], arr.dtype.type)
-        for sl in _store.blocks(arr.shape[0]):
-            t_raw[sl] = arr[sl, t_idx]
+    nbytes = arr.shape[0] * len(idx) * 8
+    if t_idx is not None:  # the time column leaves the file: spilled with the samples
+        store.spilled = store.spilled or store.wants_spill(nbytes)
     if (
-        store.wants_spill(arr.shape[0] * len(idx) * 8)
+        store.wants_spill(nbytes)
         and whole
         and arr.dtype == np.dtype(np.float64)
         and isinstance(arr, np.memmap)
         and arr.flags.c_contiguous
     ):
         store.spilled = True
+        t_raw = None
+        if t_idx is not None:
+            t_raw = store.vector(arr.shape[0], arr.dtype.type)
+            for sl in _store.blocks(arr.shape[0]):
+                t_raw[sl] = arr[sl, t_idx]
         return arr, names, t_raw, t_name  # the file itself, mapped read-only
+    if isinstance(arr, np.memmap) and arr.flags.c_contiguous and arr.ndim == 2:
+        # rows in file order: read them block by block with readinto (no mapping of the
+        # file, whose pages would count in the resident set beside the copy)
+        rows, cols, dtype, offset = arr.shape[0], arr.shape[1], arr.dtype, int(arr.offset)
+        del arr
+        table = store.empty(rows, len(idx))
+        t_raw = None if t_idx is None else store.vector(rows, dtype.type)
+        _read_rows(p, offset, rows, cols, dtype, idx, t_idx, whole, table, t_raw)
+        return table, names, t_raw, t_name
+    # a Fortran-order array: copy from the mapping
+    t_raw = None
+    if t_idx is not None:
+        t_raw = store.vector(arr.shape[0], arr.dtype.type)
+        for sl in _store.blocks(arr.shape[0]):
+            t_raw[sl] = arr[sl, t_idx]
     table = store.empty(arr.shape[0], len(idx))
     for sl in _store.blocks(arr.shape[0]):
         table[sl] = arr[sl][:, idx] if not whole else arr[sl]
     del arr
     return table, names, t_raw, t_name
+
+
+def _read_rows(
+    p: Path,
+    offset: int,
+    rows: int,
+    cols: int,
+    dtype: np.dtype[Any],
+    idx: list[int],
+    t_idx: int | None,
+    whole: bool,
+    table: NDArray[np.float64],
+    t_raw: NDArray[Any] | None,
+) -> None:
+    """Read a C-order ``(rows, cols)`` array of ``dtype`` stored at ``offset`` of ``p`` into
+    ``table`` (the columns ``idx``, as float64) and ``t_raw`` (column ``t_idx``)."""
+    direct = whole and t_idx is None and dtype == np.dtype(np.float64)
+    block = max(1, min(rows, _BLOCK_BYTES // (cols * dtype.itemsize)))
+    raw: NDArray[Any] = table if direct else np.empty((block, cols), dtype=dtype)
+    with open(p, "rb") as f:
+        f.seek(offset)
+        for sl in _store.blocks(rows, block):
+            n = sl.stop - sl.start
+            dest = table[sl] if direct else raw[:n]
+            view = dest.data.cast("B")
+            got = f.readinto(view)
+            while got and got < len(view):  # a short read (a pipe-like file system)
+                more = f.readinto(view[got:])
+                if not more:
+                    break
+                got += more
+            if got != len(view):
+                raise ValueError(
+                    f"{p.name}: the file ends early (at row {sl.start + got // (cols * dtype.itemsize)}"
+                    f" of the {rows} its header declares)"
+                )
+            if direct:
+                continue
+            if t_idx is not None and t_raw is not None:
+                t_raw[sl] = dest[:, t_idx]
+            table[sl] = dest if whole else dest[:, idx]
