@@ -81,6 +81,20 @@ def _rss_now() -> int:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
 
 
+def _trimmed_rss() -> int:
+    """The resident set after the C allocator returned its free pages to the system (glibc's
+    ``malloc_trim``): the memory the process holds, not what the allocator keeps for reuse."""
+    import ctypes
+    import gc
+
+    gc.collect()
+    try:
+        ctypes.CDLL("libc.so.6").malloc_trim(0)
+    except (OSError, AttributeError):  # not glibc: the plain resident set
+        pass
+    return _rss_now()
+
+
 def interactions(path: Path, repeats: int) -> dict[str, Any]:
     """Time each interaction through the app (server side) and record the peak memory."""
     from gyrobias.explore import load_sessions
@@ -101,7 +115,7 @@ def interactions(path: Path, repeats: int) -> dict[str, Any]:
     t = time.perf_counter()
     app = ExploreApp(sessions)
     build_s = time.perf_counter() - t
-    rss_loaded = _rss_now()
+    rss_loaded = _trimmed_rss()
     app.tabs.active = 3  # the Fit view: every change recomputes ADEV, the fit and the bounds
     app.refresh()
     duration = sessions[0].duration
@@ -159,6 +173,7 @@ def interactions(path: Path, repeats: int) -> dict[str, Any]:
         times.append(time.perf_counter() - t)
     out["zoom (log view envelope)"] = times
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    kept = _trimmed_rss()
     # the floor, in the same process: what `gyrobias allan` itself spends on the same data (ADEV
     # with 68.3 % intervals per unit group, as every interaction above recomputes it), and the
     # same without the intervals' noise identification
@@ -184,6 +199,7 @@ def interactions(path: Path, repeats: int) -> dict[str, Any]:
         "rss_start": rss0,
         "rss_loaded": rss_loaded,
         "rss_peak": peak,
+        "rss_kept": kept,
     }
 
 
@@ -323,6 +339,11 @@ def main() -> None:
             f"start, {r['rss_loaded'] / 1e6:.0f} MB loaded, {r['rss_peak'] / 1e6:.0f} MB at the peak: "
             f"{extra:.2f}× the log beyond the loaded data (target ≤ 1 working copy + the analyses' "
             f"own buffers); the whole process peaks at {r['rss_peak'] / size:.2f}× the log"
+        )
+        print(
+            f"Kept after the interactions (the allocator's free pages returned): "
+            f"{r['rss_kept'] / 1e6:.0f} MB, {(r['rss_kept'] - r['rss_loaded']) / size:.2f}× the "
+            f"log beyond the loaded data (the session's working copy, outlier mask and results)"
         )
         if _chromium() is None:
             print("\nFirst view: skipped (no Chromium)")
