@@ -33,6 +33,7 @@ pub mod family;
 mod fused;
 pub mod gaps;
 pub mod hadamard;
+mod modified;
 pub mod noise_id;
 pub mod progress;
 pub mod stream;
@@ -973,37 +974,6 @@ fn sum_squares(count: usize, f: impl Fn(usize) -> f64) -> f64 {
     total + comp
 }
 
-/// Modified Allan sum: the inner m-sums of second differences are carried as a running sum,
-/// re-seeded exactly every `BLOCK` steps so rounding cannot drift over long records.
-fn sum_modified(x: &[f64], m: usize, terms: usize) -> f64 {
-    let d = |i: usize| x[i + 2 * m] - 2.0 * x[i + m] + x[i];
-    let exact = |j: usize| validate::neumaier_sum((j..j + m).map(d));
-    let mut total = 0.0_f64;
-    let mut comp = 0.0_f64;
-    // Re-seeding costs O(m); doing it every max(BLOCK, 4m) steps bounds that work by a
-    // quarter pass per τ while keeping the running sum's drift negligible.
-    let reseed = BLOCK.max(4 * m);
-    let mut j = 0;
-    while j < terms {
-        let end = (j + reseed).min(terms);
-        let mut s = exact(j);
-        let mut block = s * s;
-        for jj in j + 1..end {
-            s += d(jj + m - 1) - d(jj - 1);
-            block += s * s;
-        }
-        let t = total + block;
-        if total.abs() >= block.abs() {
-            comp += (total - t) + block;
-        } else {
-            comp += (block - t) + total;
-        }
-        total = t;
-        j = end;
-    }
-    total + comp
-}
-
 /// Total-variance sum on the reflected series (SP1065 eq. 25), without materialising it.
 fn sum_total(x: &[f64], m: usize) -> f64 {
     let n = x.len();
@@ -1064,7 +1034,7 @@ fn single_sum(x: &[f64], m: usize, estimator: Estimator, terms: usize) -> f64 {
             let k = i * m;
             x[k + 2 * m] - 2.0 * x[k + m] + x[k]
         }),
-        Estimator::Modified => sum_modified(x, m, terms),
+        Estimator::Modified => modified::sum_modified(x, m, terms),
         Estimator::Total => sum_total(x, m),
     }
 }
