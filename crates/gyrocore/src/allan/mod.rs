@@ -639,10 +639,10 @@ pub fn ldexp(x: f64, e: i32) -> f64 {
 
 /// Integrated mean-removed rate, `x_0 = 0`, `x_k = t0·Σ_{i<k}(Ω_i·2^-k − Ω̄)`, written into
 /// `out` (resized to `n + 1`; a buffer of the right length is reused without being cleared),
-/// in three parallel passes over fixed blocks: (1) block sums for the mean and the finiteness
-/// check, with the largest magnitude, (2) block sums of the centred rate, whose compensated
-/// prefix sums give each block's starting angle, (3) the running sum inside each block,
-/// written in parallel.
+/// in three parallel passes over fixed blocks: (1) a copy of the samples into `out[1..]` and
+/// their block sums for the mean and the finiteness check, with the largest magnitude,
+/// (2) block sums of the centred rate, whose compensated prefix sums give each block's
+/// starting angle, (3) the running sum inside each block, written in place, in parallel.
 ///
 /// The data are scaled by `2^-k` with `k = scale` when given, else `k` =
 /// [`scale_exponent`] of the largest magnitude (pass 1 is then repeated on the scaled data
@@ -662,10 +662,31 @@ fn integrate_rate_into(
         .collect();
     let stage = progress.stage(WORK_INTEGRATION * n as f64, 3 * blocks.len());
     let first_factor = pow2(-scale.unwrap_or(0));
-    let first: Vec<(f64, f64)> = blocks
-        .par_iter()
-        .map(|&(a, b)| {
-            let s = lane_sum_max(a, b, |i| column.get(i) * first_factor);
+    if out.capacity() < n + 1 {
+        // Zeroed allocation: pages are faulted in by the parallel writers below.
+        *out = vec![0.0; n + 1];
+    } else {
+        // A reused buffer (pages already mapped): every value is overwritten below.
+        out.truncate(n + 1);
+        out.resize(n + 1, 0.0);
+    }
+    out[0] = 0.0;
+    // Pass 1 copies the samples into `out[1..]`, where the later passes read them contiguous
+    // (a column of a row-major matrix is read from memory once, not three times: each pass
+    // over it touches every cache line of the matrix) and pass 3 integrates them in place.
+    let first: Vec<(f64, f64)> = out[1..]
+        .par_chunks_mut(INTEGRATION_BLOCK)
+        .zip(blocks.par_iter())
+        .map(|(slots, &(a, _))| {
+            match column.as_slice() {
+                Some(data) => slots.copy_from_slice(&data[a..a + slots.len()]),
+                None => {
+                    for (k, slot) in slots.iter_mut().enumerate() {
+                        *slot = column.get(a + k);
+                    }
+                }
+            }
+            let s = lane_sum_max(0, slots.len(), |i| slots[i] * first_factor);
             stage.item_done();
             s
         })
@@ -688,9 +709,9 @@ fn integrate_rate_into(
     };
     let factor = pow2(-k);
     let sums: Vec<f64> = if scale.is_none() && k != 0 {
-        blocks
-            .par_iter()
-            .map(|&(a, b)| lane_sum(a, b, |i| column.get(i) * factor))
+        out[1..]
+            .par_chunks(INTEGRATION_BLOCK)
+            .map(|v| lane_sum(0, v.len(), |i| v[i] * factor))
             .collect()
     } else {
         first.iter().map(|&(s, _)| s).collect()
@@ -705,10 +726,10 @@ fn integrate_rate_into(
     progress.check()?;
     // The block sums of the centred rate and, in the same pass, of its squares: the data's
     // variance (see `Moments`) at the cost of one multiply-add per sample.
-    let centred: Vec<(f64, f64)> = blocks
-        .par_iter()
-        .map(|&(a, b)| {
-            let s = lane_sum_squares(a, b, |i| column.get(i) * factor - mean);
+    let centred: Vec<(f64, f64)> = out[1..]
+        .par_chunks(INTEGRATION_BLOCK)
+        .map(|v| {
+            let s = lane_sum_squares(0, v.len(), |i| v[i] * factor - mean);
             stage.item_done();
             s
         })
@@ -733,22 +754,13 @@ fn integrate_rate_into(
         sum = t;
     }
     progress.check()?;
-    if out.capacity() < n + 1 {
-        // Zeroed allocation: pages are faulted in by the parallel writers below.
-        *out = vec![0.0; n + 1];
-    } else {
-        // A reused buffer (pages already mapped): every value is overwritten below.
-        out.truncate(n + 1);
-        out.resize(n + 1, 0.0);
-        out[0] = 0.0;
-    }
     out[1..]
         .par_chunks_mut(INTEGRATION_BLOCK)
-        .zip(blocks.par_iter().zip(starts.par_iter()))
-        .for_each(|(out, (&(a, _), &start))| {
+        .zip(starts.par_iter())
+        .for_each(|(out, &start)| {
             let mut acc = start;
-            for (k, slot) in out.iter_mut().enumerate() {
-                acc += column.get(a + k) * factor - mean;
+            for slot in out.iter_mut() {
+                acc += *slot * factor - mean;
                 *slot = acc * t0;
             }
             stage.item_done();

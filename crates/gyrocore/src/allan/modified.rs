@@ -73,13 +73,16 @@ pub(super) fn sum_modified(x: &[f64], m: usize, terms: usize) -> f64 {
         .map(|j| (j, (j + reseed).min(terms)))
         .collect();
     let mut blocks = vec![0.0_f64; segments.len()];
-    // Full segments in lockstep groups (a lone one, or the short last segment, serially: a
-    // group runs as long as its shortest member).
-    let full = terms / reseed;
+    // The full segments (`reseed` terms) in lockstep groups of LANES; the short last one
+    // serially, unless the full ones leave a lone segment to pair it with (a group runs in
+    // lockstep as long as its shortest member; its longer lanes then finish alone).
     let arch = crate::simd::arch();
-    for (group, out) in segments[..full]
+    let full = terms / reseed;
+    let lone = full % LANES == 1 && full < segments.len();
+    let grouped = if lone { full - 1 } else { full };
+    for (group, out) in segments[..grouped]
         .chunks(LANES)
-        .zip(blocks[..full].chunks_mut(LANES))
+        .zip(blocks[..grouped].chunks_mut(LANES))
     {
         if group.len() == 1 {
             out[0] = segment_serial(x, m, group[0].0, group[0].1);
@@ -87,8 +90,11 @@ pub(super) fn sum_modified(x: &[f64], m: usize, terms: usize) -> f64 {
             lockstep(arch, x, m, group, out);
         }
     }
-    for (&(start, end), out) in segments[full..].iter().zip(&mut blocks[full..]) {
-        *out = segment_serial(x, m, start, end);
+    if lone {
+        lockstep(arch, x, m, &segments[grouped..], &mut blocks[grouped..]);
+    } else if full < segments.len() {
+        let (start, end) = segments[full];
+        blocks[full] = segment_serial(x, m, start, end);
     }
     compensated(&blocks)
 }
@@ -102,8 +108,8 @@ fn compensated(blocks: &[f64]) -> f64 {
     total + comp
 }
 
-/// The segment sums of up to [`LANES`] equally long segments `group` (`(start, end)` each),
-/// into `out`. Unused lanes repeat the first segment and are dropped.
+/// The segment sums of up to [`LANES`] segments `group` (`(start, end)` each), into `out`.
+/// Unused lanes repeat the first segment and are dropped.
 fn lockstep(arch: pulp::Arch, x: &[f64], m: usize, group: &[(usize, usize)], out: &mut [f64]) {
     let mut starts = [group[0].0; LANES];
     let mut ends = [group[0].1; LANES];
@@ -388,7 +394,8 @@ mod tests {
     #[test]
     fn lockstep_gives_the_serial_bits() {
         // lengths and factors that exercise: many full groups, a partial group, a lone full
-        // segment, the short last segment, m % 4 ≠ 0 seed tails, step tails, m = 1.
+        // segment alone (n = 4096·5 + 2) and paired with the short last one (m = 3000), the
+        // short last segment alone, m % 4 ≠ 0 seed tails, step tails, m = 1.
         let x = series(70_003, 7);
         for m in [
             1, 2, 3, 5, 8, 13, 64, 100, 1023, 1024, 1500, 4096, 5000, 11_000, 23_334,
@@ -397,7 +404,13 @@ mod tests {
             let (a, b) = (sum_modified(&x, m, t), sum_serial(&x, m, t));
             assert_eq!(a.to_bits(), b.to_bits(), "m = {m}: {a:e} vs {b:e}");
         }
-        for n in [4097 * 3 + 5, 4096 * 4 + 2, 4096 * 8 + 3, 4096 * 9 + 1] {
+        for n in [
+            4097 * 3 + 5,
+            4096 * 4 + 2,
+            4096 * 5 + 2,
+            4096 * 8 + 3,
+            4096 * 9 + 1,
+        ] {
             let x = series(n, n as u64);
             for m in [1, 4, 7] {
                 let t = terms(n, m);
