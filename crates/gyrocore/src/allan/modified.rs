@@ -274,14 +274,19 @@ mod avx {
             let zero = simd.splat_f64x4(0.0);
             let two = simd.splat_f64x4(2.0);
             let (mut sum, mut comp) = (zero, zero);
+            // Per lane, the windows x[start + {0, m, 2m}..][..len], sliced once (the loads
+            // below then need no bounds check of their own).
+            let windows: [[&[f64]; 3]; LANES] = core::array::from_fn(|l| {
+                let w = &x[starts[l]..starts[l] + len + 2 * m];
+                [&w[..len], &w[m..m + len], &w[2 * m..2 * m + len]]
+            });
             let mut i = 0;
-            while i < len {
+            while i + TILE <= len {
                 let mut rows = [zero; LANES];
-                for (row, &start) in rows.iter_mut().zip(&starts) {
-                    let b = start + i;
-                    let (a, bb, c) = (load(x, b), load(x, b + m), load(x, b + 2 * m));
+                for (row, [a, b, c]) in rows.iter_mut().zip(&windows) {
+                    let (a, b, c) = (load(a, i), load(b, i), load(c, i));
                     // (x_{i+2m} − 2x_{i+m}) + x_i, as `second`
-                    *row = simd.add_f64x4(simd.sub_f64x4(c, simd.mul_f64x4(two, bb)), a);
+                    *row = simd.add_f64x4(simd.sub_f64x4(c, simd.mul_f64x4(two, b)), a);
                 }
                 for v in transpose(simd, rows) {
                     // validate::neumaier_add, the branch as a select
@@ -327,16 +332,24 @@ mod avx {
             let zero = simd.splat_f64x4(0.0);
             let two = simd.splat_f64x4(2.0);
             let (mut run, mut acc): (f64x4, f64x4) = (cast(run), cast(acc));
+            // Step j = start + 1 + p reads x at j − 1 + {0, m, 2m, 3m}: per lane, the windows
+            // x[start + {0, m, 2m, 3m}..][..steps], sliced once.
+            let windows: [[&[f64]; 4]; LANES] = core::array::from_fn(|l| {
+                let w = &x[starts[l]..starts[l] + steps + 3 * m];
+                [
+                    &w[..steps],
+                    &w[m..m + steps],
+                    &w[2 * m..2 * m + steps],
+                    &w[3 * m..3 * m + steps],
+                ]
+            });
             let mut p = 0;
-            while p < steps {
+            while p + TILE <= steps {
                 let mut rows = [zero; LANES];
-                for (row, &start) in rows.iter_mut().zip(&starts) {
-                    // step j = start + 1 + p reads x at j − 1 + {0, m, 2m, 3m}
-                    let b = start + p;
-                    let (a, bb) = (load(x, b), load(x, b + m));
-                    let (c, d) = (load(x, b + 2 * m), load(x, b + 3 * m));
-                    let late = simd.add_f64x4(simd.sub_f64x4(d, simd.mul_f64x4(two, c)), bb);
-                    let early = simd.add_f64x4(simd.sub_f64x4(c, simd.mul_f64x4(two, bb)), a);
+                for (row, [a, b, c, d]) in rows.iter_mut().zip(&windows) {
+                    let (a, b, c, d) = (load(a, p), load(b, p), load(c, p), load(d, p));
+                    let late = simd.add_f64x4(simd.sub_f64x4(d, simd.mul_f64x4(two, c)), b);
+                    let early = simd.add_f64x4(simd.sub_f64x4(c, simd.mul_f64x4(two, b)), a);
                     *row = simd.sub_f64x4(late, early);
                 }
                 for v in transpose(simd, rows) {
