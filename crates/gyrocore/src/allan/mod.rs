@@ -655,6 +655,19 @@ fn integrate_rate_into(
     progress: &Progress<'_>,
     scale: Option<i32>,
 ) -> Result<(i32, Moments)> {
+    integrate_rate(column, t0, out, progress, scale, false)
+}
+
+/// [`integrate_rate_into`]; with `prefilled`, `out` already holds `n + 1` values, the samples
+/// in `out[1..]` (copied by [`gather_wave`]), and pass 1 does not copy them again.
+fn integrate_rate(
+    column: Column<'_>,
+    t0: f64,
+    out: &mut Vec<f64>,
+    progress: &Progress<'_>,
+    scale: Option<i32>,
+    prefilled: bool,
+) -> Result<(i32, Moments)> {
     let n = column.len();
     let blocks: Vec<(usize, usize)> = (0..n)
         .step_by(INTEGRATION_BLOCK)
@@ -662,7 +675,9 @@ fn integrate_rate_into(
         .collect();
     let stage = progress.stage(WORK_INTEGRATION * n as f64, 3 * blocks.len());
     let first_factor = pow2(-scale.unwrap_or(0));
-    if out.capacity() < n + 1 {
+    if prefilled {
+        debug_assert_eq!(out.len(), n + 1, "a prefilled buffer holds the samples");
+    } else if out.capacity() < n + 1 {
         // Zeroed allocation: pages are faulted in by the parallel writers below.
         *out = vec![0.0; n + 1];
     } else {
@@ -679,6 +694,7 @@ fn integrate_rate_into(
         .zip(blocks.par_iter())
         .map(|(slots, &(a, _))| {
             match column.as_slice() {
+                _ if prefilled => {}
                 Some(data) => slots.copy_from_slice(&data[a..a + slots.len()]),
                 None => {
                     for (k, slot) in slots.iter_mut().enumerate() {
@@ -783,6 +799,20 @@ fn angle_into<'a>(
     progress: &Progress<'_>,
     scale: Option<i32>,
 ) -> Result<(&'a [f64], i32, Moments)> {
+    angle_into_prefilled(column, t0, data_type, scratch, progress, scale, false)
+}
+
+/// [`angle_into`]; `prefilled` rate samples already sit in `scratch[1..]` (see
+/// [`integrate_rate`]).
+fn angle_into_prefilled<'a>(
+    column: Column<'a>,
+    t0: f64,
+    data_type: DataType,
+    scratch: &'a mut Vec<f64>,
+    progress: &Progress<'_>,
+    scale: Option<i32>,
+    prefilled: bool,
+) -> Result<(&'a [f64], i32, Moments)> {
     validate::positive("fs", 1.0 / t0)?;
     match data_type {
         DataType::Angle => {
@@ -820,7 +850,7 @@ fn angle_into<'a>(
                 scratch.push(0.0);
                 Ok((scratch, 0, Moments::default()))
             } else {
-                let (k, moments) = integrate_rate_into(column, t0, scratch, progress, scale)?;
+                let (k, moments) = integrate_rate(column, t0, scratch, progress, scale, prefilled)?;
                 Ok((scratch, k, moments))
             }
         }
@@ -1398,6 +1428,9 @@ const WORK_CONFIDENCE: f64 = 3.0;
 pub struct Workspace {
     angle: Vec<f64>,
     segments: Vec<f64>,
+    /// `angle[1..]` holds the next column's rate samples ([`gather_wave`]); reset by the
+    /// analysis that uses them.
+    prefilled: bool,
 }
 
 impl Workspace {
@@ -1417,6 +1450,7 @@ impl Workspace {
         Workspace {
             angle,
             segments: Vec::new(),
+            prefilled: false,
         }
     }
 
@@ -1474,6 +1508,7 @@ pub fn analyse_column(
     workspace: &mut Workspace,
     progress: &Progress<'_>,
 ) -> Result<AllanAnalysis> {
+    let prefilled = std::mem::replace(&mut workspace.prefilled, false);
     config.validate()?;
     if config.gaps == Gaps::Omit && column.iter().any(f64::is_nan) {
         return gaps::analyse(column, config, workspace, progress);
@@ -1489,13 +1524,14 @@ pub fn analyse_column(
     // An extreme period is computed with as t0'·2^e (see split_period); τ were resolved above
     // with the period itself.
     let (t0, e) = split_period(config.t0);
-    let (x, k, moments) = angle_into(
+    let (x, k, moments) = angle_into_prefilled(
         column,
         t0,
         config.data_type,
         &mut workspace.angle,
         progress,
         None,
+        prefilled && config.data_type == DataType::Rate,
     )?;
     let n = column.len() as f64;
     let sums = raw_sums(x, &ms, estimator, progress, WORK_VARIANCES * n)?;
@@ -1568,6 +1604,15 @@ pub fn analyse_matrix(
     let mut out = Vec::with_capacity(n_axes);
     let mut failed = None;
     for (wave, chunk) in columns.chunks(width).enumerate() {
+        if config.data_type == DataType::Rate
+            && config.gaps == Gaps::Error
+            && chunk.len() > 1
+            && chunk
+                .iter()
+                .all(|c| c.as_slice().is_none() && !c.is_empty())
+        {
+            gather_wave(chunk, &mut workspaces[..chunk.len()]);
+        }
         match analyse_columns(chunk, config, &mut workspaces[..chunk.len()], progress) {
             Ok(results) => out.extend(results),
             Err((axis, e)) => {
@@ -1584,6 +1629,47 @@ pub fn analyse_matrix(
     }
     progress.finish();
     Ok(out)
+}
+
+/// Copies the samples of a wave's (equally long, strided) columns into their workspaces'
+/// angle buffers (`angle[1..]`), in one pass over the rows: each column read alone touches
+/// every cache line of the row-major matrix, so a wave of `w` columns read them `w` times.
+/// The analysis then integrates the samples in place ([`integrate_rate`]); the values, and so
+/// the results, are those it would read from the columns.
+fn gather_wave(columns: &[Column<'_>], workspaces: &mut [Workspace]) {
+    let n = columns[0].len();
+    let mut slices: Vec<std::slice::ChunksMut<'_, f64>> = Vec::with_capacity(workspaces.len());
+    for ws in workspaces.iter_mut() {
+        if ws.angle.capacity() < n + 1 {
+            // Zeroed allocation: pages are faulted in by the parallel writers below.
+            ws.angle = vec![0.0; n + 1];
+        } else {
+            ws.angle.truncate(n + 1);
+            ws.angle.resize(n + 1, 0.0);
+        }
+        ws.prefilled = true;
+        slices.push(ws.angle[1..].chunks_mut(INTEGRATION_BLOCK));
+    }
+    // Per row block, the chunk of every column's buffer.
+    let mut blocks: Vec<Vec<&mut [f64]>> = Vec::with_capacity(n.div_ceil(INTEGRATION_BLOCK));
+    'rows: loop {
+        let mut block = Vec::with_capacity(slices.len());
+        for s in &mut slices {
+            match s.next() {
+                Some(chunk) => block.push(chunk),
+                None => break 'rows,
+            }
+        }
+        blocks.push(block);
+    }
+    blocks.into_par_iter().enumerate().for_each(|(b, mut out)| {
+        let a = b * INTEGRATION_BLOCK;
+        for k in 0..out[0].len() {
+            for (slot, column) in out.iter_mut().zip(columns) {
+                slot[k] = column.get(a + k);
+            }
+        }
+    });
 }
 
 fn columns_of(data: &[f64], n_axes: usize) -> Result<Vec<Column<'_>>> {
