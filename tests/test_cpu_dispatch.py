@@ -10,6 +10,8 @@ kernels in two interpreters, one forced to the baseline, and compares digests of
 - the Allan difference sums (``allan/fused.rs``): the block pass and the lattices of far
   averaging factors (m >= 2**15) for the second (ADEV) and third (HDEV) differences, and the
   streamed chunk sums of a memory-mapped record (``second_chunk_sum``);
+- the modified Allan sum's lockstep segments (``allan/modified.rs``: AVX lanes with an
+  in-register transpose, or the same lanes in scalar code) and the total variance's interior;
 - Théo1's lag-blocked structure function and edge sums (``allan/theo.rs``, ThéoBR's sweep);
 - the Allan-correlation integrals of the noise fit on a dense τ grid (``noise/covariance.rs``);
 - the generalized Schur recursion of the fractional predictor (``predict/schur.rs``).
@@ -44,6 +46,9 @@ for f in (allan.adev, allan.hdev):
     add(r.avar, r.edf, r.ci_low, r.ci_high)
 path = sys.argv[1]
 np.save(path, data)
+for f in (allan.mdev, allan.totdev):
+    r = f(data, 100.0, taus="octave", confidence=None)   # lockstep groups, lone segments
+    add(r.avar)
 r = allan.adev(np.load(path, mmap_mode="r"), 100.0)   # streamed in chunks from the file
 add(r.avar, r.ci_low, r.ci_high)
 r = allan.theobr(data[:4000], 100.0)                  # structure function + edge sums

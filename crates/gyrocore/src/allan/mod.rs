@@ -33,6 +33,7 @@ pub mod family;
 mod fused;
 pub mod gaps;
 pub mod hadamard;
+mod modified;
 pub mod noise_id;
 pub mod progress;
 pub mod stream;
@@ -638,10 +639,10 @@ pub fn ldexp(x: f64, e: i32) -> f64 {
 
 /// Integrated mean-removed rate, `x_0 = 0`, `x_k = t0·Σ_{i<k}(Ω_i·2^-k − Ω̄)`, written into
 /// `out` (resized to `n + 1`; a buffer of the right length is reused without being cleared),
-/// in three parallel passes over fixed blocks: (1) block sums for the mean and the finiteness
-/// check, with the largest magnitude, (2) block sums of the centred rate, whose compensated
-/// prefix sums give each block's starting angle, (3) the running sum inside each block,
-/// written in parallel.
+/// in three parallel passes over fixed blocks: (1) a copy of the samples into `out[1..]` and
+/// their block sums for the mean and the finiteness check, with the largest magnitude,
+/// (2) block sums of the centred rate, whose compensated prefix sums give each block's
+/// starting angle, (3) the running sum inside each block, written in place, in parallel.
 ///
 /// The data are scaled by `2^-k` with `k = scale` when given, else `k` =
 /// [`scale_exponent`] of the largest magnitude (pass 1 is then repeated on the scaled data
@@ -654,6 +655,19 @@ fn integrate_rate_into(
     progress: &Progress<'_>,
     scale: Option<i32>,
 ) -> Result<(i32, Moments)> {
+    integrate_rate(column, t0, out, progress, scale, false)
+}
+
+/// [`integrate_rate_into`]; with `prefilled`, `out` already holds `n + 1` values, the samples
+/// in `out[1..]` (copied by [`gather_wave`]), and pass 1 does not copy them again.
+fn integrate_rate(
+    column: Column<'_>,
+    t0: f64,
+    out: &mut Vec<f64>,
+    progress: &Progress<'_>,
+    scale: Option<i32>,
+    prefilled: bool,
+) -> Result<(i32, Moments)> {
     let n = column.len();
     let blocks: Vec<(usize, usize)> = (0..n)
         .step_by(INTEGRATION_BLOCK)
@@ -661,10 +675,34 @@ fn integrate_rate_into(
         .collect();
     let stage = progress.stage(WORK_INTEGRATION * n as f64, 3 * blocks.len());
     let first_factor = pow2(-scale.unwrap_or(0));
-    let first: Vec<(f64, f64)> = blocks
-        .par_iter()
-        .map(|&(a, b)| {
-            let s = lane_sum_max(a, b, |i| column.get(i) * first_factor);
+    if prefilled {
+        debug_assert_eq!(out.len(), n + 1, "a prefilled buffer holds the samples");
+    } else if out.capacity() < n + 1 {
+        // Zeroed allocation: pages are faulted in by the parallel writers below.
+        *out = vec![0.0; n + 1];
+    } else {
+        // A reused buffer (pages already mapped): every value is overwritten below.
+        out.truncate(n + 1);
+        out.resize(n + 1, 0.0);
+    }
+    out[0] = 0.0;
+    // Pass 1 copies the samples into `out[1..]`, where the later passes read them contiguous
+    // (a column of a row-major matrix is read from memory once, not three times: each pass
+    // over it touches every cache line of the matrix) and pass 3 integrates them in place.
+    let first: Vec<(f64, f64)> = out[1..]
+        .par_chunks_mut(INTEGRATION_BLOCK)
+        .zip(blocks.par_iter())
+        .map(|(slots, &(a, _))| {
+            match column.as_slice() {
+                _ if prefilled => {}
+                Some(data) => slots.copy_from_slice(&data[a..a + slots.len()]),
+                None => {
+                    for (k, slot) in slots.iter_mut().enumerate() {
+                        *slot = column.get(a + k);
+                    }
+                }
+            }
+            let s = lane_sum_max(0, slots.len(), |i| slots[i] * first_factor);
             stage.item_done();
             s
         })
@@ -687,9 +725,9 @@ fn integrate_rate_into(
     };
     let factor = pow2(-k);
     let sums: Vec<f64> = if scale.is_none() && k != 0 {
-        blocks
-            .par_iter()
-            .map(|&(a, b)| lane_sum(a, b, |i| column.get(i) * factor))
+        out[1..]
+            .par_chunks(INTEGRATION_BLOCK)
+            .map(|v| lane_sum(0, v.len(), |i| v[i] * factor))
             .collect()
     } else {
         first.iter().map(|&(s, _)| s).collect()
@@ -704,10 +742,10 @@ fn integrate_rate_into(
     progress.check()?;
     // The block sums of the centred rate and, in the same pass, of its squares: the data's
     // variance (see `Moments`) at the cost of one multiply-add per sample.
-    let centred: Vec<(f64, f64)> = blocks
-        .par_iter()
-        .map(|&(a, b)| {
-            let s = lane_sum_squares(a, b, |i| column.get(i) * factor - mean);
+    let centred: Vec<(f64, f64)> = out[1..]
+        .par_chunks(INTEGRATION_BLOCK)
+        .map(|v| {
+            let s = lane_sum_squares(0, v.len(), |i| v[i] * factor - mean);
             stage.item_done();
             s
         })
@@ -732,22 +770,13 @@ fn integrate_rate_into(
         sum = t;
     }
     progress.check()?;
-    if out.capacity() < n + 1 {
-        // Zeroed allocation: pages are faulted in by the parallel writers below.
-        *out = vec![0.0; n + 1];
-    } else {
-        // A reused buffer (pages already mapped): every value is overwritten below.
-        out.truncate(n + 1);
-        out.resize(n + 1, 0.0);
-        out[0] = 0.0;
-    }
     out[1..]
         .par_chunks_mut(INTEGRATION_BLOCK)
-        .zip(blocks.par_iter().zip(starts.par_iter()))
-        .for_each(|(out, (&(a, _), &start))| {
+        .zip(starts.par_iter())
+        .for_each(|(out, &start)| {
             let mut acc = start;
-            for (k, slot) in out.iter_mut().enumerate() {
-                acc += column.get(a + k) * factor - mean;
+            for slot in out.iter_mut() {
+                acc += *slot * factor - mean;
                 *slot = acc * t0;
             }
             stage.item_done();
@@ -769,6 +798,20 @@ fn angle_into<'a>(
     scratch: &'a mut Vec<f64>,
     progress: &Progress<'_>,
     scale: Option<i32>,
+) -> Result<(&'a [f64], i32, Moments)> {
+    angle_into_prefilled(column, t0, data_type, scratch, progress, scale, false)
+}
+
+/// [`angle_into`]; `prefilled` rate samples already sit in `scratch[1..]` (see
+/// [`integrate_rate`]).
+fn angle_into_prefilled<'a>(
+    column: Column<'a>,
+    t0: f64,
+    data_type: DataType,
+    scratch: &'a mut Vec<f64>,
+    progress: &Progress<'_>,
+    scale: Option<i32>,
+    prefilled: bool,
 ) -> Result<(&'a [f64], i32, Moments)> {
     validate::positive("fs", 1.0 / t0)?;
     match data_type {
@@ -807,7 +850,7 @@ fn angle_into<'a>(
                 scratch.push(0.0);
                 Ok((scratch, 0, Moments::default()))
             } else {
-                let (k, moments) = integrate_rate_into(column, t0, scratch, progress, scale)?;
+                let (k, moments) = integrate_rate(column, t0, scratch, progress, scale, prefilled)?;
                 Ok((scratch, k, moments))
             }
         }
@@ -973,42 +1016,75 @@ fn sum_squares(count: usize, f: impl Fn(usize) -> f64) -> f64 {
     total + comp
 }
 
-/// Modified Allan sum: the inner m-sums of second differences are carried as a running sum,
-/// re-seeded exactly every `BLOCK` steps so rounding cannot drift over long records.
-fn sum_modified(x: &[f64], m: usize, terms: usize) -> f64 {
-    let d = |i: usize| x[i + 2 * m] - 2.0 * x[i + m] + x[i];
-    let exact = |j: usize| validate::neumaier_sum((j..j + m).map(d));
-    let mut total = 0.0_f64;
-    let mut comp = 0.0_f64;
-    // Re-seeding costs O(m); doing it every max(BLOCK, 4m) steps bounds that work by a
-    // quarter pass per τ while keeping the running sum's drift negligible.
-    let reseed = BLOCK.max(4 * m);
-    let mut j = 0;
-    while j < terms {
-        let end = (j + reseed).min(terms);
-        let mut s = exact(j);
-        let mut block = s * s;
-        for jj in j + 1..end {
-            s += d(jj + m - 1) - d(jj - 1);
-            block += s * s;
-        }
-        let t = total + block;
-        if total.abs() >= block.abs() {
-            comp += (total - t) + block;
-        } else {
-            comp += (block - t) + total;
-        }
-        total = t;
-        j = end;
-    }
-    total + comp
-}
-
 /// Total-variance sum on the reflected series (SP1065 eq. 25), without materialising it.
+///
+/// The terms, lanes and blocks of [`sum_squares`], in the same order (so the same bits): the
+/// reflection is only looked up for the `≈ 2m` terms near the ends; a lane chunk wholly
+/// inside reads the series directly, without a branch per sample (vectorised).
 fn sum_total(x: &[f64], m: usize) -> f64 {
     let n = x.len();
     let last = n - 1;
     // x*_{-j} = 2x_0 − x_j and x*_{last+j} = 2x_last − x_{last−j}  (j = 1..n−2)
+    let star = |i: isize| -> f64 {
+        if i < 0 {
+            2.0 * x[0] - x[(-i) as usize]
+        } else if (i as usize) > last {
+            2.0 * x[last] - x[2 * last - i as usize]
+        } else {
+            x[i as usize]
+        }
+    };
+    let mi = m as isize;
+    let reflected = |k: usize| {
+        let i = k as isize + 1;
+        star(i - mi) - 2.0 * star(i) + star(i + mi)
+    };
+    // Term k reads x at k + 1 + {−m, 0, m}: inside for k ∈ [m − 1, last − m − 1].
+    let (inside_from, inside_to) = (m - 1, (last + 1).saturating_sub(m + 1));
+    let count = n - 2;
+    let mut total = 0.0_f64;
+    let mut comp = 0.0_f64;
+    let mut start = 0;
+    while start < count {
+        let end = (start + BLOCK).min(count);
+        let mut lanes = [0.0_f64; LANES];
+        let mut k = start;
+        while k + LANES <= end {
+            if k >= inside_from && k + LANES <= inside_to {
+                let i = k + 1;
+                let a: &[f64; LANES] = x[i - m..i - m + LANES].try_into().expect("lanes");
+                let b: &[f64; LANES] = x[i..i + LANES].try_into().expect("lanes");
+                let c: &[f64; LANES] = x[i + m..i + m + LANES].try_into().expect("lanes");
+                for (l, lane) in lanes.iter_mut().enumerate() {
+                    let d = a[l] - 2.0 * b[l] + c[l];
+                    *lane += d * d;
+                }
+            } else {
+                for (l, lane) in lanes.iter_mut().enumerate() {
+                    let d = reflected(k + l);
+                    *lane += d * d;
+                }
+            }
+            k += LANES;
+        }
+        let mut block: f64 = lanes.iter().sum();
+        while k < end {
+            let d = reflected(k);
+            block += d * d;
+            k += 1;
+        }
+        validate::neumaier_add(&mut total, &mut comp, block);
+        start = end;
+    }
+    total + comp
+}
+
+/// [`sum_total`] as it was written first: [`sum_squares`] of the reflected terms (the
+/// reference of the tests).
+#[cfg(test)]
+fn sum_total_reference(x: &[f64], m: usize) -> f64 {
+    let n = x.len();
+    let last = n - 1;
     let star = |i: isize| -> f64 {
         if i < 0 {
             2.0 * x[0] - x[(-i) as usize]
@@ -1064,7 +1140,7 @@ fn single_sum(x: &[f64], m: usize, estimator: Estimator, terms: usize) -> f64 {
             let k = i * m;
             x[k + 2 * m] - 2.0 * x[k + m] + x[k]
         }),
-        Estimator::Modified => sum_modified(x, m, terms),
+        Estimator::Modified => modified::sum_modified(x, m, terms),
         Estimator::Total => sum_total(x, m),
     }
 }
@@ -1352,6 +1428,9 @@ const WORK_CONFIDENCE: f64 = 3.0;
 pub struct Workspace {
     angle: Vec<f64>,
     segments: Vec<f64>,
+    /// `angle[1..]` holds the next column's rate samples ([`gather_wave`]); reset by the
+    /// analysis that uses them.
+    prefilled: bool,
 }
 
 impl Workspace {
@@ -1371,6 +1450,7 @@ impl Workspace {
         Workspace {
             angle,
             segments: Vec::new(),
+            prefilled: false,
         }
     }
 
@@ -1428,6 +1508,7 @@ pub fn analyse_column(
     workspace: &mut Workspace,
     progress: &Progress<'_>,
 ) -> Result<AllanAnalysis> {
+    let prefilled = std::mem::replace(&mut workspace.prefilled, false);
     config.validate()?;
     if config.gaps == Gaps::Omit && column.iter().any(f64::is_nan) {
         return gaps::analyse(column, config, workspace, progress);
@@ -1443,13 +1524,14 @@ pub fn analyse_column(
     // An extreme period is computed with as t0'·2^e (see split_period); τ were resolved above
     // with the period itself.
     let (t0, e) = split_period(config.t0);
-    let (x, k, moments) = angle_into(
+    let (x, k, moments) = angle_into_prefilled(
         column,
         t0,
         config.data_type,
         &mut workspace.angle,
         progress,
         None,
+        prefilled && config.data_type == DataType::Rate,
     )?;
     let n = column.len() as f64;
     let sums = raw_sums(x, &ms, estimator, progress, WORK_VARIANCES * n)?;
@@ -1522,6 +1604,15 @@ pub fn analyse_matrix(
     let mut out = Vec::with_capacity(n_axes);
     let mut failed = None;
     for (wave, chunk) in columns.chunks(width).enumerate() {
+        if config.data_type == DataType::Rate
+            && config.gaps == Gaps::Error
+            && chunk.len() > 1
+            && chunk
+                .iter()
+                .all(|c| c.as_slice().is_none() && !c.is_empty())
+        {
+            gather_wave(chunk, &mut workspaces[..chunk.len()]);
+        }
         match analyse_columns(chunk, config, &mut workspaces[..chunk.len()], progress) {
             Ok(results) => out.extend(results),
             Err((axis, e)) => {
@@ -1538,6 +1629,47 @@ pub fn analyse_matrix(
     }
     progress.finish();
     Ok(out)
+}
+
+/// Copies the samples of a wave's (equally long, strided) columns into their workspaces'
+/// angle buffers (`angle[1..]`), in one pass over the rows: each column read alone touches
+/// every cache line of the row-major matrix, so a wave of `w` columns read them `w` times.
+/// The analysis then integrates the samples in place ([`integrate_rate`]); the values, and so
+/// the results, are those it would read from the columns.
+fn gather_wave(columns: &[Column<'_>], workspaces: &mut [Workspace]) {
+    let n = columns[0].len();
+    let mut slices: Vec<std::slice::ChunksMut<'_, f64>> = Vec::with_capacity(workspaces.len());
+    for ws in workspaces.iter_mut() {
+        if ws.angle.capacity() < n + 1 {
+            // Zeroed allocation: pages are faulted in by the parallel writers below.
+            ws.angle = vec![0.0; n + 1];
+        } else {
+            ws.angle.truncate(n + 1);
+            ws.angle.resize(n + 1, 0.0);
+        }
+        ws.prefilled = true;
+        slices.push(ws.angle[1..].chunks_mut(INTEGRATION_BLOCK));
+    }
+    // Per row block, the chunk of every column's buffer.
+    let mut blocks: Vec<Vec<&mut [f64]>> = Vec::with_capacity(n.div_ceil(INTEGRATION_BLOCK));
+    'rows: loop {
+        let mut block = Vec::with_capacity(slices.len());
+        for s in &mut slices {
+            match s.next() {
+                Some(chunk) => block.push(chunk),
+                None => break 'rows,
+            }
+        }
+        blocks.push(block);
+    }
+    blocks.into_par_iter().enumerate().for_each(|(b, mut out)| {
+        let a = b * INTEGRATION_BLOCK;
+        for k in 0..out[0].len() {
+            for (slot, column) in out.iter_mut().zip(columns) {
+                slot[k] = column.get(a + k);
+            }
+        }
+    });
 }
 
 fn columns_of(data: &[f64], n_axes: usize) -> Result<Vec<Column<'_>>> {
@@ -1759,6 +1891,32 @@ mod tests {
             let reference = s / (2.0 * (m * m) as f64 * (n - 2) as f64);
             let (var, _) = variance(&x, 1.0, m, Estimator::Total).unwrap();
             close(var, reference);
+        }
+    }
+
+    #[test]
+    fn total_interior_chunks_give_the_reflected_sum_bits() {
+        // The branch-free interior against the reflection looked up for every term: same
+        // terms, lanes and blocks, so the same bits; short series (no interior chunk), chunks
+        // straddling the ends, several blocks, every factor of a short series.
+        for n in [3, 4, 9, 17, 40, 4099, 9000, 20_001] {
+            let rate: Vec<f64> = (0..n)
+                .map(|i| ((i * 7919 % 1013) as f64) / 101.0 - 5.0 + 1e-3 * i as f64)
+                .collect();
+            let x = angle_series(Column::contiguous(&rate), 0.01, DataType::Rate).unwrap();
+            let max = Estimator::Total.max_factor(x.len());
+            let ms: Vec<usize> = if max <= 40 {
+                (1..=max).collect()
+            } else {
+                vec![1, 2, 3, 7, 8, 9, 64, 1000, max / 2, max - 1, max]
+            };
+            for m in ms.into_iter().filter(|&m| m >= 1 && m <= max) {
+                assert_eq!(
+                    sum_total(&x, m).to_bits(),
+                    sum_total_reference(&x, m).to_bits(),
+                    "n = {n}, m = {m}"
+                );
+            }
         }
     }
 
