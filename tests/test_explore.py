@@ -328,3 +328,58 @@ def test_every_view_draws_every_setting_without_a_message(csv: Path) -> None:
     assert any("THEO1 cannot skip" in m for m in shown())
     app._on_undo(None)
     assert shown() == [] and app.session.settings.deviation == "adev"
+
+
+def test_long_computations_report_progress_without_changing_results(csv: Path) -> None:
+    # Théo1 of a long log takes seconds: the session hands the library's progress= to the app
+    # (shown beside the busy indicator); the results are those computed without it
+    plain = _session(csv, deviation="theo1").stability()
+    s = _session(csv, deviation="theo1")
+    seen: list[float] = []
+    s.progress = seen.append
+    reported = s.stability()
+    assert len(seen) >= 2 and seen == sorted(seen) and seen[-1] == pytest.approx(1.0)
+    for a, b in zip(plain, reported):
+        np.testing.assert_array_equal(a.avar, b.avar)  # type: ignore[union-attr]
+
+
+def test_progress_reaches_the_page_throttled_and_only_for_the_newest_change(
+    csv: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from gyrobias.explore import app as app_module
+    from gyrobias.explore.app import ExploreApp
+    from gyrobias.explore.server import configure
+
+    configure()
+    app = ExploreApp([_session(csv)])
+
+    class Doc:  # the served document's thread-safe entry (add_next_tick_callback)
+        def __init__(self) -> None:
+            self.callbacks: list[Any] = []
+
+        def add_next_tick_callback(self, cb: Any) -> None:
+            self.callbacks.append(cb)
+
+    clock = [100.0]
+    monkeypatch.setattr(app_module.time, "monotonic", lambda: clock[0])
+    doc = Doc()
+    app.busy.value = True
+    report = app._progress_reporter(doc, app._generation)
+    report(0.1)  # within _PROGRESS_EVERY of the start: not sent
+    assert doc.callbacks == []
+    clock[0] += 1.0
+    report(0.42)
+    assert len(doc.callbacks) == 1
+    doc.callbacks.pop()()
+    assert "42%" in str(app.state.object)
+    clock[0] += 0.1
+    report(0.5)  # throttled
+    assert doc.callbacks == []
+    clock[0] += 1.0
+    report(0.6)
+    app._generation += 1  # a newer change: the old computation's message is dropped
+    doc.callbacks.pop()()
+    assert "60%" not in str(app.state.object)
+    clock[0] += 1.0
+    report(0.7)
+    assert doc.callbacks == []

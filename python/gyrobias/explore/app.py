@@ -13,6 +13,7 @@ import html
 import io as _stdio
 import math
 import threading
+import time
 import traceback
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -53,6 +54,9 @@ _DEVIATION_LABELS = {
 }
 _READY = "<span class='gb-idle'>ready: {view}</span>"
 _WORKING = "<span class='gb-working'>working…</span>"
+_WORKING_DONE = "<span class='gb-working'>working… {done:.0%}</span>"
+#: Seconds between two progress messages sent to the page.
+_PROGRESS_EVERY = 0.25
 _CSS = """
 .gb-pre { font-family: monospace; font-size: 12px; white-space: pre; overflow-x: auto; }
 .gb-steps li { margin: 2px 0; }
@@ -1158,16 +1162,45 @@ class ExploreApp:
         generation = self._generation
         view = self.views[self.tabs.active]
 
+        report = self._progress_reporter(doc, generation)
+
         def work() -> None:
             with self._work:
                 if generation == self._generation:  # a newer change supersedes this one
+                    for session in self.sessions:
+                        session.progress = report
                     try:
                         view.prefetch()
                     except Exception:  # noqa: S110 - refresh() recomputes and shows the message
                         pass
+                    finally:
+                        for session in self.sessions:
+                            session.progress = None
             doc.add_next_tick_callback(lambda: self._finish(generation))
 
         threading.Thread(target=work, daemon=True, name="gyrobias-explore-work").start()
+
+    def _progress_reporter(self, doc: Any, generation: int) -> Callable[[float], None]:
+        """A ``progress=`` callback for the worker thread: the fraction done of a long
+        computation (Théo1 of a long log takes seconds) is shown beside the busy indicator,
+        sent to the page through ``doc`` at most every ``_PROGRESS_EVERY`` seconds and only
+        while the change that started it is the newest."""
+        last = [time.monotonic()]
+
+        def report(done: float) -> None:
+            now = time.monotonic()
+            if now - last[0] < _PROGRESS_EVERY or generation != self._generation:
+                return
+            last[0] = now
+            text = _WORKING_DONE.format(done=min(max(float(done), 0.0), 1.0))
+
+            def show() -> None:
+                if generation == self._generation and self.busy.value:
+                    self.state.object = text
+
+            doc.add_next_tick_callback(show)
+
+        return report
 
     def _finish(self, generation: int) -> None:
         if generation != self._generation:

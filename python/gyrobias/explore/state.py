@@ -340,6 +340,9 @@ class Session:
         #: its pages instead of mapping a new copy (see :class:`_Memo`: the previous cleaned
         #: value is released before the next is computed, so nothing still reads it).
         self._working: NDArray[np.float64] | None = None
+        #: Called with the fraction done (0–1) by the long stability computations (the
+        #: library's own ``progress=``; results never depend on it): the app shows it.
+        self.progress: Callable[[float], None] | None = None
 
     # -- settings and history -------------------------------------------------------------
 
@@ -488,6 +491,7 @@ class Session:
                 "confidence": CONFIDENCE,
                 "units": list(self.log.units),
                 "axis_names": list(self.log.columns),
+                "progress": self.progress,
             }
             if gaps:
                 if kind not in _GAP_AWARE:
