@@ -113,6 +113,86 @@ fn gather(x: &[f64], base: usize, m: usize, range: std::ops::Range<usize>, out: 
     out.extend(from.iter().step_by(m).take(range.len()));
 }
 
+/// Four f64 lanes and the operations of the kernels below, each lane rounded on its own (no
+/// fused multiply-add): one vector register where the CPU has four-lane f64 vectors
+/// ([`SimdLanes`]), an array otherwise ([`ArrayLanes`]); both give the same bits, so the
+/// results do not depend on the CPU (see [`crate::simd`]).
+trait Lanes: Copy {
+    type V: Copy;
+    /// The first [`LANES`] values of `a`.
+    fn load(self, a: &[f64]) -> Self::V;
+    fn store(self, v: Self::V, out: &mut [f64]);
+    fn splat(self, x: f64) -> Self::V;
+    fn add(self, a: Self::V, b: Self::V) -> Self::V;
+    fn sub(self, a: Self::V, b: Self::V) -> Self::V;
+    fn mul(self, a: Self::V, b: Self::V) -> Self::V;
+}
+
+#[derive(Clone, Copy)]
+struct ArrayLanes;
+
+#[allow(clippy::inline_always)] // inlined into the dispatched kernels
+impl Lanes for ArrayLanes {
+    type V = [f64; LANES];
+    #[inline(always)]
+    fn load(self, a: &[f64]) -> Self::V {
+        std::array::from_fn(|l| a[l])
+    }
+    #[inline(always)]
+    fn store(self, v: Self::V, out: &mut [f64]) {
+        out[..LANES].copy_from_slice(&v);
+    }
+    #[inline(always)]
+    fn splat(self, x: f64) -> Self::V {
+        [x; LANES]
+    }
+    #[inline(always)]
+    fn add(self, a: Self::V, b: Self::V) -> Self::V {
+        std::array::from_fn(|l| a[l] + b[l])
+    }
+    #[inline(always)]
+    fn sub(self, a: Self::V, b: Self::V) -> Self::V {
+        std::array::from_fn(|l| a[l] - b[l])
+    }
+    #[inline(always)]
+    fn mul(self, a: Self::V, b: Self::V) -> Self::V {
+        std::array::from_fn(|l| a[l] * b[l])
+    }
+}
+
+/// [`Lanes`] as one `pulp` vector (only for `S::F64_LANES == LANES`).
+#[derive(Clone, Copy)]
+struct SimdLanes<S>(S);
+
+#[allow(clippy::inline_always)] // inlined into the dispatched kernels
+impl<S: pulp::Simd> Lanes for SimdLanes<S> {
+    type V = S::f64s;
+    #[inline(always)]
+    fn load(self, a: &[f64]) -> Self::V {
+        S::as_simd_f64s(&a[..LANES]).0[0]
+    }
+    #[inline(always)]
+    fn store(self, v: Self::V, out: &mut [f64]) {
+        S::as_mut_simd_f64s(&mut out[..LANES]).0[0] = v;
+    }
+    #[inline(always)]
+    fn splat(self, x: f64) -> Self::V {
+        self.0.splat_f64s(x)
+    }
+    #[inline(always)]
+    fn add(self, a: Self::V, b: Self::V) -> Self::V {
+        self.0.add_f64s(a, b)
+    }
+    #[inline(always)]
+    fn sub(self, a: Self::V, b: Self::V) -> Self::V {
+        self.0.sub_f64s(a, b)
+    }
+    #[inline(always)]
+    fn mul(self, a: Self::V, b: Self::V) -> Self::V {
+        self.0.mul_f64s(a, b)
+    }
+}
+
 /// Lane-split accumulators of the trend projections `Σz, Σz·u, Σz·(u² − c)`.
 struct TrendSums {
     s0: [f64; LANES],
@@ -161,8 +241,12 @@ impl TrendSums {
             type Output = ();
             #[allow(clippy::inline_always)] // pulp's contract: inlined into the dispatched function
             #[inline(always)]
-            fn with_simd<S: pulp::Simd>(self, _simd: S) {
-                self.0.add_lanes(self.1, self.2);
+            fn with_simd<S: pulp::Simd>(self, simd: S) {
+                if S::F64_LANES == LANES {
+                    self.0.add_lanes(SimdLanes(simd), self.1, self.2);
+                } else {
+                    self.0.add_lanes(ArrayLanes, self.1, self.2);
+                }
             }
         }
         crate::simd::arch().dispatch(Add(self, z, start));
@@ -170,32 +254,40 @@ impl TrendSums {
 
     #[allow(clippy::inline_always)] // inlined into the dispatched [`TrendSums::add_decimated`]
     #[inline(always)]
-    fn add_lanes(&mut self, z: &[f64], start: usize) {
-        let (half, c) = (self.half, self.c);
-        let (s0, s1, s2) = (&mut self.s0, &mut self.s1, &mut self.s2);
+    fn add_lanes<L: Lanes>(&mut self, lanes: L, z: &[f64], start: usize) {
+        let half = self.half;
+        let c = lanes.splat(self.c);
+        let step = lanes.splat(LANES as f64);
+        let (mut s0, mut s1, mut s2) = (
+            lanes.load(&self.s0),
+            lanes.load(&self.s1),
+            lanes.load(&self.s2),
+        );
         let chunks = z.chunks_exact(LANES);
         let rest = chunks.remainder();
         // u = k − half stepped by whole numbers instead of converted from k: every value is a
-        // multiple of ½ below 2⁵², so both are exact and equal bit for bit (and the loop
-        // vectorises without an integer conversion per sample).
-        let mut u0 = start as f64 - half;
+        // multiple of ½ below 2⁵², so both are exact and equal bit for bit (a test checks it).
+        let u0 = start as f64 - half;
+        let mut u = lanes.load(&std::array::from_fn::<f64, LANES, _>(|l| u0 + l as f64));
         for chunk in chunks {
-            for l in 0..LANES {
-                let (u, v) = (u0 + l as f64, chunk[l]);
-                s0[l] += v;
-                s1[l] += v * u;
-                s2[l] += v * (u * u - c);
-            }
-            u0 += LANES as f64;
+            let v = lanes.load(chunk);
+            s0 = lanes.add(s0, v);
+            s1 = lanes.add(s1, lanes.mul(v, u));
+            s2 = lanes.add(s2, lanes.mul(v, lanes.sub(lanes.mul(u, u), c)));
+            u = lanes.add(u, step);
         }
+        lanes.store(s0, &mut self.s0);
+        lanes.store(s1, &mut self.s1);
+        lanes.store(s2, &mut self.s2);
         // Lane i of the tail, as every chunk's lane i: the lane of a sample is its position
         // from `start` modulo LANES.
         let tail = start + z.len() - rest.len();
+        let c = self.c;
         for (l, &v) in rest.iter().enumerate() {
             let u = (tail + l) as f64 - half;
-            s0[l] += v;
-            s1[l] += v * u;
-            s2[l] += v * (u * u - c);
+            self.s0[l] += v;
+            self.s1[l] += v * u;
+            self.s2[l] += v * (u * u - c);
         }
     }
 
@@ -232,20 +324,22 @@ impl Trend {
     /// `z`).
     #[allow(clippy::inline_always)] // inlined into the dispatched [`AcfState::feed`]
     #[inline(always)]
-    fn residuals(&self, z: &[f64], start: usize, out: &mut [f64]) {
+    fn residuals<L: Lanes>(&self, lanes: L, z: &[f64], start: usize, out: &mut [f64]) {
         let (b0, b1, b2) = (self.b0 - self.b2 * self.c, self.b1, self.b2);
         let half = self.half;
+        let (vb0, vb1, vb2) = (lanes.splat(b0), lanes.splat(b1), lanes.splat(b2));
+        let step = lanes.splat(LANES as f64);
         // u stepped as in TrendSums::add_lanes (exact, equal to the converted k − half).
         let chunks = z.chunks_exact(LANES);
         let rest = chunks.remainder();
         let whole = z.len() - rest.len();
-        let mut u0 = start as f64 - half;
+        let u0 = start as f64 - half;
+        let mut u = lanes.load(&std::array::from_fn::<f64, LANES, _>(|l| u0 + l as f64));
         for (chunk, r) in chunks.zip(out[..whole].chunks_exact_mut(LANES)) {
-            for l in 0..LANES {
-                let u = u0 + l as f64;
-                r[l] = chunk[l] - (b0 + u * (b1 + b2 * u));
-            }
-            u0 += LANES as f64;
+            let v = lanes.load(chunk);
+            let t = lanes.add(vb0, lanes.mul(u, lanes.add(vb1, lanes.mul(vb2, u))));
+            lanes.store(lanes.sub(v, t), r);
+            u = lanes.add(u, step);
         }
         for (i, (&v, r)) in rest.iter().zip(&mut out[whole..z.len()]).enumerate() {
             let u = (start + whole + i) as f64 - half;
@@ -278,7 +372,7 @@ impl Lag1Sums {
     /// Adds the next consecutive values of the stream.
     #[allow(clippy::inline_always)] // inlined into the dispatched [`AcfState::feed`]
     #[inline(always)]
-    fn extend(&mut self, block: &[f64]) {
+    fn extend<L: Lanes>(&mut self, lanes: L, block: &[f64]) {
         let Some((&head, _)) = block.split_first() else {
             return;
         };
@@ -287,22 +381,25 @@ impl Lag1Sums {
         } else {
             self.s11 += self.last * head;
         }
-        let mut s = [0.0_f64; LANES];
-        let mut s2 = [0.0_f64; LANES];
-        let mut s11 = [0.0_f64; LANES];
         let pairs = block.len() - 1;
         let (lead, follow) = (&block[..pairs], &block[1..]);
         let lead_chunks = lead.chunks_exact(LANES);
         let follow_chunks = follow.chunks_exact(LANES);
         let (lead_rest, follow_rest) = (lead_chunks.remainder(), follow_chunks.remainder());
+        let zero = lanes.splat(0.0);
+        let (mut vs, mut vs2, mut vs11) = (zero, zero, zero);
         for (a, b) in lead_chunks.zip(follow_chunks) {
-            for l in 0..LANES {
-                let w = a[l];
-                s[l] += w;
-                s2[l] += w * w;
-                s11[l] += w * b[l];
-            }
+            let (w, v) = (lanes.load(a), lanes.load(b));
+            vs = lanes.add(vs, w);
+            vs2 = lanes.add(vs2, lanes.mul(w, w));
+            vs11 = lanes.add(vs11, lanes.mul(w, v));
         }
+        let mut s = [0.0_f64; LANES];
+        let mut s2 = [0.0_f64; LANES];
+        let mut s11 = [0.0_f64; LANES];
+        lanes.store(vs, &mut s);
+        lanes.store(vs2, &mut s2);
+        lanes.store(vs11, &mut s11);
         for (&w, &v) in lead_rest.iter().zip(follow_rest) {
             s[0] += w;
             s2[0] += w * w;
@@ -397,8 +494,12 @@ impl AcfState {
             type Output = ();
             #[allow(clippy::inline_always)] // pulp's contract: inlined into the dispatched function
             #[inline(always)]
-            fn with_simd<S: pulp::Simd>(self, _simd: S) {
-                self.0.feed_blocks(self.1, self.2, self.3);
+            fn with_simd<S: pulp::Simd>(self, simd: S) {
+                if S::F64_LANES == LANES {
+                    self.0.feed_blocks(SimdLanes(simd), self.1, self.2, self.3);
+                } else {
+                    self.0.feed_blocks(ArrayLanes, self.1, self.2, self.3);
+                }
             }
         }
         crate::simd::arch().dispatch(Feed(self, z, start, trend));
@@ -406,16 +507,16 @@ impl AcfState {
 
     #[allow(clippy::inline_always)] // inlined into the dispatched [`AcfState::feed`]
     #[inline(always)]
-    fn feed_blocks(&mut self, z: &[f64], start: usize, trend: &Trend) {
+    fn feed_blocks<L: Lanes>(&mut self, lanes: L, z: &[f64], start: usize, trend: &Trend) {
         let mut o = 0;
         while o < z.len() {
             let e = (o + BLOCK).min(z.len());
             let mut len = e - o;
-            trend.residuals(&z[o..e], start + o, &mut self.current[..len]);
+            trend.residuals(lanes, &z[o..e], start + o, &mut self.current[..len]);
             // Orders below DMIN never enter the decision (`decide` starts at d = DMIN): their
             // sums are not accumulated (a third of the pass for the Allan variances).
             if self.lowest == 0 {
-                self.sums[0].extend(&self.current[..len]);
+                self.sums[0].extend(lanes, &self.current[..len]);
             }
             for j in 1..self.levels {
                 let (current, next) = (&self.current[..len], &mut self.next);
@@ -435,7 +536,7 @@ impl AcfState {
                 self.carry[j - 1] = current.last().copied().or(self.carry[j - 1]);
                 len = out + pairs;
                 if j >= self.lowest {
-                    self.sums[j].extend(&self.next[..len]);
+                    self.sums[j].extend(lanes, &self.next[..len]);
                 }
                 std::mem::swap(&mut self.current, &mut self.next);
             }
@@ -856,7 +957,8 @@ fn stretch_sum(lanes: &mut [f64; PREFIX_LANES], v: &[f64], offset: usize, refere
         #[allow(clippy::inline_always)] // pulp's contract: inlined into the dispatched function
         #[inline(always)]
         fn with_simd<S: pulp::Simd>(self, _simd: S) {
-            let Sum(lanes, v, offset, r) = self;
+            let Sum(out, v, offset, r) = self;
+            let mut lanes = *out;
             let head = ((PREFIX_LANES - offset) % PREFIX_LANES).min(v.len());
             for (l, &x) in lanes[offset..offset + head].iter_mut().zip(v) {
                 *l += x - r;
@@ -871,6 +973,7 @@ fn stretch_sum(lanes: &mut [f64; PREFIX_LANES], v: &[f64], offset: usize, refere
             for (l, &x) in lanes.iter_mut().zip(rest) {
                 *l += x - r;
             }
+            *out = lanes;
         }
     }
     crate::simd::arch().dispatch(Sum(lanes, v, offset, reference));
@@ -1523,7 +1626,7 @@ mod tests {
             assert_eq!(bits(&sums.s2), bits(&reference[2]));
             let trend = Trend::fit(&x);
             let mut out = vec![0.0; end - start];
-            trend.residuals(&x[start..end], start, &mut out);
+            trend.residuals(ArrayLanes, &x[start..end], start, &mut out);
             let (b0, b1, b2) = (trend.b0 - trend.b2 * trend.c, trend.b1, trend.b2);
             let expected: Vec<f64> = (start..end)
                 .map(|k| {
