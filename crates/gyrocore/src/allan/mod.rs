@@ -1351,7 +1351,6 @@ const WORK_CONFIDENCE: f64 = 3.0;
 #[derive(Debug, Default)]
 pub struct Workspace {
     angle: Vec<f64>,
-    segments: Vec<f64>,
 }
 
 impl Workspace {
@@ -1368,10 +1367,7 @@ impl Workspace {
             .unwrap_or_else(std::sync::PoisonError::into_inner)
             .pop()
             .unwrap_or_default();
-        Workspace {
-            angle,
-            segments: Vec::new(),
-        }
+        Workspace { angle }
     }
 
     /// Hands the angle buffer back for later calls, within [`SPARE_BYTES`] in total.
