@@ -341,13 +341,12 @@ pub(crate) fn analyse(
                 let mut denominator = 0.0;
                 for (&t, &len) in terms[j].iter().zip(&lens) {
                     if t > 0 {
-                        let nu = match nus.get(&len) {
-                            Some(&nu) => nu,
-                            None => {
-                                let nu = edf::edf(estimator, out.alpha[j], m, len)?;
-                                nus.insert(len, nu);
-                                nu
-                            }
+                        let nu = if let Some(&nu) = nus.get(&len) {
+                            nu
+                        } else {
+                            let nu = edf::edf(estimator, out.alpha[j], m, len)?;
+                            nus.insert(len, nu);
+                            nu
                         };
                         let t = t as f64;
                         denominator += t * t / nu;
@@ -479,12 +478,12 @@ mod tests {
             }
             match seed % 4 {
                 0 => {
-                    for _ in 0..1 + draw(6) {
+                    for _ in 0..=draw(6) {
                         data[draw(n)] = f64::NAN;
                     }
                 }
                 1 => {
-                    for _ in 0..1 + draw(4) {
+                    for _ in 0..=draw(4) {
                         let s = draw(n);
                         let len = 1 + draw(n / 20);
                         for v in data.iter_mut().skip(s).take(len) {
