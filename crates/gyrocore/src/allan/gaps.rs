@@ -38,6 +38,10 @@
 //! Biometrics Bulletin 2 (1946), for a weighted sum of independent scaled chi-squares). The
 //! noise type is identified on the longest segment (lag-1 autocorrelation, [`super::noise_id`]).
 //! τ is limited by the longest segment: a factor with no term in any segment is beyond the data.
+//!
+//! **Memory.** The segments are analysed one after the other in one buffer (the workspace's
+//! angle buffer, sized for the longest segment): a record with gaps costs at most one working
+//! copy of its longest gap-free stretch per column being analysed, never a copy of the column.
 
 use super::{
     AllanAnalysis, Column, Config, DataType, Estimator, Moments, Progress, Taus, WORK_CONFIDENCE,

@@ -26,13 +26,17 @@
 //! Stable32 α of AllanTools' tables with ≥ 30 points is reproduced.
 //!
 //! `d_max = 2` for the Allan-type variances, 3 for the Hadamard variance. Everything is computed
-//! in streaming passes over the strided samples `x_{k·m}` (the trend, then one pass per
-//! difference order, the differences rebuilt on the fly from `d + 1` consecutive residuals):
-//! O(M/m) work and O(1) memory per τ, so an octave τ set costs O(M) in total.
+//! in streaming passes over the decimated samples `x_{k·m}` (the trend, then one pass per
+//! difference order, the differences rebuilt block by block from the residuals): O(M/m) work
+//! per τ, so an octave τ set costs O(M) in total. The factors up to 8 share one sweep over the
+//! series (each block gathered per factor into a small buffer); a larger factor is read once,
+//! strided, into a copy of its M/m decimated samples. The sums run in four fixed lanes, in
+//! vector registers where the CPU has four-lane f64 vectors and in arrays otherwise, with the
+//! same operations per lane (no fused multiply-add): the same bits on every CPU.
 //!
 //! **Too few points.** When `⌈M/m⌉ < 30` the ACF method is not used: [`FewPoints`] applies the
 //! B1 ratio (Barnes 1969; Howe, Beard, Greenhall & Riley 2000) and R(n) = MVAR/AVAR (IEEE 1139)
-//! at that τ, one extra sequential pass for all such factors together. Where neither can be
+//! at that τ, one extra pass for all such factors together (beside the ACF passes). Where neither can be
 //! formed (fewer than three `m`-averages, or `M < 3m`) the factor takes the result of the
 //! largest requested factor below it; failing that, the ACF result at `m_c = ⌊(M − 1)/29⌋`, the
 //! largest factor with 30 points; failing that, white rate noise (α = 0).
