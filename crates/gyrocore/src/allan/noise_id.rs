@@ -899,7 +899,7 @@ struct FewFactor {
 /// `m` the decimated samples `x_{k·m}` and, on the grid `j = 0, q, 2q, …` (`q = ⌈m/8⌉`), the
 /// samples and prefix sums that the Allan and modified Allan terms at `j` need. The prefix sums
 /// are formed only at those positions (the "marks", sorted, of every factor): the samples
-/// between two marks are summed in [`PREFIX_LANES`] lanes relative to the first one, `x_r`
+/// between two marks are summed in 16 lanes relative to the first one, `x_r`
 /// (`Σ (x_i − x_r)` plus the exact product `L·x_r`, so that the sum of a random walk's stretch
 /// loses nothing to its offset), and the stretch sums are added with Neumaier's compensated
 /// summation. Each sample's lane is its distance from the stretch's start modulo the lane
