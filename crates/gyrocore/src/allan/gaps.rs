@@ -38,6 +38,10 @@
 //! Biometrics Bulletin 2 (1946), for a weighted sum of independent scaled chi-squares). The
 //! noise type is identified on the longest segment (lag-1 autocorrelation, [`super::noise_id`]).
 //! τ is limited by the longest segment: a factor with no term in any segment is beyond the data.
+//!
+//! **Memory.** The segments are analysed one after the other in one buffer (the workspace's
+//! angle buffer, sized for the longest segment): a record with gaps costs at most one working
+//! copy of its longest gap-free stretch per column being analysed, never a copy of the column.
 
 use super::{
     AllanAnalysis, Column, Config, DataType, Estimator, Moments, Progress, Taus, WORK_CONFIDENCE,
@@ -46,6 +50,10 @@ use super::{
     unscale,
 };
 use crate::{Error, Result};
+
+#[cfg(test)]
+#[path = "gaps_legacy.rs"]
+mod legacy;
 
 /// Maximal runs `[s, e)` of non-NaN samples.
 pub fn segments(column: Column<'_>) -> Vec<(usize, usize)> {
@@ -67,15 +75,26 @@ pub fn segments(column: Column<'_>) -> Vec<(usize, usize)> {
     out
 }
 
+/// Number of non-overlapping terms on the global grid (see [`non_overlapping_sum`]) in a
+/// segment of `len` angle samples whose first one has global index `first_global`.
+fn non_overlapping_count(len: usize, m: usize, first_global: usize) -> usize {
+    let first = first_global.div_ceil(m) * m - first_global;
+    if len < first + 2 * m + 1 {
+        0
+    } else {
+        (len - 1 - first - 2 * m) / m + 1
+    }
+}
+
 /// Non-overlapping sum on the global grid: terms at global angle index `k ≡ 0 (mod m)` inside
 /// the segment whose first angle sample has global index `first_global`.
 fn non_overlapping_sum(x: &[f64], m: usize, first_global: usize) -> (f64, usize) {
     let first = first_global.div_ceil(m) * m - first_global;
     let len = x.len();
-    if len < first + 2 * m + 1 {
+    let count = non_overlapping_count(len, m, first_global);
+    if count == 0 {
         return (0.0, 0);
     }
-    let count = (len - 1 - first - 2 * m) / m + 1;
     let sum = sum_squares(count, |i| {
         let k = first + i * m;
         x[k + 2 * m] - 2.0 * x[k + m] + x[k]
@@ -83,21 +102,84 @@ fn non_overlapping_sum(x: &[f64], m: usize, first_global: usize) -> (f64, usize)
     (sum, count)
 }
 
+/// One pass over the column: the gap-free segments (as [`segments`]), the largest finite
+/// magnitude, and an error at the first infinite value.
+///
+/// Blocks of [`SCAN_BLOCK`] samples are read once for their magnitudes (in lanes; NaN never
+/// wins a comparison, so it is skipped) and whether all are finite; only a block that holds a
+/// NaN or an infinity is walked sample by sample for the segment ends.
+fn scan(column: Column<'_>) -> Result<(Vec<(usize, usize)>, f64)> {
+    const LANES: usize = 8;
+    let n = column.len();
+    let mut out = Vec::new();
+    let mut start: Option<usize> = Some(0);
+    let mut peaks = [0.0_f64; LANES];
+    let mut b0 = 0;
+    while b0 < n {
+        let b1 = (b0 + SCAN_BLOCK).min(n);
+        let mut finite = [true; LANES];
+        let mut i = b0;
+        while i + LANES <= b1 {
+            for l in 0..LANES {
+                let a = column.get(i + l).abs();
+                peaks[l] = if a > peaks[l] { a } else { peaks[l] };
+                finite[l] &= a < f64::INFINITY;
+            }
+            i += LANES;
+        }
+        for j in i..b1 {
+            let a = column.get(j).abs();
+            peaks[0] = if a > peaks[0] { a } else { peaks[0] };
+            finite[0] &= a < f64::INFINITY;
+        }
+        if finite.iter().any(|&f| !f) {
+            for j in b0..b1 {
+                let v = column.get(j);
+                if v.is_nan() {
+                    if let Some(s) = start.take() {
+                        if s < j {
+                            out.push((s, j));
+                        }
+                    }
+                } else if v.is_infinite() {
+                    return Err(Error::NonFinite {
+                        name: "data",
+                        index: j,
+                    });
+                } else if start.is_none() {
+                    start = Some(j);
+                }
+            }
+            // A segment may start with the next (unwalked) block; an empty one is dropped.
+            start.get_or_insert(b1);
+        }
+        b0 = b1;
+    }
+    if let Some(s) = start {
+        if s < n {
+            out.push((s, n));
+        }
+    }
+    Ok((out, peaks.iter().fold(0.0_f64, |p, &q| p.max(q))))
+}
+
+/// Samples per block of [`scan`].
+const SCAN_BLOCK: usize = 256;
+
 /// Gap-aware analysis of a column that contains NaN (see the module docs).
+///
+/// The segments are processed one at a time in the workspace's angle buffer (one segment's
+/// angle series, at most the longest segment plus one sample): the raw sums of each, and the
+/// noise identification on the longest one while it is in the buffer. The term counts, hence
+/// the factors kept, are known from the segments' lengths before any data are read.
 pub(crate) fn analyse(
     column: Column<'_>,
     config: &Config,
     workspace: &mut Workspace,
     progress: &Progress<'_>,
 ) -> Result<AllanAnalysis> {
-    if let Some(index) = column.iter().position(f64::is_infinite) {
-        return Err(Error::NonFinite {
-            name: "data",
-            index,
-        });
-    }
     let estimator = config.estimator;
-    let segs = segments(column);
+    let (segs, peak) = scan(column)?;
     let longest = segs
         .iter()
         .enumerate()
@@ -126,81 +208,37 @@ pub(crate) fn analyse(
     })?;
 
     // One scale for the whole record (segments' sums are added): the largest finite magnitude.
-    let peak = column
-        .iter()
-        .filter(|v| !v.is_nan())
-        .fold(0.0_f64, |p, v| p.max(v.abs()));
     let k = scale_exponent(peak);
     let factor = pow2(-k);
     // An extreme period is computed as t0'·2^e (see `split_period`); τ were resolved above with
     // the period itself.
     let (t0, period_exponent) = split_period(config.t0);
-    // Angle series of every segment (data scaled by 2^-k), concatenated in the workspace.
-    let buffer = &mut workspace.segments;
-    buffer.clear();
-    let mut ranges = Vec::with_capacity(segs.len());
-    // The data's variance over the samples present: each segment's moments (of the rate; of
-    // the rate differences inside the segment for angle input), combined.
-    let mut moments = Moments::default();
-    for &(s, e) in &segs {
-        let start = buffer.len();
-        let part = column.sub(s, e);
-        match config.data_type {
-            DataType::Rate => {
-                let (_, m) = integrate_rate_into(
-                    part,
-                    t0,
-                    &mut workspace.angle,
-                    &Progress::none(),
-                    Some(k),
-                )?;
-                moments = moments.combine(m);
-                buffer.extend_from_slice(&workspace.angle);
-            }
-            DataType::Angle => {
-                moments = moments.combine(angle_pass(part, factor, t0).2);
-                buffer.extend(part.iter().map(|v| v * factor));
-            }
-        }
-        ranges.push((start, buffer.len()));
-    }
-    let n_total = column.len() as f64;
+    // Length of each segment's angle series: N + 1 integrated rate samples, or the N angles.
+    let extra = usize::from(config.data_type == DataType::Rate);
+    let lens: Vec<usize> = segs.iter().map(|&(s, e)| e - s + extra).collect();
 
-    // Raw sums and term counts per segment and factor.
-    let mut sums: Vec<Vec<f64>> = vec![Vec::with_capacity(segs.len()); ms.len()];
-    let mut terms: Vec<Vec<usize>> = vec![Vec::with_capacity(segs.len()); ms.len()];
-    for (&(a, b), &(s, _)) in ranges.iter().zip(&segs) {
-        let x = &buffer[a..b];
-        let weight = WORK_VARIANCES * x.len() as f64;
+    // Term counts per factor and segment (from the lengths alone).
+    let fits = |len: usize, m: usize| {
+        estimator == Estimator::NonOverlapping || m <= estimator.max_factor(len)
+    };
+    let count = |m: usize, len: usize, s: usize| -> usize {
         if estimator == Estimator::NonOverlapping {
-            for (j, &m) in ms.iter().enumerate() {
-                let (sum, count) = non_overlapping_sum(x, m, s);
-                sums[j].push(sum);
-                terms[j].push(count);
-            }
-            progress.advance(weight);
-            continue;
-        }
-        let max_m = estimator.max_factor(x.len());
-        let fit: Vec<usize> = ms.iter().copied().filter(|&m| m <= max_m).collect();
-        let seg_sums = if fit.is_empty() {
-            progress.advance(weight);
-            Vec::new()
+            non_overlapping_count(len, m, s)
+        } else if fits(len, m) {
+            estimator.n_terms(len, m)
         } else {
-            raw_sums(x, &fit, estimator, progress, weight)?
-        };
-        let mut it = seg_sums.into_iter();
-        for (j, &m) in ms.iter().enumerate() {
-            if m <= max_m {
-                sums[j].push(it.next().unwrap_or(0.0));
-                terms[j].push(estimator.n_terms(x.len(), m));
-            } else {
-                sums[j].push(0.0);
-                terms[j].push(0);
-            }
+            0
         }
-    }
-    progress.check()?;
+    };
+    let mut terms: Vec<Vec<usize>> = ms
+        .iter()
+        .map(|&m| {
+            lens.iter()
+                .zip(&segs)
+                .map(|(&len, &(s, _))| count(m, len, s))
+                .collect()
+        })
+        .collect();
     let mut n_terms: Vec<usize> = terms.iter().map(|t| t.iter().sum()).collect();
     if let Some(j) = n_terms.iter().position(|&t| t == 0) {
         // Only the non-overlapping grid can miss every segment below the longest one's limit.
@@ -217,8 +255,6 @@ pub(crate) fn analyse(
         let mut it = keep.iter();
         ms.retain(|_| *it.next().unwrap_or(&false));
         let mut it = keep.iter();
-        sums.retain(|_| *it.next().unwrap_or(&false));
-        let mut it = keep.iter();
         terms.retain(|_| *it.next().unwrap_or(&false));
         n_terms.retain(|&t| t > 0);
         if ms.is_empty() {
@@ -228,6 +264,61 @@ pub(crate) fn analyse(
             ));
         }
     }
+
+    // Raw sums per segment and factor, one segment's angle series at a time.
+    let buffer = &mut workspace.angle;
+    if buffer.capacity() < lens[longest] {
+        // Sized once for the longest segment (not grown segment by segment).
+        *buffer = Vec::with_capacity(lens[longest]);
+    }
+    let mut sums: Vec<Vec<f64>> = vec![Vec::with_capacity(segs.len()); ms.len()];
+    // The data's variance over the samples present: each segment's moments (of the rate; of
+    // the rate differences inside the segment for angle input), combined.
+    let mut moments = Moments::default();
+    let mut alpha = None;
+    for (i, &(s, e)) in segs.iter().enumerate() {
+        let part = column.sub(s, e);
+        match config.data_type {
+            DataType::Rate => {
+                let (_, m) = integrate_rate_into(part, t0, buffer, &Progress::none(), Some(k))?;
+                moments = moments.combine(m);
+            }
+            DataType::Angle => {
+                moments = moments.combine(angle_pass(part, factor, t0).2);
+                buffer.clear();
+                buffer.extend(part.iter().map(|v| v * factor));
+            }
+        }
+        let x = &buffer[..];
+        let weight = WORK_VARIANCES * x.len() as f64;
+        if estimator == Estimator::NonOverlapping {
+            for (j, &m) in ms.iter().enumerate() {
+                sums[j].push(non_overlapping_sum(x, m, s).0);
+            }
+            progress.advance(weight);
+        } else {
+            let fit: Vec<usize> = ms.iter().copied().filter(|&m| fits(x.len(), m)).collect();
+            let seg_sums = if fit.is_empty() {
+                progress.advance(weight);
+                Vec::new()
+            } else {
+                raw_sums(x, &fit, estimator, progress, weight)?
+            };
+            let mut it = seg_sums.into_iter();
+            for (j, &m) in ms.iter().enumerate() {
+                sums[j].push(if fits(x.len(), m) {
+                    it.next().unwrap_or(0.0)
+                } else {
+                    0.0
+                });
+            }
+        }
+        if i == longest && config.confidence.is_some() {
+            // The noise type, identified on the longest segment (module docs).
+            alpha = Some(confidence::alphas(x, estimator, &ms));
+        }
+    }
+    progress.check()?;
     let variance: Vec<f64> = ms
         .iter()
         .zip(&sums)
@@ -238,22 +329,29 @@ pub(crate) fn analyse(
         })
         .collect();
 
-    let confidence = match config.confidence {
-        Some(level) => {
-            let (a, b) = ranges[longest];
-            let alpha = confidence::alphas(&buffer[a..b], estimator, &ms);
+    let n_total = column.len() as f64;
+    let confidence = match (config.confidence, alpha) {
+        (Some(level), Some(alpha)) => {
             let mut out = confidence::Intervals {
                 alpha,
                 edf: Vec::with_capacity(ms.len()),
                 low: Vec::with_capacity(ms.len()),
                 high: Vec::with_capacity(ms.len()),
             };
+            // Segments of equal length have equal EDF: each computed once per τ.
+            let mut nus: std::collections::HashMap<usize, f64> = std::collections::HashMap::new();
             for (j, &m) in ms.iter().enumerate() {
+                nus.clear();
                 let mut denominator = 0.0;
-                for (k, &t) in terms[j].iter().enumerate() {
+                for (&t, &len) in terms[j].iter().zip(&lens) {
                     if t > 0 {
-                        let (a, b) = ranges[k];
-                        let nu = edf::edf(estimator, out.alpha[j], m, b - a)?;
+                        let nu = if let Some(&nu) = nus.get(&len) {
+                            nu
+                        } else {
+                            let nu = edf::edf(estimator, out.alpha[j], m, len)?;
+                            nus.insert(len, nu);
+                            nu
+                        };
                         let t = t as f64;
                         denominator += t * t / nu;
                     }
@@ -268,7 +366,7 @@ pub(crate) fn analyse(
             progress.advance(WORK_CONFIDENCE * n_total);
             Some(out)
         }
-        None => None,
+        _ => None,
     };
     let k = k + period_correction(config.data_type, period_exponent, false);
     Ok(unscale(ms, &variance, n_terms, confidence, k, &moments))
@@ -364,6 +462,116 @@ mod tests {
                 assert!(ci.low[j] <= r.variance[j] && r.variance[j] <= ci.high[j]);
             }
         }
+    }
+
+    #[test]
+    fn equals_the_previous_implementation() {
+        // Randomized old-versus-new check (the frozen pre-rewrite analysis, `legacy`): random
+        // gap patterns (single NaN, runs, at the ends, a NaN every k-th sample), rate and
+        // angle input, every gap-aware estimator, several τ sets, with and without intervals:
+        // the whole result equal, bit for bit.
+        let mut rng = crate::random::normal_vec(4096, 77).into_iter().cycle();
+        let mut draw = move |n: usize| ((rng.next().unwrap().abs() * 1e6) as usize) % n.max(1);
+        let mut compared = 0;
+        for seed in 0..24u64 {
+            let n = [200usize, 999, 3_000, 12_345][seed as usize % 4];
+            let mut data = noise(n, 900 + seed);
+            let drift = 0.3 * (seed % 4) as f64;
+            for (i, v) in data.iter_mut().enumerate() {
+                *v += drift + 1e-5 * i as f64;
+            }
+            match seed % 4 {
+                0 => {
+                    for _ in 0..=draw(6) {
+                        data[draw(n)] = f64::NAN;
+                    }
+                }
+                1 => {
+                    for _ in 0..=draw(4) {
+                        let s = draw(n);
+                        let len = 1 + draw(n / 20);
+                        for v in data.iter_mut().skip(s).take(len) {
+                            *v = f64::NAN;
+                        }
+                    }
+                }
+                2 => {
+                    data[0] = f64::NAN;
+                    data[n - 1] = f64::NAN;
+                    data[n / 2] = f64::NAN;
+                }
+                _ => {
+                    // 256: NaN at the last sample of scan blocks.
+                    let every = if seed == 3 { 256 } else { 37 + draw(400) };
+                    for v in data.iter_mut().step_by(every) {
+                        *v = f64::NAN;
+                    }
+                }
+            }
+            for data_type in [DataType::Rate, DataType::Angle] {
+                for estimator in [
+                    Estimator::Overlapping,
+                    Estimator::NonOverlapping,
+                    Estimator::Modified,
+                    Estimator::Hadamard,
+                ] {
+                    for (taus, ci) in [
+                        (Taus::Spec(TauSpec::Octave), Some(0.683)),
+                        (Taus::Spec(TauSpec::All), Some(0.95)),
+                        (Taus::Spec(TauSpec::Decade), None),
+                    ] {
+                        let cfg = Config {
+                            t0: 0.01,
+                            data_type,
+                            estimator,
+                            taus,
+                            confidence: ci,
+                            gaps: Gaps::Omit,
+                        };
+                        let new = analyse(
+                            Column::contiguous(&data),
+                            &cfg,
+                            &mut Workspace::new(),
+                            &Progress::none(),
+                        );
+                        let old = legacy::analyse(
+                            Column::contiguous(&data),
+                            &cfg,
+                            &mut Workspace::new(),
+                            &mut Vec::new(),
+                            &Progress::none(),
+                        );
+                        assert_eq!(new, old, "seed={seed} {data_type:?} {estimator:?}");
+                        compared += usize::from(new.is_ok());
+                    }
+                }
+            }
+        }
+        assert!(compared > 400, "{compared}");
+    }
+
+    #[test]
+    fn scan_equals_segments_and_peak() {
+        let mut x = noise(2_000, 4);
+        for i in [0usize, 1, 7, 255, 256, 257, 511, 1_000, 1_001, 1_999] {
+            x[i] = f64::NAN;
+        }
+        x[600] = -9.5;
+        let (segs, peak) = scan(Column::contiguous(&x)).unwrap();
+        assert_eq!(segs, segments(Column::contiguous(&x)));
+        assert_eq!(peak, 9.5);
+        // A strided column (the matrix path) and an infinity after a NaN.
+        let matrix: Vec<f64> = x.iter().flat_map(|&v| [v, 1.0, 2.0]).collect();
+        let column = Column::of(&matrix, 3, 0).unwrap();
+        assert_eq!(scan(column).unwrap().0, segs);
+        x[1_500] = f64::NEG_INFINITY;
+        assert_eq!(
+            scan(Column::contiguous(&x)).unwrap_err(),
+            Error::NonFinite {
+                name: "data",
+                index: 1_500
+            }
+        );
     }
 
     #[test]

@@ -1427,7 +1427,6 @@ const WORK_CONFIDENCE: f64 = 3.0;
 #[derive(Debug, Default)]
 pub struct Workspace {
     angle: Vec<f64>,
-    segments: Vec<f64>,
     /// `angle[1..]` holds the next column's rate samples ([`gather_wave`]); reset by the
     /// analysis that uses them.
     prefilled: bool,
@@ -1449,7 +1448,6 @@ impl Workspace {
             .unwrap_or_default();
         Workspace {
             angle,
-            segments: Vec::new(),
             prefilled: false,
         }
     }
