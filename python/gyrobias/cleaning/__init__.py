@@ -79,7 +79,9 @@ def _channel_units(units: Any, n_channels: int) -> tuple[str | None, ...]:
     return tuple(checked_units("units", u) for u in units)
 
 
-def _out(out: Any, matrix: NDArray[np.float64], shape: tuple[int, ...]) -> tuple[NDArray[np.float64], bool]:
+def _out(
+    out: Any, matrix: NDArray[np.float64], shape: tuple[int, ...]
+) -> tuple[NDArray[np.float64], bool]:
     """The caller's buffer ``out`` as an ``(n, k)`` view of it, and whether it is the data
     itself (in place). Otherwise the core writes its result into it in the pass that computes
     it (no separate copy of the data)."""
