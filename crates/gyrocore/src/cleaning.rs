@@ -1054,15 +1054,6 @@ fn block_normal(
     reference: &[f64],
 ) -> BlockNormal {
     let mut basis = [0.0_f64; 6];
-    for r in 0..block.len() / n_cols {
-        let p = legendre(first_row + r, n);
-        basis[0] += 1.0;
-        basis[1] += p[1];
-        basis[2] += p[2];
-        basis[3] += p[1] * p[1];
-        basis[4] += p[1] * p[2];
-        basis[5] += p[2] * p[2];
-    }
     let mut sums = vec![[0.0_f64; 9]; n_cols];
     let mut counts = vec![0_usize; n_cols];
     let mut gap = vec![false; n_cols];
@@ -1079,6 +1070,8 @@ fn block_normal(
             counts: &mut counts[j0..j0 + k],
             gap: &mut gap[j0..j0 + k],
             infinite: false,
+            // The first group also sums the basis (one Legendre evaluation per row).
+            basis: (j0 == 0).then_some(&mut basis),
         };
         match k {
             1 => g.run::<1>(),
@@ -1135,6 +1128,8 @@ struct NormalGroup<'a> {
     counts: &'a mut [usize],
     gap: &'a mut [bool],
     infinite: bool,
+    /// The block's basis sums (entries 0-5), accumulated row by row when given.
+    basis: Option<&'a mut [f64; 6]>,
 }
 
 impl NormalGroup<'_> {
@@ -1146,8 +1141,18 @@ impl NormalGroup<'_> {
         let mut count = [0_usize; K];
         let mut gap = [false; K];
         let mut infinite = false;
+        let mut basis = [0.0_f64; 6];
+        let with_basis = self.basis.is_some();
         for (r, row) in self.block.chunks_exact(self.n_cols).enumerate() {
             let p = legendre(self.first_row + r, self.n);
+            if with_basis {
+                basis[0] += 1.0;
+                basis[1] += p[1];
+                basis[2] += p[2];
+                basis[3] += p[1] * p[1];
+                basis[4] += p[1] * p[2];
+                basis[5] += p[2] * p[2];
+            }
             let row = &row[self.j0..self.j0 + K];
             for j in 0..K {
                 let v = row[j];
@@ -1171,6 +1176,9 @@ impl NormalGroup<'_> {
             self.gap[j] = gap[j];
         }
         self.infinite = infinite;
+        if let Some(b) = self.basis.as_deref_mut() {
+            *b = basis;
+        }
     }
 }
 
