@@ -161,7 +161,7 @@ REGISTRY: dict[str, str] = {
     "cleaning.DetrendResult.__init__": "data:field coefficients:field order:field fs:field "
     "units:field",
     "cleaning.DetrendResult.to_dict": "",
-    "cleaning.CleaningResult.__init__": "data:field outliers:field drift:field",
+    "cleaning.CleaningResult.__init__": "data:field outliers:field drift:field gaps:field",
     "cleaning.CleaningResult.describe": "",
     # The explorer (issue 35): an application over the public API above. Its settings and
     # sessions are checked by the functions they reach (every value goes through the library's

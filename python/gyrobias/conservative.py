@@ -230,7 +230,6 @@ def conservative(
         float(confidence),
     )
     squared = tuple(float(v) for v in raw["squared"])
-    base = coefficients.to("base") if coefficients.data_unit is not None else coefficients
     lo_used, hi_used = (float(v) for v in raw["tau_range"])
     built: dict[str, Term] = {}
     for s, c in zip(_SYMBOLS, squared):

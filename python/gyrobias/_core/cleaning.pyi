@@ -8,9 +8,11 @@ __all__ = [
     "MIN_OUTLIER_SAMPLES",
     "detrend",
     "detrend_in_place",
+    "detrend_into",
     "minmax_envelope",
     "remove_outliers",
     "remove_outliers_in_place",
+    "remove_outliers_into",
 ]
 
 MEAN_AD_TO_SD: float
@@ -35,8 +37,23 @@ def remove_outliers_in_place(
     NDArray[np.float64],
     NDArray[np.float64],
     NDArray[np.uint64],
+    int,
 ]: ...
-def detrend_in_place(data: NDArray[np.float64], fs: float, order: int) -> NDArray[np.float64]: ...
+def remove_outliers_into(
+    data: NDArray[np.float64], out: NDArray[np.float64], threshold: float
+) -> tuple[
+    NDArray[np.bool_],
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.uint64],
+    int,
+]: ...
+def detrend_in_place(
+    data: NDArray[np.float64], fs: float, order: int
+) -> tuple[NDArray[np.float64], int]: ...
+def detrend_into(
+    data: NDArray[np.float64], out: NDArray[np.float64], fs: float, order: int
+) -> tuple[NDArray[np.float64], int]: ...
 def minmax_envelope(
     data: NDArray[np.float64], bins: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.uint64]]: ...

@@ -79,9 +79,12 @@ def _channel_units(units: Any, n_channels: int) -> tuple[str | None, ...]:
     return tuple(checked_units("units", u) for u in units)
 
 
-def _into(out: Any, matrix: NDArray[np.float64], shape: tuple[int, ...]) -> NDArray[np.float64]:
-    """The caller's buffer ``out`` holding ``matrix`` (the data as ``(n, k)``), as an ``(n, k)``
-    view of it: the copy is skipped when ``out`` is the data itself (in place)."""
+def _out(
+    out: Any, matrix: NDArray[np.float64], shape: tuple[int, ...]
+) -> tuple[NDArray[np.float64], bool]:
+    """The caller's buffer ``out`` as an ``(n, k)`` view of it, and whether it is the data
+    itself (in place). Otherwise the core writes its result into it in the pass that computes
+    it (no separate copy of the data)."""
     if not isinstance(out, np.ndarray):
         raise TypeError(f"out must be a NumPy array, got {type(out).__name__}")
     if out.dtype != np.float64 or not out.flags.c_contiguous or not out.flags.writeable:
@@ -95,11 +98,9 @@ def _into(out: Any, matrix: NDArray[np.float64], shape: tuple[int, ...]) -> NDAr
         view.__array_interface__["data"][0] == matrix.__array_interface__["data"][0]
         and view.strides == matrix.strides
     )
-    if not same:
-        if np.shares_memory(view, matrix):
-            raise ValueError("out overlaps data: give the data itself (in place) or another buffer")
-        np.copyto(view, matrix)
-    return view
+    if not same and np.shares_memory(view, matrix):
+        raise ValueError("out overlaps data: give the data itself (in place) or another buffer")
+    return view, same
 
 
 def remove_outliers(
@@ -180,16 +181,30 @@ def remove_outliers(
     >>> bool(abs(r.adev[0] - 0.1) < 0.005)
     True
     """
+    return _remove_outliers(data, threshold, method=method, units=units, out=out)[0]
+
+
+def _remove_outliers(
+    data: ArrayLike,
+    threshold: float,
+    *,
+    method: str,
+    units: str | Sequence[str | None] | None,
+    out: NDArray[np.float64] | None,
+) -> tuple[OutlierResult, int]:
+    """:func:`remove_outliers` and the number of NaN in its ``data`` (counted by the core)."""
     choice("method", method, ("mad",))
     threshold = real("threshold", threshold)  # finite and > 0: the core's check
     matrix, shape = _matrix(data)
     channel_units = _channel_units(units, matrix.shape[1])
-    if out is None:
-        flat, mask, center, scale, count = _core.cleaning.remove_outliers(matrix, threshold)
+    flat, same = _out(out, matrix, shape) if out is not None else (np.empty(matrix.shape), False)
+    if same:
+        mask, center, scale, count, gaps = _core.cleaning.remove_outliers_in_place(flat, threshold)
     else:
-        flat = _into(out, matrix, shape)
-        mask, center, scale, count = _core.cleaning.remove_outliers_in_place(flat, threshold)
-    return OutlierResult(
+        mask, center, scale, count, gaps = _core.cleaning.remove_outliers_into(
+            matrix, flat, threshold
+        )
+    result = OutlierResult(
         data=flat.reshape(shape),
         mask=mask.reshape(shape),
         count=count.astype(np.int64),
@@ -199,6 +214,7 @@ def remove_outliers(
         units=channel_units,
         method=method,
     )
+    return result, gaps
 
 
 def detrend(
@@ -268,22 +284,35 @@ def detrend(
     >>> bool(np.max(np.abs(flat.data)) < 1e-12)
     True
     """
+    return _detrend(data, fs, order, units=units, out=out)[0]
+
+
+def _detrend(
+    data: ArrayLike,
+    fs: float,
+    order: int,
+    *,
+    units: str | Sequence[str | None] | None,
+    out: NDArray[np.float64] | None,
+) -> tuple[DetrendResult, int]:
+    """:func:`detrend` and the number of NaN in its ``data`` (counted by the core)."""
     fs = sample_rate(fs)
     order = integer("order", order)  # 1 or 2: the core's check
     matrix, shape = _matrix(data)
     channel_units = _channel_units(units, matrix.shape[1])
-    if out is None:
-        flat, coefficients = _core.cleaning.detrend(matrix, fs, order)
+    flat, same = _out(out, matrix, shape) if out is not None else (np.empty(matrix.shape), False)
+    if same:
+        coefficients, gaps = _core.cleaning.detrend_in_place(flat, fs, order)
     else:
-        flat = _into(out, matrix, shape)
-        coefficients = _core.cleaning.detrend_in_place(flat, fs, order)
-    return DetrendResult(
+        coefficients, gaps = _core.cleaning.detrend_into(matrix, flat, fs, order)
+    result = DetrendResult(
         data=flat.reshape(shape),
         coefficients=coefficients.reshape(matrix.shape[1], -1),
         order=order,
         fs=fs,
         units=channel_units,
     )
+    return result, gaps
 
 
 def minmax_envelope(data: ArrayLike, bins: int) -> Envelope:
@@ -400,17 +429,16 @@ def clean(
         outliers = _core.validate.positive("outliers", real("outliers", outliers))
     current: Any = data
     found = drift = None
+    gaps: int | None = None
     if outliers is not None:
-        found = remove_outliers(current, outliers, units=units, out=out)
+        found, gaps = _remove_outliers(current, outliers, method="mad", units=units, out=out)
         current = found.data
     if order is not None:
         # in the outlier step's output (a buffer of ours or the caller's out): one copy in all
-        drift = _detrend(current, fs, order, units=units, out=current if found is not None else out)
+        drift, gaps = _detrend(
+            current, fs, order, units=units, out=current if found is not None else out
+        )
         current = drift.data
     if found is None and drift is None:
         current = as_float_array("data", data, ndims=(1, 2))
-    return CleaningResult(data=current, outliers=found, drift=drift)
-
-
-#: :func:`detrend` under another name inside :func:`clean` (whose argument is ``detrend``).
-_detrend = detrend
+    return CleaningResult(data=current, outliers=found, drift=drift, gaps=gaps)

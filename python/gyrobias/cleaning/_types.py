@@ -188,15 +188,22 @@ class CleaningResult:
         The outlier step (``None``: not asked for).
     drift : DetrendResult or None
         The drift step (``None``: not asked for).
+    gaps : int or None
+        NaN samples (gaps) in ``data`` as the last step left it, counted by the core in the pass
+        that wrote it (``None``: not counted; :attr:`has_gaps` then looks at ``data``).
     """
 
     data: NDArray[np.float64]
     outliers: OutlierResult | None = None
     drift: DetrendResult | None = None
+    gaps: int | None = None
 
     @property
     def has_gaps(self) -> bool:
-        """Whether ``data`` holds NaN (then the Allan functions need ``gaps="omit"``)."""
+        """Whether ``data`` holds NaN (then the Allan functions need ``gaps="omit"``): from
+        ``gaps`` when the steps counted them (no scan of the samples), else by looking."""
+        if self.gaps is not None:
+            return self.gaps > 0
         return bool(np.isnan(self.data).any())
 
     def describe(self) -> str | None:

@@ -75,6 +75,19 @@ pub fn upper_bound(
     term: Term,
     confidence: f64,
 ) -> Result<UpperBound> {
+    let u2 = upper_variances(curve, used, edf, confidence)?;
+    Ok(bound_of(curve, used, &u2, term, confidence))
+}
+
+/// The upper confidence bounds `u²_i` of the points `used` (module docs): the part of
+/// [`upper_bound`] that does not depend on the term (one χ² quantile per point, computed once
+/// for all the terms of a fit by [`attach`]).
+fn upper_variances(
+    curve: &Curve<'_>,
+    used: &[usize],
+    edf: &[f64],
+    confidence: f64,
+) -> Result<Vec<f64>> {
     curve.validate()?;
     crate::validate::probability("confidence", confidence)?;
     if used.is_empty() {
@@ -110,10 +123,23 @@ pub fn upper_bound(
         ));
     }
     let alpha = 1.0 - confidence;
+    used.iter()
+        .zip(edf)
+        .map(|(&i, &e)| Ok(curve.variance[i] * e / chi2_ppf(alpha, e)?))
+        .collect()
+}
+
+/// [`upper_bound`] of `term` from the points' upper bounds `u2` ([`upper_variances`]).
+fn bound_of(
+    curve: &Curve<'_>,
+    used: &[usize],
+    u2: &[f64],
+    term: Term,
+    confidence: f64,
+) -> UpperBound {
     let mut best = (f64::INFINITY, 0usize);
-    for (k, (&i, &e)) in used.iter().zip(edf).enumerate() {
+    for (k, (&i, &u2)) in used.iter().zip(u2).enumerate() {
         let tau = curve.taus[i];
-        let u2 = curve.variance[i] * e / chi2_ppf(alpha, e)?;
         let c = u2 / term.basis(tau);
         if c < best.0 {
             best = (c, k);
@@ -133,14 +159,14 @@ pub fn upper_bound(
         sig(tau_range.1, 3),
         sig(tau, 3)
     );
-    Ok(UpperBound {
+    UpperBound {
         value,
         confidence,
         tau,
         tau_range,
         points: used.len(),
         reason,
-    })
+    }
 }
 
 /// `confidence` as a percentage with up to 4 significant digits and no trailing zeros
@@ -166,9 +192,14 @@ pub(crate) fn attach(
     edf: &[f64],
     confidence: f64,
 ) {
+    // The points' bounds are the same for every term: computed once, when a term needs them.
+    let mut u2: Option<Option<Vec<f64>>> = None;
     for t in terms.iter_mut() {
         if enabled[t.term.index()] && t.value.is_none() {
-            t.upper_bound = upper_bound(curve, used, edf, t.term, confidence).ok();
+            let u2 = u2.get_or_insert_with(|| upper_variances(curve, used, edf, confidence).ok());
+            t.upper_bound = u2
+                .as_deref()
+                .map(|u2| bound_of(curve, used, u2, t.term, confidence));
         }
     }
 }

@@ -90,6 +90,12 @@ pub struct Limit {
     pub t0: f64,
     /// Shortest τ the fit uses (s).
     pub tau_lo: f64,
+    /// The χ² quantiles of [`Limit::term`], computed once in [`Limit::new`] (a fit asks for
+    /// the weights at every step of its profile and each quantile of a large `ν` costs ~10⁴
+    /// series terms): `q` of the white terms, and `(a, q)` of bias instability without and
+    /// with a sensor filter.
+    white_q: f64,
+    flicker: [(f64, f64); 2],
 }
 
 /// `χ²_ν⁻¹(LEVEL)/ν`: the lower quantile of a sample variance with `ν` degrees of freedom
@@ -117,14 +123,19 @@ impl Limit {
     /// A limit from a known, finite, positive data variance; `None` otherwise.
     pub fn new(variance: Option<f64>, n: usize, t0: f64, tau_lo: f64) -> Option<Limit> {
         let variance = variance?;
-        (variance.is_finite() && variance > 0.0 && n >= 2 && t0 > 0.0 && tau_lo >= t0).then_some(
-            Limit {
+        (variance.is_finite() && variance > 0.0 && n >= 2 && t0 > 0.0 && tau_lo >= t0).then(|| {
+            let mut limit = Limit {
                 variance,
                 n,
                 t0,
                 tau_lo,
-            },
-        )
+                white_q: f64::NAN,
+                flicker: [(f64::NAN, f64::NAN); 2],
+            };
+            limit.white_q = chi2_quantile(((n - 1) as f64 * limit.u()).max(1.0));
+            limit.flicker = [limit.flicker_term(false), limit.flicker_term(true)];
+            limit
+        })
     }
 
     fn u(&self) -> f64 {
@@ -135,9 +146,22 @@ impl Limit {
         self.n as f64 * self.t0
     }
 
-    /// Quantile `q` of the white components (N, Q) in the band.
+    /// Quantile `q` of the white components (N, Q) in the band (computed in [`Limit::new`]).
     fn white_quantile(&self) -> f64 {
-        chi2_quantile(((self.n - 1) as f64 * self.u()).max(1.0))
+        self.white_q
+    }
+
+    /// `(a, q)` of bias instability (module docs); `filtered`: the fit models a sensor filter.
+    fn flicker_term(&self, filtered: bool) -> (f64, f64) {
+        let top = if filtered { 4.0 } else { 1.0 };
+        let k = self.record() / (2.0 * top * self.tau_lo);
+        if k <= 1.0 {
+            return (0.0, 1.0);
+        }
+        let a = 0.75 / std::f64::consts::PI * k.ln();
+        let harmonic = k.ln() + 0.577_215_664_901_532_9;
+        let nu = 2.0 * harmonic * harmonic / (std::f64::consts::PI.powi(2) / 6.0);
+        (a, chi2_quantile(nu))
     }
 
     /// `(a, q)` of a power-law term (module docs); `filtered`: the fit models a sensor filter.
@@ -152,17 +176,7 @@ impl Limit {
                 self.white_quantile(),
             ),
             Term::AngleRandomWalk => (1.0 / self.tau_lo, self.white_quantile()),
-            Term::BiasInstability => {
-                let top = if filtered { 4.0 } else { 1.0 };
-                let k = self.record() / (2.0 * top * self.tau_lo);
-                if k <= 1.0 {
-                    return (0.0, 1.0);
-                }
-                let a = 0.75 / std::f64::consts::PI * k.ln();
-                let harmonic = k.ln() + 0.577_215_664_901_532_9;
-                let nu = 2.0 * harmonic * harmonic / (std::f64::consts::PI.powi(2) / 6.0);
-                (a, chi2_quantile(nu))
-            }
+            Term::BiasInstability => self.flicker[usize::from(filtered)],
             Term::RateRandomWalk => {
                 let a = t0 * (n * n - 1.0) / (6.0 * n) - self.tau_lo / std::f64::consts::PI.powi(2);
                 (a.max(0.0), RANDOM_WALK_QUANTILE)
