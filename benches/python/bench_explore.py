@@ -14,11 +14,14 @@ on the Fit view (the heaviest: ADEV of every channel, the fit, the conservative 
 Log view's zoom (a new min/max envelope of the visible span); the median and worst of
 ``--repeats`` alternations per interaction, each change timed the first time its settings are
 seen (the session's cached results that the change invalidates are dropped before it: the
-headline), and again revisiting settings the session keeps (undo: no recomputation). *First view*: Playwright in headless Chromium, from
+headline), and again revisiting settings the session keeps (undo: no recomputation); the
+stability view's HDEV and TOTDEV likewise, and Théo1 once on its own line (O(N log² N) per τ:
+seconds on 10⁶ samples, shown with its progress, not counted against the target). *First view*: Playwright in headless Chromium, from
 ``page.goto`` to the log plot's canvas and the sampling report on screen, the app serving a
 10⁷-sample log loaded beforehand (the load time is printed apart). *Peak memory*: the resident
-set of a fresh process (``ru_maxrss``) after loading the 10⁶ × 6 log and after every interaction,
-as a multiple of the log's size.
+set of a fresh process (``ru_maxrss``) after loading the 10⁶ × 6 log and after every interaction
+(Théo1's peak apart), as a multiple of the log's size; and what the process keeps after them
+(the resident set once the C allocator has returned its free pages).
 """
 
 from __future__ import annotations
@@ -161,6 +164,17 @@ def interactions(path: Path, repeats: int) -> dict[str, Any]:
     flips = [{"deviation": "mdev"}, {"deviation": "adev"}]
     out[name] = [timed(c, True) for _ in range(repeats) for c in flips]
     cached[name] = [timed(c, False) for _ in range(repeats) for c in flips]
+    for kind, label in (("hdev", "HDEV"), ("totdev", "TOTDEV")):
+        name = f"{label} (stability view)"
+        out[name] = [timed({"deviation": kind}, True) for _ in range(repeats)]
+        app.apply(deviation="adev")
+    # Théo1 is O(N log² N) per τ (allan/theo.rs): seconds on 10⁶ samples, shown with its
+    # progress; once, as its own line (not an interaction under the 0.3 s target)
+    peak_before_theo1 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    name = "Théo1"
+    theo1 = timed({"deviation": "theo1"}, True)
+    theo1_peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    app.apply(deviation="adev")
     # the log view's zoom: a new envelope of the visible span
     app.tabs.active = 0
     view = app.views[0]
@@ -172,7 +186,7 @@ def interactions(path: Path, repeats: int) -> dict[str, Any]:
         view._draw(lo, lo + n // 3)  # type: ignore[attr-defined]
         times.append(time.perf_counter() - t)
     out["zoom (log view envelope)"] = times
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    peak = peak_before_theo1
     kept = _trimmed_rss()
     # the floor, in the same process: what `gyrobias allan` itself spends on the same data (ADEV
     # with 68.3 % intervals per unit group, as every interaction above recomputes it), and the
@@ -200,6 +214,8 @@ def interactions(path: Path, repeats: int) -> dict[str, Any]:
         "rss_loaded": rss_loaded,
         "rss_peak": peak,
         "rss_kept": kept,
+        "theo1_s": theo1,
+        "theo1_peak": theo1_peak,
     }
 
 
@@ -328,6 +344,10 @@ def main() -> None:
             f"  worst first-time interaction: {worst_all:.3f} s "
             f"({'within' if worst_all <= 0.3 else 'OVER'} 0.3 s)"
         )
+        print(
+            f"  Théo1 (stability view, once)         {r['theo1_s']:8.3f} s   (O(N log² N) per τ: "
+            "seconds, with its progress shown; not counted against the target)"
+        )
         for name, times in r["floor"].items():
             print(
                 f"  library alone: {name:<22} {statistics.median(times):8.3f} {max(times):8.3f} s"
@@ -344,6 +364,11 @@ def main() -> None:
             f"Kept after the interactions (the allocator's free pages returned): "
             f"{r['rss_kept'] / 1e6:.0f} MB, {(r['rss_kept'] - r['rss_loaded']) / size:.2f}× the "
             f"log beyond the loaded data (the session's working copy, outlier mask and results)"
+        )
+        print(
+            f"Théo1 (after the above): the process peaks at {r['theo1_peak'] / 1e6:.0f} MB, "
+            f"{(r['theo1_peak'] - r['rss_loaded']) / size:.2f}× the log beyond the loaded data "
+            "(its FFT blocks' buffers, per thread)"
         )
         if _chromium() is None:
             print("\nFirst view: skipped (no Chromium)")
