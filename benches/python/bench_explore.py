@@ -171,6 +171,7 @@ def interactions(path: Path, repeats: int) -> dict[str, Any]:
     # Théo1 is O(N log² N) per τ (allan/theo.rs): seconds on 10⁶ samples, shown with its
     # progress; once, as its own line (not an interaction under the 0.3 s target)
     peak_before_theo1 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    kept = _trimmed_rss()
     name = "Théo1"
     theo1 = timed({"deviation": "theo1"}, True)
     theo1_peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
@@ -187,7 +188,6 @@ def interactions(path: Path, repeats: int) -> dict[str, Any]:
         times.append(time.perf_counter() - t)
     out["zoom (log view envelope)"] = times
     peak = peak_before_theo1
-    kept = _trimmed_rss()
     # the floor, in the same process: what `gyrobias allan` itself spends on the same data (ADEV
     # with 68.3 % intervals per unit group, as every interaction above recomputes it), and the
     # same without the intervals' noise identification
