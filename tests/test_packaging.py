@@ -75,8 +75,24 @@ def _rust_modules(files: dict[str, bytes], crate: str) -> set[str]:
         here = PurePosixPath(path)
         # lib.rs and mod.rs own the directory they are in; x.rs owns x/.
         base = here.parent if here.name in ("lib.rs", "mod.rs") else here.with_suffix("")
-        for name in re.findall(r"^\s*(?:pub(?:\([a-z]+\))?\s+)?mod\s+(\w+)\s*;", text, re.M):
-            options = [str(base / f"{name}.rs"), str(base / name / "mod.rs")]
+        # `#[path = "f.rs"] mod x;` (among its other attributes) names its file,
+        # relative to the declaring file's directory (the Rust reference, "Module source
+        # filenames": path attributes outside inline modules)
+        declared = [
+            (re.search(r'#\[path\s*=\s*"([^"]+)"\]', attrs), name)
+            for attrs, name in re.findall(
+                r"((?:^[ \t]*#\[[^\]]*\][ \t]*\n)*)"
+                r"^[ \t]*(?:pub(?:\([a-z]+\))?\s+)?mod\s+(\w+)\s*;",
+                text,
+                re.M,
+            )
+        ]
+        for explicit, name in declared:
+            options = (
+                [str(here.parent / explicit.group(1))]
+                if explicit
+                else [str(base / f"{name}.rs"), str(base / name / "mod.rs")]
+            )
             present = [o for o in options if o in files]
             assert present, f"sdist lacks module {name} of {path} ({' or '.join(options)})"
             todo.append(present[0])
