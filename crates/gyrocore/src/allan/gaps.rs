@@ -51,10 +51,6 @@ use super::{
 };
 use crate::{Error, Result};
 
-#[cfg(test)]
-#[path = "gaps_legacy.rs"]
-mod legacy;
-
 /// Maximal runs `[s, e)` of non-NaN samples.
 pub fn segments(column: Column<'_>) -> Vec<(usize, usize)> {
     let mut out = Vec::new();
@@ -462,92 +458,6 @@ mod tests {
                 assert!(ci.low[j] <= r.variance[j] && r.variance[j] <= ci.high[j]);
             }
         }
-    }
-
-    #[test]
-    fn equals_the_previous_implementation() {
-        // Randomized old-versus-new check (the frozen pre-rewrite analysis, `legacy`): random
-        // gap patterns (single NaN, runs, at the ends, a NaN every k-th sample), rate and
-        // angle input, every gap-aware estimator, several τ sets, with and without intervals:
-        // the whole result equal, bit for bit.
-        let mut rng = crate::random::normal_vec(4096, 77).into_iter().cycle();
-        let mut draw = move |n: usize| ((rng.next().unwrap().abs() * 1e6) as usize) % n.max(1);
-        let mut compared = 0;
-        for seed in 0..24u64 {
-            let n = [200usize, 999, 3_000, 12_345][seed as usize % 4];
-            let mut data = noise(n, 900 + seed);
-            let drift = 0.3 * (seed % 4) as f64;
-            for (i, v) in data.iter_mut().enumerate() {
-                *v += drift + 1e-5 * i as f64;
-            }
-            match seed % 4 {
-                0 => {
-                    for _ in 0..=draw(6) {
-                        data[draw(n)] = f64::NAN;
-                    }
-                }
-                1 => {
-                    for _ in 0..=draw(4) {
-                        let s = draw(n);
-                        let len = 1 + draw(n / 20);
-                        for v in data.iter_mut().skip(s).take(len) {
-                            *v = f64::NAN;
-                        }
-                    }
-                }
-                2 => {
-                    data[0] = f64::NAN;
-                    data[n - 1] = f64::NAN;
-                    data[n / 2] = f64::NAN;
-                }
-                _ => {
-                    // 256: NaN at the last sample of scan blocks.
-                    let every = if seed == 3 { 256 } else { 37 + draw(400) };
-                    for v in data.iter_mut().step_by(every) {
-                        *v = f64::NAN;
-                    }
-                }
-            }
-            for data_type in [DataType::Rate, DataType::Angle] {
-                for estimator in [
-                    Estimator::Overlapping,
-                    Estimator::NonOverlapping,
-                    Estimator::Modified,
-                    Estimator::Hadamard,
-                ] {
-                    for (taus, ci) in [
-                        (Taus::Spec(TauSpec::Octave), Some(0.683)),
-                        (Taus::Spec(TauSpec::All), Some(0.95)),
-                        (Taus::Spec(TauSpec::Decade), None),
-                    ] {
-                        let cfg = Config {
-                            t0: 0.01,
-                            data_type,
-                            estimator,
-                            taus,
-                            confidence: ci,
-                            gaps: Gaps::Omit,
-                        };
-                        let new = analyse(
-                            Column::contiguous(&data),
-                            &cfg,
-                            &mut Workspace::new(),
-                            &Progress::none(),
-                        );
-                        let old = legacy::analyse(
-                            Column::contiguous(&data),
-                            &cfg,
-                            &mut Workspace::new(),
-                            &mut Vec::new(),
-                            &Progress::none(),
-                        );
-                        assert_eq!(new, old, "seed={seed} {data_type:?} {estimator:?}");
-                        compared += usize::from(new.is_ok());
-                    }
-                }
-            }
-        }
-        assert!(compared > 400, "{compared}");
     }
 
     #[test]

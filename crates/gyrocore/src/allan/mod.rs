@@ -1016,15 +1016,12 @@ fn sum_squares(count: usize, f: impl Fn(usize) -> f64) -> f64 {
     total + comp
 }
 
-/// Total-variance sum on the reflected series (SP1065 eq. 25), without materialising it.
-///
-/// The terms, lanes and blocks of [`sum_squares`], in the same order (so the same bits): the
-/// reflection is only looked up for the `≈ 2m` terms near the ends; a lane chunk wholly
-/// inside reads the series directly, without a branch per sample (vectorised).
-fn sum_total(x: &[f64], m: usize) -> f64 {
-    let n = x.len();
-    let last = n - 1;
-    // x*_{-j} = 2x_0 − x_j and x*_{last+j} = 2x_last − x_{last−j}  (j = 1..n−2)
+/// Term `k` of the total variance: the second difference at `i = k + 1` of the series
+/// reflected at both ends, `x*_{-j} = 2x_0 − x_j` and `x*_{last+j} = 2x_last − x_{last−j}`
+/// (`j = 1..n−2`, SP1065 eq. 25).
+#[inline]
+fn reflected_term(x: &[f64], m: usize, k: usize) -> f64 {
+    let last = x.len() - 1;
     let star = |i: isize| -> f64 {
         if i < 0 {
             2.0 * x[0] - x[(-i) as usize]
@@ -1034,11 +1031,19 @@ fn sum_total(x: &[f64], m: usize) -> f64 {
             x[i as usize]
         }
     };
-    let mi = m as isize;
-    let reflected = |k: usize| {
-        let i = k as isize + 1;
-        star(i - mi) - 2.0 * star(i) + star(i + mi)
-    };
+    let (i, m) = (k as isize + 1, m as isize);
+    star(i - m) - 2.0 * star(i) + star(i + m)
+}
+
+/// Total-variance sum on the reflected series (SP1065 eq. 25), without materialising it.
+///
+/// The terms, lanes and blocks of [`sum_squares`], in the same order (so the same bits): the
+/// reflection is only looked up for the `≈ 2m` terms near the ends; a lane chunk wholly
+/// inside reads the series directly, without a branch per sample (vectorised).
+fn sum_total(x: &[f64], m: usize) -> f64 {
+    let n = x.len();
+    let last = n - 1;
+    let reflected = |k: usize| reflected_term(x, m, k);
     // Term k reads x at k + 1 + {−m, 0, m}: inside for k ∈ [m − 1, last − m − 1].
     let (inside_from, inside_to) = (m - 1, (last + 1).saturating_sub(m + 1));
     let count = n - 2;
@@ -1083,22 +1088,7 @@ fn sum_total(x: &[f64], m: usize) -> f64 {
 /// reference of the tests).
 #[cfg(test)]
 fn sum_total_reference(x: &[f64], m: usize) -> f64 {
-    let n = x.len();
-    let last = n - 1;
-    let star = |i: isize| -> f64 {
-        if i < 0 {
-            2.0 * x[0] - x[(-i) as usize]
-        } else if (i as usize) > last {
-            2.0 * x[last] - x[2 * last - i as usize]
-        } else {
-            x[i as usize]
-        }
-    };
-    let m = m as isize;
-    sum_squares(n - 2, |k| {
-        let i = k as isize + 1;
-        star(i - m) - 2.0 * star(i) + star(i + m)
-    })
+    sum_squares(x.len() - 2, |k| reflected_term(x, m, k))
 }
 
 /// `variance = sum / (c·τ²·terms)` with the estimator's constant `c` (SP1065 eqs. 7, 11, 14,

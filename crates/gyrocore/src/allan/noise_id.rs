@@ -59,10 +59,6 @@
 
 use rayon::prelude::*;
 
-#[cfg(test)]
-#[path = "noise_id_legacy.rs"]
-mod legacy;
-
 /// Minimum number of decimated points for the lag-1 ACF method (Riley & Greenhall 2004).
 pub const MIN_POINTS: usize = 30;
 
@@ -1498,81 +1494,6 @@ mod tests {
         let rate = cumsum(&w);
         let rw = cumsum(&rate);
         vec![drifting(&w), drifting(&rate), drifting(&rw), rate]
-    }
-
-    #[test]
-    fn equals_the_previous_implementation() {
-        // Randomized old-versus-new check (the frozen pre-speed-up code, `legacy`): the same
-        // α at every factor, the lag-1 ACF results bit for bit (same lanes, same roundings),
-        // B1 bit for bit and R(n) to 1e-9: its modified terms are differences of prefix sums
-        // P (formed by stretches now, sample by sample before; both compensated, each P within
-        // a few ε·|P|), which cancel |P|/|term| (up to ~1e8/60 for the drifting white angle
-        // here): measured differences up to 1.5e-11.
-        let mut compared = 0;
-        for seed in 0..24u64 {
-            let n =
-                [31usize, 97, 301, 1_000, 4_097, 20_000, 70_001][seed as usize % 7] + seed as usize;
-            for x in realistic(n, 500 + seed) {
-                let octave: Vec<usize> = (0..20)
-                    .map(|k| 1usize << k)
-                    .filter(|&m| m <= n / 2)
-                    .collect();
-                let dense: Vec<usize> = (1..=n / 3).step_by(1 + n / 97).collect();
-                for ms in [&octave, &dense] {
-                    for dmax in [2u32, 3] {
-                        assert_eq!(
-                            identify(&x, ms, dmax),
-                            legacy::identify(&x, ms, dmax),
-                            "seed={seed} n={n} dmax={dmax}"
-                        );
-                        let bits = |id: Option<Identification>| {
-                            id.map(|i| (i.alpha, i.d, i.delta.to_bits()))
-                        };
-                        let old_bits = |id: Option<legacy::Identification>| {
-                            id.map(|i| (i.alpha, i.d, i.delta.to_bits()))
-                        };
-                        let (small, _) = split_factors(ms);
-                        let joint = lag1_acf_joint(&x, &small, dmax);
-                        let old_joint = legacy::lag1_acf_joint(&x, &small, dmax);
-                        for (a, b) in joint.iter().zip(&old_joint) {
-                            assert_eq!(bits(*a), old_bits(*b), "seed={seed} joint");
-                        }
-                        for &m in ms.iter().filter(|&&m| m > JOINT_MAX).take(6) {
-                            assert_eq!(
-                                bits(lag1_acf(&x, m, dmax)),
-                                old_bits(legacy::lag1_acf(&x, m, dmax)),
-                                "seed={seed} m={m}"
-                            );
-                        }
-                    }
-                    let few = few_points_in_memory(&x, ms);
-                    let mut old = legacy::FewPoints::new(x.len(), &few_point_factors(x.len(), ms));
-                    for s in (0..x.len()).step_by(SWEEP) {
-                        old.feed(&x[s..(s + SWEEP).min(x.len())], s);
-                    }
-                    for (f, g) in few.factors.iter().zip(&old.factors) {
-                        assert_eq!(f.m, g.m);
-                        assert_eq!(f.b1().map(f64::to_bits), g.b1().map(f64::to_bits));
-                        match (f.rn(), g.rn()) {
-                            (Some(a), Some(b)) => {
-                                assert!(
-                                    (a / b - 1.0).abs() < 1e-9,
-                                    "seed={seed} m={}: {a} {b}",
-                                    f.m
-                                );
-                                compared += 1;
-                            }
-                            (a, b) => assert_eq!(a, b),
-                        }
-                        assert_eq!(few.identify(f.m), old.identify(f.m));
-                        for acf in [None, Some(-2), Some(0), Some(1), Some(2)] {
-                            assert_eq!(few.resolve(f.m, acf), old.resolve(f.m, acf));
-                        }
-                    }
-                }
-            }
-        }
-        assert!(compared > 100, "{compared}");
     }
 
     #[test]
